@@ -1,0 +1,63 @@
+/* Mesh file formats: OFF, OBJ, PLY (ascii, binary little/big endian), STL (ascii, binary).
+ *
+ * Readers parse from memory first; the file functions are thin wrappers. Errors name the file, the
+ * line (text formats) or byte offset (binary formats) and what is wrong, as one line:
+ *   "lion.off:17: face 12 has index 9001 but the file has 8356 vertices"
+ * Readers check declared counts against the input size before allocating. Writers write to a
+ * temporary file and rename it into place when complete. */
+#ifndef SURFKIT_IO_H
+#define SURFKIT_IO_H
+
+#include "surfkit/core.h"
+#include "surfkit/mesh.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    SK_FORMAT_AUTO = 0, /* from the file name's extension (reading: also from the content) */
+    SK_FORMAT_OFF,
+    SK_FORMAT_OBJ,
+    SK_FORMAT_PLY,
+    SK_FORMAT_STL,
+    SK_FORMAT_UNKNOWN
+} sk_format;
+
+typedef struct sk_read_opts {
+    sk_format format; /* 0 = from extension, then content */
+} sk_read_opts;
+
+typedef struct sk_write_opts {
+    sk_format format;  /* 0 = from extension */
+    bool ascii;        /* PLY and STL: ascii instead of the binary default */
+    bool no_normals;   /* do not write the soup's normals */
+    bool no_uvs;       /* do not write the soup's uvs */
+} sk_write_opts;
+
+/* Format from a path's extension (case-insensitive): .off .obj .ply .stl; SK_FORMAT_UNKNOWN else. */
+sk_format sk_format_from_path(const char *path);
+const char *sk_format_name(sk_format format);
+
+/* name is used in error messages (usually the file's base name). */
+sk_status sk_soup_read_memory(const void *data, size_t size, const char *name,
+                              const sk_read_opts *opts, sk_soup **out, sk_error *err);
+sk_status sk_soup_read(const char *path, const sk_read_opts *opts, sk_soup **out, sk_error *err);
+
+sk_status sk_soup_write(const char *path, const sk_soup *soup, const sk_write_opts *opts,
+                        sk_error *err);
+/* Writes to a malloc'ed buffer (*data, *size; the caller frees *data). */
+sk_status sk_soup_write_memory(const sk_soup *soup, const sk_write_opts *opts, void **data,
+                               size_t *size, sk_error *err);
+
+/* Convenience: read + sk_mesh_from_soup; write via sk_mesh_to_soup. */
+sk_status sk_mesh_read(const char *path, const sk_read_opts *opts, sk_mesh **out, sk_error *err);
+sk_status sk_mesh_write(const char *path, const sk_mesh *mesh, const sk_write_opts *opts,
+                        sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,10 @@
+/* surfkit: hierarchical parametrization and VC1 smooth surfaces of triangulated surfaces.
+ * This header includes every public module header. */
+#ifndef SURFKIT_H
+#define SURFKIT_H
+
+#include "surfkit/core.h"
+#include "surfkit/mesh.h"
+#include "surfkit/io.h"
+
+#endif

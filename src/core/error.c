@@ -1,0 +1,64 @@
+/* Status strings and error reporting. */
+#include "core/internal.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+const char *sk_status_string(sk_status status)
+{
+    switch (status) {
+    case SK_OK: return "ok";
+    case SK_ERR_IO: return "i/o error";
+    case SK_ERR_PARSE: return "parse error";
+    case SK_ERR_TOPOLOGY: return "topology error";
+    case SK_ERR_NUMERIC: return "numerical failure";
+    case SK_ERR_NOMEM: return "out of memory";
+    case SK_ERR_ARG: return "invalid argument";
+    case SK_ERR_CANCELLED: return "cancelled";
+    case SK_WARN_FLIPS: return "flipped triangles";
+    }
+    return "unknown status";
+}
+
+const char *sk_version(void)
+{
+    return "0.1.0";
+}
+
+sk_status sk__fail(sk_error *err, sk_status status, const char *fmt, ...)
+{
+    if (err) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        va_end(ap);
+        /* one line: replace any newline a caller's string may carry */
+        for (char *p = err->message; *p; ++p)
+            if (*p == '\n' || *p == '\r')
+                *p = ' ';
+        err->status = status;
+    }
+    return status;
+}
+
+void sk__ok(sk_error *err)
+{
+    if (err) {
+        err->status = SK_OK;
+        err->message[0] = '\0';
+    }
+}
+
+sk_status sk__progress(sk_progress_fn fn, void *user, double fraction, sk_error *err)
+{
+    if (fn && fn(user, fraction) != 0)
+        return sk__fail(err, SK_ERR_CANCELLED, "cancelled by the caller");
+    return SK_OK;
+}
+
+const char *sk__basename(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}

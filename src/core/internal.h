@@ -1,0 +1,60 @@
+/* Internal helpers shared across the library (not installed). */
+#ifndef SK_CORE_INTERNAL_H
+#define SK_CORE_INTERNAL_H
+
+#include "surfkit/core.h"
+
+#include <stdio.h>
+
+#if defined(__GNUC__)
+#define SK__PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define SK__PRINTF(a, b)
+#endif
+
+/* Fill err (may be NULL) with a formatted one-line message and return status. */
+sk_status sk__fail(sk_error *err, sk_status status, const char *fmt, ...) SK__PRINTF(3, 4);
+
+/* Set err to SK_OK with an empty message. */
+void sk__ok(sk_error *err);
+
+/* Calls the progress callback if any; returns SK_ERR_CANCELLED (with message) when it asks to stop. */
+sk_status sk__progress(sk_progress_fn fn, void *user, double fraction, sk_error *err);
+
+/* Overflow-checked allocation of n elements of the given size (NULL on overflow or failure). */
+void *sk__malloc_array(size_t n, size_t size);
+void *sk__calloc_array(size_t n, size_t size);
+void *sk__realloc_array(void *p, size_t n, size_t size);
+
+/* Atomic output file: written to a temporary file in the target directory and renamed into place
+ * by sk__atomic_commit; sk__atomic_abort removes the temporary. */
+typedef struct sk__atomic_file {
+    FILE *fp;
+    char *final_path;
+    char *tmp_path;
+} sk__atomic_file;
+
+sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err);
+sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err);
+void sk__atomic_abort(sk__atomic_file *af);
+
+/* Base name of a path (pointer into path), for error messages. */
+const char *sk__basename(const char *path);
+
+/* Deterministic random numbers (splitmix64 seeding a xoshiro256** state). */
+typedef struct sk__rng {
+    uint64_t s[4];
+} sk__rng;
+
+void sk__rng_seed(sk__rng *rng, uint64_t seed);
+uint64_t sk__rng_next(sk__rng *rng);
+/* Uniform integer in [0, n), n > 0. */
+uint32_t sk__rng_below(sk__rng *rng, uint32_t n);
+/* Uniform double in [0, 1). */
+double sk__rng_unit(sk__rng *rng);
+
+/* Radix sort of 64-bit keys with a 32-bit payload, ascending by key; tmp buffers of n elements
+ * are allocated internally. Returns SK_ERR_NOMEM on allocation failure. */
+sk_status sk__sort_u64_u32(uint64_t *keys, uint32_t *vals, size_t n);
+
+#endif

@@ -1,0 +1,25 @@
+/* Helpers shared by the unit tests. */
+#ifndef SK_TESTUTIL_H
+#define SK_TESTUTIL_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "surfkit/surfkit.h"
+
+/* Path of a file in ../shared/data/meshes (static buffer, valid until the next call). */
+const char *skt_shared_mesh(const char *name);
+/* Path of a file in tests/data. */
+const char *skt_test_data(const char *name);
+/* A fresh path in the build's test temp folder. */
+const char *skt_tmp_path(const char *name);
+/* Reads a mesh file into a soup / a half-edge mesh; fails the test with the error message. */
+sk_soup *skt_read_soup(const char *path);
+sk_mesh *skt_read_mesh(const char *path);
+/* Reads a whole file into memory (fails the test if it cannot). */
+void *skt_read_file(const char *path, size_t *size);
+
+#endif

@@ -6,5 +6,6 @@
 #include "surfkit/core.h"
 #include "surfkit/mesh.h"
 #include "surfkit/io.h"
+#include "surfkit/subdivide.h"
 
 #endif

@@ -4,6 +4,10 @@
 
 #include <math.h>
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 static inline void sk__sub3(double r[3], const double a[3], const double b[3])
 {
     r[0] = a[0] - b[0];

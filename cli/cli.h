@@ -1,0 +1,76 @@
+/* Shared pieces of the surfkit command-line tool: exit codes, one-line errors, progress bar,
+ * a small JSON emitter, option parsing helpers. The CLI parses arguments and prints; all geometry
+ * is in the library. */
+#ifndef SK_CLI_H
+#define SK_CLI_H
+
+#include "surfkit/surfkit.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+
+enum { EXIT_OK = 0, EXIT_BAD_INPUT = 1, EXIT_USAGE = 2, EXIT_INTERNAL = 3 };
+
+/* "surfkit: message" on stderr, one line. */
+void cli_error(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+/* Prints err's message and returns the exit code for the status. */
+int cli_fail(sk_status st, const sk_error *err);
+/* Usage error: prints "surfkit CMD: message" and a hint, returns EXIT_USAGE. */
+int cli_usage(const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Progress bar on stderr, drawn only when stderr is a terminal and not quiet. */
+typedef struct cli_progress {
+    bool enabled;
+    const char *label;
+    int last;
+} cli_progress;
+void cli_progress_init(cli_progress *p, const char *label, bool quiet);
+int cli_progress_cb(void *user, double fraction);
+void cli_progress_done(cli_progress *p);
+
+/* Minimal JSON writer. */
+typedef struct cli_json {
+    FILE *fp;
+    int depth;
+    bool need_comma[32];
+    bool after_key;
+} cli_json;
+void json_begin(cli_json *j, FILE *fp);
+void json_end(cli_json *j);
+void json_key(cli_json *j, const char *key); /* inside an object: "key": */
+void json_obj_open(cli_json *j);
+void json_obj_close(cli_json *j);
+void json_arr_open(cli_json *j);
+void json_arr_close(cli_json *j);
+void json_uint(cli_json *j, unsigned long long v);
+void json_int(cli_json *j, long long v);
+void json_num(cli_json *j, double v); /* non-finite numbers become null */
+void json_bool(cli_json *j, bool v);
+void json_str(cli_json *j, const char *s);
+/* key + value shorthands */
+void json_kuint(cli_json *j, const char *key, unsigned long long v);
+void json_kint(cli_json *j, const char *key, long long v);
+void json_knum(cli_json *j, const char *key, double v);
+void json_kbool(cli_json *j, const char *key, bool v);
+void json_kstr(cli_json *j, const char *key, const char *s);
+
+/* Option parsing: returns true and sets *out when argv[*i] is `name` followed by a value, or
+ * `name=value`; advances *i. */
+bool cli_opt_value(int argc, char **argv, int *i, const char *name, const char **out);
+bool cli_parse_uint(const char *s, unsigned long *out);
+bool cli_parse_double(const char *s, double *out);
+
+/* Subcommands */
+int cmd_info(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
+int cmd_subdivide(int argc, char **argv);
+
+#endif

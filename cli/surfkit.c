@@ -1,0 +1,46 @@
+/* surfkit: command-line entry point; dispatches to one file per subcommand. */
+#include "cli.h"
+
+#include <string.h>
+
+typedef struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} command;
+
+static const command commands[] = {
+    {"info", cmd_info, "topology, defects, geometry and Gauss-Bonnet report of a mesh"},
+    {"convert", cmd_convert, "convert between OFF, OBJ, PLY and STL"},
+    {"subdivide", cmd_subdivide, "Loop or midpoint subdivision"},
+};
+
+static void usage(FILE *fp)
+{
+    fprintf(fp, "usage: surfkit SUBCOMMAND [options] INPUT [-o OUTPUT]\n\nsubcommands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+        fprintf(fp, "  %-12s %s\n", commands[i].name, commands[i].summary);
+    fprintf(fp, "\n'surfkit SUBCOMMAND --help' describes each one. Exit codes: 0 ok, 1 bad input,\n"
+                "2 usage, 3 internal failure.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return EXIT_USAGE;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        usage(stdout);
+        return EXIT_OK;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("surfkit %s\n", sk_version());
+        return EXIT_OK;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+        if (!strcmp(argv[1], commands[i].name))
+            return commands[i].run(argc - 1, argv + 1);
+    cli_error("unknown subcommand '%s' (see 'surfkit --help')", argv[1]);
+    return EXIT_USAGE;
+}

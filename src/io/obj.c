@@ -1,0 +1,16 @@
+/* placeholder until the reader is written */
+#include "io/io_internal.h"
+
+sk_status sk__read_obj(const void *data, size_t size, const char *name, sk_soup **out,
+                       sk_error *err)
+{
+    (void)data;
+    (void)size;
+    *out = NULL;
+    return sk__fail(err, SK_ERR_PARSE, "%s:1: this format is not supported yet", name);
+}
+void sk__write_obj(sk__out *o, const sk_soup *s, bool normals, bool uvs)
+{
+    (void)s; (void)normals; (void)uvs;
+    o->failed = SK_ERR_IO;
+}

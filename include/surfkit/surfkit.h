@@ -8,5 +8,6 @@
 #include "surfkit/io.h"
 #include "surfkit/subdivide.h"
 #include "surfkit/mips.h"
+#include "surfkit/bezier.h"
 
 #endif

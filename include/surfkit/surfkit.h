@@ -9,5 +9,6 @@
 #include "surfkit/subdivide.h"
 #include "surfkit/mips.h"
 #include "surfkit/bezier.h"
+#include "surfkit/export.h"
 
 #endif

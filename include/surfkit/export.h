@@ -1,0 +1,56 @@
+/* CAD export of Bezier patch networks: IGES 5.3 (entity 128), STEP AP214 (B-spline surfaces in
+ * advanced faces of one shell whose faces share their edges and vertices), OBJ free-form.
+ *
+ * Triangular patches become three tensor patches (sk_patch_split_triangle: exact, no singular
+ * point) unless degenerate_triangles asks IGES for one patch with a collapsed side. STEP needs
+ * corner_ids (mesh vertex ids) on every patch to share vertices and edges: two patches sharing
+ * corner ids a, b along a side share that edge. */
+#ifndef SURFKIT_EXPORT_H
+#define SURFKIT_EXPORT_H
+
+#include "surfkit/bezier.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sk_export_opts {
+    const char *units;         /* "mm" (default), "cm", "m", "in", "ft", "um" */
+    bool degenerate_triangles; /* IGES: one biquartic with a collapsed side per triangle */
+    bool closed;               /* STEP: CLOSED_SHELL (every edge shared by two faces) */
+    const char *name;          /* product / model name; default "surfkit" */
+    const char *timestamp;     /* ISO 8601 date for the file headers; NULL = now (tests pass a
+                                  fixed one for reproducible files) */
+} sk_export_opts;
+
+typedef struct sk_export_stats {
+    size_t faces;      /* surfaces / faces written */
+    size_t edges;      /* STEP: distinct edge curves */
+    size_t vertices;   /* STEP: distinct vertex points */
+    size_t bytes;
+} sk_export_stats;
+
+/* Unit flag / name pairs of IGES and the SI prefix of STEP; false for an unknown name. */
+bool sk_export_units_known(const char *units);
+
+sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count,
+                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
+sk_status sk_export_step(const char *path, const sk_patch *patches, size_t count,
+                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
+sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size_t count,
+                                 const sk_export_opts *opts, sk_export_stats *stats,
+                                 sk_error *err);
+
+/* The tensor patches the writers emit for the given patches (triangles split or degenerate per
+ * opts), in output order; *out is malloc'ed (free it). Tests compare these with what a CAD
+ * kernel reads back. */
+sk_status sk_export_tensor_patches(const sk_patch *patches, size_t count,
+                                   const sk_export_opts *opts, sk_patch **out, size_t *out_count,
+                                   sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,46 @@
+/* Shared pieces of the CAD writers. */
+#ifndef SK_EXPORT_INTERNAL_H
+#define SK_EXPORT_INTERNAL_H
+
+#include "surfkit/export.h"
+
+#include <stdio.h>
+
+#include "core/internal.h"
+
+typedef struct sk__unit {
+    const char *name;
+    int iges_flag;           /* IGES global parameter 14 */
+    const char *iges_name;   /* IGES global parameter 15 */
+    const char *step_prefix; /* SI prefix for STEP (NULL = none) */
+    const char *step_unit;   /* STEP SI unit name, or NULL for a conversion-based unit */
+    double metres;           /* size of the unit in metres */
+} sk__unit;
+
+const sk__unit *sk__unit_lookup(const char *name);
+
+/* A real number that reads back to the same double, always with a decimal point ("1.", "2.5E-07"),
+ * as IGES and STEP want; buf must hold 32 chars. */
+const char *sk__fmt_real(char buf[32], double x);
+
+/* "YYYY-MM-DDTHH:MM:SS" of opts->timestamp or now (UTC). */
+void sk__export_time(const sk_export_opts *opts, char out[32]);
+
+/* Largest absolute coordinate of the control points. */
+double sk__patches_max_coord(const sk_patch *patches, size_t count);
+
+#endif
+
+/* Growable text buffer. */
+typedef struct sk__buf {
+    char *s;
+    size_t n, cap;
+    bool failed; /* an allocation failed: the content is incomplete */
+} sk__buf;
+
+void sk__buf_put(sk__buf *b, const char *s, size_t n);
+void sk__buf_puts(sk__buf *b, const char *s);
+void sk__buf_printf(sk__buf *b, const char *fmt, ...) SK__PRINTF(2, 3);
+void sk__buf_free(sk__buf *b);
+/* Writes the buffer to path through an atomic temporary file. */
+sk_status sk__buf_write_file(const sk__buf *b, const char *path, sk_error *err);

@@ -1,0 +1,396 @@
+/* STEP AP214 (ISO 10303-21) writer: every tensor Bezier patch is a B_SPLINE_SURFACE_WITH_KNOTS
+ * (one Bezier span: knots 0 and 1 of multiplicity degree + 1) carried by an ADVANCED_FACE; all
+ * faces form one OPEN_SHELL, or CLOSED_SHELL when every edge has two faces, of a
+ * SHELL_BASED_SURFACE_MODEL. Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a
+ * CAD system sees one connected surface.
+ *
+ * Topology comes from the patches' corner ids (mesh vertices). A triangle is split into three
+ * tensor patches at its centroid and edge midpoints; the mesh edges next to a triangle are split
+ * at their midpoints in every face that uses them (a quad next to a triangle has that side in two
+ * edges), so faces always meet edge to edge. */
+#include "export/export_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { K_VERTEX, K_MID, K_CENTROID, K_FULL, K_HALF, K_INNER } key_kind;
+
+typedef struct key {
+    uint32_t kind, a, b;
+} key;
+
+typedef struct entry {
+    key k;
+    size_t id;      /* entity id (VERTEX_POINT or EDGE_CURVE) */
+    size_t start;   /* edges: start vertex entity */
+    uint32_t uses;  /* edges: faces using it */
+    bool used;
+} entry;
+
+typedef struct map {
+    entry *e;
+    size_t cap, n;
+} map;
+
+static uint64_t hash_key(key k)
+{
+    uint64_t h = ((uint64_t)k.kind * 0x9E3779B97F4A7C15ULL) ^ ((uint64_t)k.a << 32 | k.b);
+    h ^= h >> 31;
+    h *= 0xBF58476D1CE4E5B9ULL;
+    return h ^ (h >> 29);
+}
+
+static bool key_eq(key x, key y)
+{
+    return x.kind == y.kind && x.a == y.a && x.b == y.b;
+}
+
+/* Finds or inserts k; returns the slot (NULL on allocation failure). */
+static entry *map_get(map *m, key k, bool *created)
+{
+    if (2 * (m->n + 1) > m->cap) {
+        size_t cap = m->cap ? 2 * m->cap : 1024;
+        entry *ne = calloc(cap, sizeof *ne);
+        if (!ne)
+            return NULL;
+        for (size_t i = 0; i < m->cap; ++i) {
+            if (!m->e[i].used)
+                continue;
+            size_t j = hash_key(m->e[i].k) & (cap - 1);
+            while (ne[j].used)
+                j = (j + 1) & (cap - 1);
+            ne[j] = m->e[i];
+        }
+        free(m->e);
+        m->e = ne;
+        m->cap = cap;
+    }
+    size_t j = hash_key(k) & (m->cap - 1);
+    while (m->e[j].used) {
+        if (key_eq(m->e[j].k, k)) {
+            *created = false;
+            return &m->e[j];
+        }
+        j = (j + 1) & (m->cap - 1);
+    }
+    m->e[j].used = true;
+    m->e[j].k = k;
+    m->n++;
+    *created = true;
+    return &m->e[j];
+}
+
+static bool map_find(const map *m, key k)
+{
+    if (!m->cap)
+        return false;
+    for (size_t j = hash_key(k) & (m->cap - 1); m->e[j].used; j = (j + 1) & (m->cap - 1))
+        if (key_eq(m->e[j].k, k))
+            return true;
+    return false;
+}
+
+static key edge_key(key_kind kind, uint32_t a, uint32_t b)
+{
+    key k = {kind, a < b ? a : b, a < b ? b : a};
+    return k;
+}
+
+typedef struct writer {
+    sk__buf *b;
+    size_t next;      /* next entity id */
+    map vertices, edges;
+    size_t *oriented; /* loop of the current face */
+    bool nomem;
+} writer;
+
+static size_t point(writer *w, const double p[3])
+{
+    char x[32], y[32], z[32];
+    size_t id = w->next++;
+    sk__buf_printf(w->b, "#%zu=CARTESIAN_POINT('',(%s,%s,%s));\n", id, sk__fmt_real(x, p[0]),
+                   sk__fmt_real(y, p[1]), sk__fmt_real(z, p[2]));
+    return id;
+}
+
+static size_t vertex(writer *w, key k, const double p[3])
+{
+    bool created;
+    entry *e = map_get(&w->vertices, k, &created);
+    if (!e) {
+        w->nomem = true;
+        return 0;
+    }
+    if (created) {
+        size_t pt = point(w, p);
+        e->id = w->next++;
+        sk__buf_printf(w->b, "#%zu=VERTEX_POINT('',#%zu);\n", e->id, pt);
+    }
+    return e->id;
+}
+
+/* The edge with key k from vertex entity `from` to `to` whose curve (from -> to) has the given
+ * control points; returns the ORIENTED_EDGE entity for traversing it from -> to. */
+static size_t oriented_edge(writer *w, key k, size_t from, size_t to, const double *cp,
+                            unsigned deg)
+{
+    bool created;
+    entry *e = map_get(&w->edges, k, &created);
+    if (!e) {
+        w->nomem = true;
+        return 0;
+    }
+    if (created) {
+        size_t ids[SK_PATCH_MAX_DEGREE + 1];
+        for (unsigned i = 0; i <= deg; ++i)
+            ids[i] = point(w, cp + 3 * i);
+        size_t curve = w->next++;
+        sk__buf_printf(w->b, "#%zu=B_SPLINE_CURVE_WITH_KNOTS('',%u,(", curve, deg);
+        for (unsigned i = 0; i <= deg; ++i)
+            sk__buf_printf(w->b, "%s#%zu", i ? "," : "", ids[i]);
+        sk__buf_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,(%u,%u),(0.,1.),.UNSPECIFIED.);\n", deg + 1,
+                       deg + 1);
+        e->id = w->next++;
+        e->start = from;
+        sk__buf_printf(w->b, "#%zu=EDGE_CURVE('',#%zu,#%zu,#%zu,.T.);\n", e->id, from, to, curve);
+    }
+    e->uses++;
+    size_t id = w->next++;
+    sk__buf_printf(w->b, "#%zu=ORIENTED_EDGE('',*,*,#%zu,%s);\n", id, e->id,
+                   e->start == from ? ".T." : ".F.");
+    return id;
+}
+
+/* Splits a Bezier curve at t = 1/2 (de Casteljau): left and right halves, same direction. */
+static void halve(const double *cp, unsigned n, double *left, double *right)
+{
+    double w[3 * (SK_PATCH_MAX_DEGREE + 1)];
+    memcpy(w, cp, 3 * (n + 1) * sizeof(double));
+    for (unsigned r = 0; r <= n; ++r) {
+        memcpy(left + 3 * r, w, 3 * sizeof(double));
+        memcpy(right + 3 * (n - r), w + 3 * (n - r), 3 * sizeof(double));
+        for (unsigned i = 0; i + r < n; ++i)
+            for (int x = 0; x < 3; ++x)
+                w[3 * i + (unsigned)x] = 0.5 * (w[3 * i + (unsigned)x] + w[3 * (i + 1) + (unsigned)x]);
+    }
+}
+
+static void face(writer *w, const sk_patch *p, const size_t *loop, size_t nloop, size_t *face_id)
+{
+    unsigned du = p->degree, dv = p->degree_v;
+    size_t *ids = malloc((du + 1) * (dv + 1) * sizeof(size_t));
+    if (!ids) {
+        w->nomem = true;
+        return;
+    }
+    for (unsigned k = 0; k < (du + 1) * (dv + 1); ++k)
+        ids[k] = point(w, p->cp + 3 * k);
+    size_t surf = w->next++;
+    sk__buf_printf(w->b, "#%zu=B_SPLINE_SURFACE_WITH_KNOTS('',%u,%u,(", surf, du, dv);
+    for (unsigned i = 0; i <= du; ++i) { /* outer list along u (s), inner along v (t) */
+        sk__buf_puts(w->b, i ? ",(" : "(");
+        for (unsigned j = 0; j <= dv; ++j)
+            sk__buf_printf(w->b, "%s#%zu", j ? "," : "", ids[j * (du + 1) + i]);
+        sk__buf_puts(w->b, ")");
+    }
+    sk__buf_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,.F.,(%u,%u),(%u,%u),(0.,1.),(0.,1.),"
+                         ".UNSPECIFIED.);\n", du + 1, du + 1, dv + 1, dv + 1);
+    free(ids);
+    size_t lp = w->next++;
+    sk__buf_printf(w->b, "#%zu=EDGE_LOOP('',(", lp);
+    for (size_t i = 0; i < nloop; ++i)
+        sk__buf_printf(w->b, "%s#%zu", i ? "," : "", loop[i]);
+    sk__buf_puts(w->b, "));\n");
+    size_t bound = w->next++;
+    sk__buf_printf(w->b, "#%zu=FACE_OUTER_BOUND('',#%zu,.T.);\n", bound, lp);
+    *face_id = w->next++;
+    sk__buf_printf(w->b, "#%zu=ADVANCED_FACE('',(#%zu),#%zu,.T.);\n", *face_id, bound, surf);
+}
+
+static void step_string(sk__buf *b, const char *s)
+{
+    sk__buf_puts(b, "'");
+    for (; *s; ++s) {
+        if (*s == '\'')
+            sk__buf_puts(b, "''");
+        else if ((unsigned char)*s >= 0x20 && (unsigned char)*s < 0x7f)
+            sk__buf_put(b, s, 1);
+    }
+    sk__buf_puts(b, "'");
+}
+
+sk_status sk_export_step(const char *path, const sk_patch *patches, size_t count,
+                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err)
+{
+    const sk__unit *unit = sk__unit_lookup(opts ? opts->units : NULL);
+    if (!unit)
+        return sk__fail(err, SK_ERR_ARG, "unknown unit '%s'", opts->units);
+    for (size_t i = 0; i < count; ++i)
+        for (unsigned c = 0; c < sk_patch_num_corners(&patches[i]); ++c)
+            if (patches[i].corner_ids[c] == SK_INVALID)
+                return sk__fail(err, SK_ERR_ARG, "patch %zu has no corner ids: STEP export needs "
+                                "them to share edges", i);
+    const char *name = opts && opts->name ? opts->name : "surfkit";
+    char when[32];
+    sk__export_time(opts, when);
+    sk__buf out = {0};
+    writer w = {.b = &out, .next = 1};
+    map split = {0};
+    size_t *faces = NULL, nfaces = 0;
+    sk_status st = SK_OK;
+
+    /* sides next to a triangle are split at their midpoints */
+    for (size_t i = 0; i < count && !w.nomem; ++i) {
+        if (patches[i].kind != SK_PATCH_TRIANGLE)
+            continue;
+        for (unsigned c = 0; c < 3; ++c) {
+            bool created;
+            if (!map_get(&split, edge_key(K_FULL, patches[i].corner_ids[c],
+                                          patches[i].corner_ids[(c + 1) % 3]), &created))
+                w.nomem = true;
+        }
+    }
+    size_t nt = 0;
+    for (size_t i = 0; i < count; ++i)
+        nt += patches[i].kind == SK_PATCH_TRIANGLE ? 3 : 1;
+    faces = malloc((nt ? nt : 1) * sizeof *faces);
+    if (!faces || w.nomem) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+
+    sk__buf_puts(&out, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit VC1 surface: Bezier "
+                       "patches as B-spline surfaces'),'2;1');\nFILE_NAME(");
+    step_string(&out, sk__basename(path));
+    sk__buf_printf(&out, ",'%s',('surfkit'),('surfkit'),'surfkit 0.1.0','surfkit','');\n", when);
+    sk__buf_puts(&out, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\n"
+                       "DATA;\n");
+    sk__buf_puts(&out, "#1=APPLICATION_CONTEXT('core data for automotive mechanical design "
+                       "processes');\n"
+                       "#2=APPLICATION_PROTOCOL_DEFINITION('international standard',"
+                       "'automotive_design',2000,#1);\n"
+                       "#3=PRODUCT_CONTEXT('',#1,'mechanical');\n#4=PRODUCT(");
+    step_string(&out, name);
+    sk__buf_puts(&out, ",");
+    step_string(&out, name);
+    sk__buf_puts(&out, ",'',(#3));\n"
+                       "#5=PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#4));\n"
+                       "#6=PRODUCT_DEFINITION_FORMATION('','',#4);\n"
+                       "#7=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');\n"
+                       "#8=PRODUCT_DEFINITION('design','',#6,#7);\n"
+                       "#9=PRODUCT_DEFINITION_SHAPE('','',#8);\n");
+    if (unit->step_unit)
+        sk__buf_printf(&out, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
+                       unit->step_prefix ? unit->step_prefix : "$", unit->step_unit);
+    else
+        sk__buf_printf(&out, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
+                             "#21=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%.6g),#20);\n"
+                             "#22=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
+                             "#10=(CONVERSION_BASED_UNIT('%s',#21)LENGTH_UNIT()NAMED_UNIT(#22));\n",
+                       unit->metres, unit->iges_name);
+    sk__buf_puts(&out, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
+                       "#12=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n"
+                       "#13=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#10,"
+                       "'distance_accuracy_value','confusion accuracy');\n"
+                       "#14=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT"
+                       "((#13))GLOBAL_UNIT_ASSIGNED_CONTEXT((#10,#11,#12))REPRESENTATION_CONTEXT("
+                       "'',''));\n"
+                       "#15=CARTESIAN_POINT('',(0.,0.,0.));\n#16=DIRECTION('',(0.,0.,1.));\n"
+                       "#17=DIRECTION('',(1.,0.,0.));\n#18=AXIS2_PLACEMENT_3D('',#15,#16,#17);\n");
+    w.next = 30;
+
+    for (size_t i = 0; i < count && !w.nomem; ++i) {
+        const sk_patch *p = &patches[i];
+        const uint32_t *c = p->corner_ids;
+        double cp[3 * (SK_PATCH_MAX_DEGREE + 1)], l[3 * (SK_PATCH_MAX_DEGREE + 1)],
+            r[3 * (SK_PATCH_MAX_DEGREE + 1)], q[3];
+        size_t loop[8], nl = 0;
+        if (p->kind == SK_PATCH_TENSOR) {
+            size_t vid[4];
+            for (unsigned k = 0; k < 4; ++k) {
+                sk_patch_edge_point(p, k, 0.0, q);
+                vid[k] = vertex(&w, (key){K_VERTEX, c[k], 0}, q);
+            }
+            for (unsigned k = 0; k < 4; ++k) {
+                uint32_t a = c[k], b = c[(k + 1) % 4];
+                unsigned deg = sk_patch_edge_curve(p, k, cp);
+                bool is_split = map_find(&split, edge_key(K_FULL, a, b));
+                if (!is_split) {
+                    loop[nl++] = oriented_edge(&w, edge_key(K_FULL, a, b), vid[k], vid[(k + 1) % 4],
+                                               cp, deg);
+                } else {
+                    halve(cp, deg, l, r);
+                    size_t mid = vertex(&w, edge_key(K_MID, a, b), r);
+                    loop[nl++] = oriented_edge(&w, (key){K_HALF, a, b}, vid[k], mid, l, deg);
+                    loop[nl++] = oriented_edge(&w, (key){K_HALF, b, a}, mid, vid[(k + 1) % 4], r,
+                                               deg);
+                }
+            }
+            if (!w.nomem)
+                face(&w, p, loop, nl, &faces[nfaces++]);
+            continue;
+        }
+        sk_patch sub[3];
+        if ((st = sk_patch_split_triangle(p, sub, err)))
+            goto done;
+        size_t vc[3], vm[3];
+        for (unsigned k = 0; k < 3; ++k) {
+            sk_patch_edge_point(&sub[k], 0, 0.0, q);
+            vc[k] = vertex(&w, (key){K_VERTEX, c[k], 0}, q);
+        }
+        for (unsigned k = 0; k < 3; ++k) { /* midpoint of side k (corner k -> k+1) */
+            sk_patch_edge_point(&sub[k], 1, 0.0, q);
+            vm[k] = vertex(&w, edge_key(K_MID, c[k], c[(k + 1) % 3]), q);
+        }
+        sk_patch_edge_point(&sub[0], 2, 0.0, q);
+        size_t vg = vertex(&w, (key){K_CENTROID, (uint32_t)i, 0}, q);
+        for (unsigned k = 0; k < 3 && !w.nomem; ++k) {
+            unsigned kp = (k + 2) % 3;
+            uint32_t A = c[k], B = c[(k + 1) % 3], C = c[kp];
+            unsigned deg;
+            nl = 0;
+            deg = sk_patch_edge_curve(&sub[k], 0, cp); /* A -> mid(A,B) */
+            loop[nl++] = oriented_edge(&w, (key){K_HALF, A, B}, vc[k], vm[k], cp, deg);
+            deg = sk_patch_edge_curve(&sub[k], 1, cp); /* mid(A,B) -> centroid */
+            loop[nl++] = oriented_edge(&w, (key){K_INNER, (uint32_t)i, k}, vm[k], vg, cp, deg);
+            deg = sk_patch_edge_curve(&sub[k], 2, cp); /* centroid -> mid(C,A) */
+            loop[nl++] = oriented_edge(&w, (key){K_INNER, (uint32_t)i, kp}, vg, vm[kp], cp, deg);
+            deg = sk_patch_edge_curve(&sub[k], 3, cp); /* mid(C,A) -> A */
+            loop[nl++] = oriented_edge(&w, (key){K_HALF, A, C}, vm[kp], vc[k], cp, deg);
+            face(&w, &sub[k], loop, nl, &faces[nfaces++]);
+        }
+    }
+    if (w.nomem) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    bool closed = w.edges.n > 0;
+    for (size_t i = 0; i < w.edges.cap; ++i)
+        if (w.edges.e[i].used && w.edges.e[i].uses != 2)
+            closed = false;
+    size_t shell = w.next++;
+    sk__buf_printf(&out, "#%zu=%s('',(", shell, closed ? "CLOSED_SHELL" : "OPEN_SHELL");
+    for (size_t i = 0; i < nfaces; ++i)
+        sk__buf_printf(&out, "%s#%zu", i ? "," : "", faces[i]);
+    sk__buf_puts(&out, "));\n");
+    size_t model = w.next++, rep = w.next++, sdr = w.next++;
+    sk__buf_printf(&out, "#%zu=SHELL_BASED_SURFACE_MODEL('',(#%zu));\n", model, shell);
+    sk__buf_printf(&out, "#%zu=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n", rep,
+                   model);
+    sk__buf_printf(&out, "#%zu=SHAPE_DEFINITION_REPRESENTATION(#9,#%zu);\n", sdr, rep);
+    sk__buf_puts(&out, "ENDSEC;\nEND-ISO-10303-21;\n");
+    st = sk__buf_write_file(&out, path, err);
+    if (st == SK_OK && stats) {
+        stats->faces = nfaces;
+        stats->edges = w.edges.n;
+        stats->vertices = w.vertices.n;
+        stats->bytes = out.n;
+    }
+done:
+    free(faces);
+    free(split.e);
+    free(w.vertices.e);
+    free(w.edges.e);
+    sk__buf_free(&out);
+    return st;
+}

@@ -3,7 +3,8 @@
 # Usage: scripts/setup.sh [--peers]   (--peers also installs CGAL and OpenMesh for bench/peers)
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config clang
-      libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev)
+      libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev
+      g++ libocct-data-exchange-dev)
 if [ "${1:-}" = "--peers" ]; then
   pkgs+=(g++ libcgal-dev libopenmesh-dev)
 fi

@@ -187,7 +187,8 @@ static sk_status parse_face(sk__text *t, obj_state *o)
             goto bad;
         if (!resolve(i, nv, &vi))
             return sk__text_error(t, "face %zu has index %lld but %zu vertices are defined before "
-                                     "it", o->faces, (long long)i, nv);
+                                     "it%s", o->faces, (long long)i, nv,
+                                  i == 0 ? " (OBJ indices start at 1)" : "");
         if (p < t->end && *p == '/') {
             ++p;
             if (p < t->end && *p != '/') {
@@ -315,6 +316,10 @@ sk_status sk__read_obj(const void *data, size_t size, const char *name, sk_soup 
             /* comments, g o s usemtl mtllib l p and anything unknown */
             obj_skip_statement(&t);
         }
+    }
+    if (o.s->num_vertices == 0 && o.s->num_faces == 0) {
+        st = sk__text_error(&t, "no vertices and no faces: not an OBJ mesh");
+        goto done;
     }
     if (o.corner_vt.a) {
         if (sk_soup_add_uvs(o.s) || attach(&o, &o.corner_vt, &o.vt, 2, o.s->uvs))

@@ -78,7 +78,10 @@ static bool header_token(sk__text *t, char *buf, size_t size, size_t *len)
     size_t n = sk__token_len(t->p, t->end);
     *len = n;
     size_t c = n < size - 1 ? n : size - 1;
-    memcpy(buf, t->p, c);
+    for (size_t i = 0; i < c; ++i) {
+        unsigned char ch = (unsigned char)t->p[i];
+        buf[i] = (ch >= 32 && ch < 127) ? (char)ch : '?'; /* printable in messages */
+    }
     buf[c] = '\0';
     t->p += n;
     return true;
@@ -493,9 +496,9 @@ static sk_status read_ascii(ply_reader *r)
                 if ((st = ascii_int(r, e, i, &n)))
                     return st;
                 if (n < 0 || (uint64_t)n > (uint64_t)(t->end - t->p) / 2)
-                    return sk__text_error(t, "%s %llu: list '%s' has an impossible length %lld",
-                                          elem_what(e), (unsigned long long)i, pr->name,
-                                          (long long)n);
+                    return sk__text_error(t, "%s %llu: list '%s' of length %lld does not fit in "
+                                          "the rest of the file", elem_what(e),
+                                          (unsigned long long)i, pr->name, (long long)n);
                 if (pr->role == R_INDICES && (st = grow_idx(r, (uint64_t)n)))
                     return st;
                 for (int64_t j = 0; j < n; ++j) {

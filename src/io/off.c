@@ -80,10 +80,11 @@ static sk_status parse_header(sk__text *t, off_header *h)
 }
 
 /* Reads the counts line: vertices faces [edges]. */
-static sk_status parse_counts(sk__text *t, uint64_t *nv, uint64_t *nf)
+static sk_status parse_counts(sk__text *t, uint64_t *nv, uint64_t *nf, size_t *line)
 {
     char tok[48];
     skip_space_comments(t);
+    *line = t->line;
     if (sk__at_eof(t))
         return sk__text_error(t, "the file ends before the vertex and face counts");
     uint64_t c[3];
@@ -121,8 +122,9 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
     off_header h;
     uint64_t nv = 0, nf = 0;
     sk_status st = parse_header(&t, &h);
+    size_t counts_line = 1;
     if (!st)
-        st = parse_counts(&t, &nv, &nf);
+        st = parse_counts(&t, &nv, &nf, &counts_line);
     if (st)
         return st;
 
@@ -130,12 +132,15 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
     uint64_t left = (uint64_t)(t.end - t.p);
     if (nv > left || nf > left ||
         nv * OFF_MIN_VERTEX_BYTES + nf * OFF_MIN_FACE_BYTES > left + 1) {
+        t.line = counts_line;
         return sk__text_error(&t, "the header declares %llu vertices and %llu faces but only "
                                   "%llu bytes follow", (unsigned long long)nv,
                               (unsigned long long)nf, (unsigned long long)left);
     }
-    if (nv >= UINT32_MAX || nf >= UINT32_MAX)
+    if (nv >= UINT32_MAX || nf >= UINT32_MAX) {
+        t.line = counts_line;
         return sk__text_error(&t, "too many elements for 32-bit indices");
+    }
     st = sk_soup_create((size_t)nv, (size_t)nf, (size_t)nf * 3, h.normals, h.st, &s, err);
     if (st)
         return st;

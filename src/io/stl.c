@@ -7,7 +7,8 @@
  *
  * A file is binary when its size is 84 + 50 n with n the triangle count at byte 80 (this holds
  * for binary files whose 80-byte header begins with "solid"); otherwise it is ascii when it
- * begins with "solid", else binary (and then it must hold the declared triangles).
+ * begins with "solid" and has no NUL byte in its first 512 bytes, else binary (and then it must
+ * hold the declared triangles).
  *
  * Writing: polygons are fan-triangulated, facet normals computed from the corners (zero for a
  * degenerate triangle). Binary coordinates are float32 (STL has no other type); ascii ones are
@@ -308,7 +309,10 @@ sk_status sk__read_stl(const void *data, size_t size, const char *name, sk_soup 
     size_t i = 0;
     while (i < size && sk__is_space(p[i]))
         ++i;
-    if (size - i >= 5 && memcmp(p + i, "solid", 5) == 0)
+    /* "solid" starts ascii files and some binary headers: a NUL byte early on (the triangle
+     * count, zero coordinates, attribute bytes) tells a binary file that is not size-consistent */
+    size_t scan = size < 512 ? size : 512;
+    if (size - i >= 5 && memcmp(p + i, "solid", 5) == 0 && !memchr(p, '\0', scan))
         return read_ascii(data, size, name, out, err);
     if (size == 0)
         return sk__fail(err, SK_ERR_PARSE, "%s:1: empty file", name);

@@ -198,7 +198,8 @@ static sk_status write_sink(sk__out *o, const sk_soup *soup, const sk_write_opts
     }
     sk__out_flush(o);
     if (o->failed == SK_ERR_NOMEM)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory writing the %s file", sk_format_name(fmt));
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory writing the %s file",
+                        sk_format_name(fmt));
     if (o->failed)
         return sk__fail(err, SK_ERR_IO, "write failed: %s", strerror(errno));
     return SK_OK;

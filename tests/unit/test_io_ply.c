@@ -47,7 +47,8 @@ static void test_ascii(void **state)
 static void binary_all_types(bool be)
 {
     buf w = {.be = be};
-    put_str(&w, be ? "ply\nformat binary_big_endian 1.0\n" : "ply\nformat binary_little_endian 1.0\n");
+    put_str(&w, be ? "ply\nformat binary_big_endian 1.0\n"
+                   : "ply\nformat binary_little_endian 1.0\n");
     put_str(&w, "element header_stuff 2\nproperty int a\nproperty list uchar double b\n"
                 "element vertex 3\nproperty char x\nproperty ushort y\nproperty float64 z\n"
                 "property uint8 red\nproperty list int16 float junk\n"

@@ -214,6 +214,29 @@ static void test_polygons(void **state)
     sk_soup_destroy(&s);
 }
 
+/* Extreme values: the largest and smallest doubles, subnormals, big integers, -0. */
+static void test_extreme_values(void **state)
+{
+    (void)state;
+    sk_soup *s = iot_parse("OFF\n4 2 0\n"
+                           "1.7976931348623157e308 -3.8275e+137 4.9406564584124654e-324\n"
+                           "-0 123456789012345678 -2.2250738585072014e-308\n"
+                           "0.1 0.2 0.30000000000000004\n1e15 -1e16 9007199254740993\n"
+                           "3 0 1 2\n3 1 2 3\n", "x.off", SK_FORMAT_OFF);
+    for (size_t i = 0; i < 4; ++i) {
+        sk_write_opts wo = {.format = configs[i].format, .ascii = configs[i].ascii};
+        void *data;
+        size_t size;
+        assert_int_equal(sk_soup_write_memory(s, &wo, &data, &size, NULL), SK_OK);
+        sk_soup *b = iot_parse_n(data, size, "x", configs[i].format);
+        compare_indexed(s, b, false, configs[i].label);
+        assert_true(signbit(b->positions[3]));
+        sk_soup_destroy(&b);
+        free(data);
+    }
+    sk_soup_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -221,6 +244,7 @@ int main(void)
         cmocka_unit_test(test_roundtrip_files),
         cmocka_unit_test(test_failed_write_leaves_no_file),
         cmocka_unit_test(test_polygons),
+        cmocka_unit_test(test_extreme_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

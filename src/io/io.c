@@ -102,12 +102,15 @@ sk_status sk_soup_read_memory(const void *data, size_t size, const char *name,
     if (!data)
         data = "";
     sk__ok(err);
+    size_t lead = 0;
+    while (lead < size && sk__is_space(((const char *)data)[lead]))
+        ++lead;
+    if (lead == size)
+        return sk__fail(err, SK_ERR_PARSE, "%s:1: empty file", name);
     sk_format fmt = opts ? opts->format : SK_FORMAT_AUTO;
     if (fmt == SK_FORMAT_AUTO)
         fmt = sk_format_from_path(name);
     if (fmt == SK_FORMAT_AUTO || fmt == SK_FORMAT_UNKNOWN) {
-        if (size == 0)
-            return sk__fail(err, SK_ERR_PARSE, "%s:1: empty file", name);
         fmt = sniff(data, size);
     }
     switch (fmt) {
@@ -195,7 +198,8 @@ static sk_status write_sink(sk__out *o, const sk_soup *soup, const sk_write_opts
     }
     sk__out_flush(o);
     if (o->failed == SK_ERR_NOMEM)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory writing the %s file", sk_format_name(fmt));
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory writing the %s file",
+                        sk_format_name(fmt));
     if (o->failed)
         return sk__fail(err, SK_ERR_IO, "write failed: %s", strerror(errno));
     return SK_OK;

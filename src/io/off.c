@@ -10,9 +10,10 @@
 
 #include <stdlib.h>
 
-/* Minimal bytes of one vertex line ("0 0 0\n") and one face line ("3 0 1 2\n"). */
+/* Minimal bytes of one vertex line ("0 0 0\n") and of one face line ("0\n", which is an error
+ * but must be reported as such, not as a wrong count). */
 #define OFF_MIN_VERTEX_BYTES 6
-#define OFF_MIN_FACE_BYTES 8
+#define OFF_MIN_FACE_BYTES 2
 /* Values kept of one vertex line: x y z nx ny nz and a few more */
 #define OFF_MAX_KEPT 8
 
@@ -48,10 +49,10 @@ static sk_status parse_header(sk__text *t, off_header *h)
     skip_space_comments(t);
     if (sk__at_eof(t))
         return sk__text_error(t, "empty file: expected an OFF header");
-    if (sk__is_digit(*t->p))
-        return SK_OK; /* no keyword: the counts come first */
     char tok[48];
     size_t n = sk__token_len(t->p, t->end);
+    if (sk__is_digit(*t->p) && !(n >= 3 && memcmp(t->p + n - 3, "OFF", 3) == 0))
+        return SK_OK; /* no keyword: the counts come first */
     const char *s = t->p, *e = t->p + n;
     if (e - s >= 2 && s[0] == 'S' && s[1] == 'T') {
         h->st = true;
@@ -79,10 +80,11 @@ static sk_status parse_header(sk__text *t, off_header *h)
 }
 
 /* Reads the counts line: vertices faces [edges]. */
-static sk_status parse_counts(sk__text *t, uint64_t *nv, uint64_t *nf)
+static sk_status parse_counts(sk__text *t, uint64_t *nv, uint64_t *nf, size_t *line)
 {
     char tok[48];
     skip_space_comments(t);
+    *line = t->line;
     if (sk__at_eof(t))
         return sk__text_error(t, "the file ends before the vertex and face counts");
     uint64_t c[3];
@@ -120,8 +122,9 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
     off_header h;
     uint64_t nv = 0, nf = 0;
     sk_status st = parse_header(&t, &h);
+    size_t counts_line = 1;
     if (!st)
-        st = parse_counts(&t, &nv, &nf);
+        st = parse_counts(&t, &nv, &nf, &counts_line);
     if (st)
         return st;
 
@@ -129,12 +132,15 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
     uint64_t left = (uint64_t)(t.end - t.p);
     if (nv > left || nf > left ||
         nv * OFF_MIN_VERTEX_BYTES + nf * OFF_MIN_FACE_BYTES > left + 1) {
+        t.line = counts_line;
         return sk__text_error(&t, "the header declares %llu vertices and %llu faces but only "
                                   "%llu bytes follow", (unsigned long long)nv,
                               (unsigned long long)nf, (unsigned long long)left);
     }
-    if (nv >= UINT32_MAX || nf >= UINT32_MAX)
+    if (nv >= UINT32_MAX || nf >= UINT32_MAX) {
+        t.line = counts_line;
         return sk__text_error(&t, "too many elements for 32-bit indices");
+    }
     st = sk_soup_create((size_t)nv, (size_t)nf, (size_t)nf * 3, h.normals, h.st, &s, err);
     if (st)
         return st;
@@ -202,7 +208,8 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
         }
         t.p = p;
         if (n < 3) {
-            st = sk__text_error(&t, "face %zu has only %llu vertices", f, (unsigned long long)n);
+            st = sk__text_error(&t, "face %zu has only %llu vertices%s", f, (unsigned long long)n,
+                                f == 0 ? " (is the vertex count in the header right?)" : "");
             goto done;
         }
         if (n > (uint64_t)(t.end - t.p) / 2) {
@@ -231,6 +238,11 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
             }
             uint64_t i;
             p = t.p;
+            if (*p == '-') {
+                st = sk__text_error(&t, "face %zu has a negative index '%s'", f,
+                                    sk__token_str(t.p, t.end, tok, sizeof tok));
+                goto done;
+            }
             if (!sk__parse_uint(&p, t.end, &i) || !ends_value(p, t.end)) {
                 st = sk__text_error(&t, "face %zu: '%s' is not a vertex index", f,
                                     sk__token_str(t.p, t.end, tok, sizeof tok));

@@ -232,7 +232,7 @@ void sk__out_double(sk__out *o, double v)
         memcpy(b, "-0", 2);
         if (n == 1)
             b[0] = '0';
-    } else if (v == (double)(int64_t)v && fabs(v) < 1e15) {
+    } else if (fabs(v) < 1e15 && v == (double)(int64_t)v) { /* range first: the cast */
         n = snprintf(b, 32, "%lld", (long long)v);
     } else {
         for (int prec = 15; prec <= 17; ++prec) {
@@ -270,8 +270,9 @@ sk_status sk__check_soup_for_write(const sk_soup *s, sk_error *err)
                             (unsigned)(b - a));
         for (uint32_t k = a; k < b; ++k)
             if (s->face_indices[k] >= s->num_vertices)
-                return sk__fail(err, SK_ERR_ARG, "face %zu has index %u but the soup has %zu vertices",
-                                f, (unsigned)s->face_indices[k], s->num_vertices);
+                return sk__fail(err, SK_ERR_ARG,
+                                "face %zu has index %u but the soup has %zu vertices", f,
+                                (unsigned)s->face_indices[k], s->num_vertices);
     }
     return SK_OK;
 }

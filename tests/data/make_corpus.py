@@ -192,3 +192,6 @@ w(GOOD, "extra_props.ply", "ply\nformat ascii 1.0\ncomment hi\nobj_info x\n"
   "end_header\n"
   "1 0 2 5 6 0 0 0 0 1 0.25 0.5\n2 1 0 0 0 0 0 1 1 0\n3 0 0 1 0 0 0 1 0 1\n"
   "7 2 1.5 2.5\n8 0\n9 3 0 1 2 0\n")
+# found by fuzzing: huge coordinates made the number writer cast a double to int64 (UB)
+w(GOOD, "large_values.off", "OFF\n3 1 0\n3.8275e+137 -5.55556e+127 7.26434e+22\n"
+  "1.7976931348623157e308 0 -0\n4.9406564584124654e-324 1 2\n3 0 1 2\n")

@@ -69,7 +69,7 @@ static void pack_int(packer *p, long x, char delim)
 
 static void pack_string(packer *p, const char *s, char delim)
 {
-    char buf[80];
+    char buf[96];
     snprintf(buf, sizeof buf, "%zuH%.60s", strlen(s) > 60 ? (size_t)60 : strlen(s), s);
     pack(p, buf, delim);
 }

@@ -8,7 +8,8 @@ void *sk__malloc_array(size_t n, size_t size)
 {
     if (size != 0 && n > SIZE_MAX / size)
         return NULL;
-    return malloc(n != 0 && size != 0 ? n * size : 1);
+    size_t bytes = n * size;
+    return malloc(bytes ? bytes : 1);
 }
 
 void *sk__calloc_array(size_t n, size_t size)
@@ -22,5 +23,6 @@ void *sk__realloc_array(void *p, size_t n, size_t size)
 {
     if (size != 0 && n > SIZE_MAX / size)
         return NULL;
-    return realloc(p, n != 0 && size != 0 ? n * size : 1);
+    size_t bytes = n * size;
+    return realloc(p, bytes ? bytes : 1);
 }

@@ -8,8 +8,7 @@ void *sk__malloc_array(size_t n, size_t size)
 {
     if (size != 0 && n > SIZE_MAX / size)
         return NULL;
-    size_t bytes = n * size;
-    return malloc(bytes ? bytes : 1);
+    return malloc(n != 0 && size != 0 ? n * size : 1);
 }
 
 void *sk__calloc_array(size_t n, size_t size)
@@ -23,6 +22,5 @@ void *sk__realloc_array(void *p, size_t n, size_t size)
 {
     if (size != 0 && n > SIZE_MAX / size)
         return NULL;
-    size_t bytes = n * size;
-    return realloc(p, bytes ? bytes : 1);
+    return realloc(p, n != 0 && size != 0 ? n * size : 1);
 }

@@ -42,6 +42,8 @@ typedef struct sk_edge_deletion_stats {
     size_t reductions;        /* Reduce Path: loops removed and triangle short cuts */
     size_t shared_edges;      /* case (2a): edges used by two paths (cancelled) */
     size_t triangle_fixes;    /* case (2b): two deleted edges in one triangle, replaced by the third */
+    size_t forced_edges;      /* deleted edges making a quad corner above 160 degrees (an even
+                                 vertex without another choice, or a case-(2b) replacement) */
     size_t triangles, quads;  /* faces after deletion */
 } sk_edge_deletion_stats;
 
@@ -88,7 +90,8 @@ typedef struct sk_smooth_stats {
     size_t max_iterations;     /* Gauss-Newton iterations of the hardest vertex */
     size_t fallback_solves;    /* vertices that needed the LAPACKE dgglse fallback */
     size_t failed_vertices;    /* vertices whose system did not converge (reported in problems) */
-    size_t angle_violations;   /* vertices violating alpha < angle < pi (1 - alpha) */
+    size_t relaxed_vertices;   /* vertices whose targets were relaxed to meet the angle bounds */
+    size_t angle_violations;   /* vertices violating alpha < angle < pi (1 - alpha) even so */
     double max_residual;       /* largest |residual of (8)| relative to the vertex's scale */
     double mean_target_deviation; /* mean |P - P*| / |P* - V| */
     double seconds_normals, seconds_deletion, seconds_systems, seconds_patches;

@@ -22,6 +22,7 @@
 #include "surfkit/smooth.h"
 #include "core/internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -88,7 +89,8 @@ static bool is_face(const sk_mesh *m, uint32_t a, uint32_t b, uint32_t c)
 }
 
 /* Reduce Path on the vertex list p[0..n): returns the new length. */
-static size_t reduce_path(const sk_mesh *m, uint32_t *p, size_t n, size_t *reductions)
+static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, uint32_t *p, size_t n,
+                          size_t *reductions)
 {
     /* (1) loops: keep the first occurrence, drop everything up to the last occurrence */
     size_t k = 0;
@@ -112,7 +114,7 @@ static size_t reduce_path(const sk_mesh *m, uint32_t *p, size_t n, size_t *reduc
         p[k++] = p[i];
         while (k >= 3 && is_face(m, p[k - 3], p[k - 2], p[k - 1])) {
             uint32_t h = find_halfedge(m, p[k - 3], p[k - 1]);
-            if (h == SK_INVALID || sk_is_boundary_e(m, sk_edge(h)))
+            if (h == SK_INVALID || sk_is_boundary_e(m, sk_edge(h)) || forbid[sk_edge(h)])
                 break;
             p[k - 2] = p[k - 1];
             --k;
@@ -120,6 +122,39 @@ static size_t reduce_path(const sk_mesh *m, uint32_t *p, size_t n, size_t *reduc
         }
     }
     return k;
+}
+
+/* Quads with a corner angle near pi make the vertex systems hard (the angle bound of section 4)
+ * and the patches nearly singular; an edge whose deletion would make a quad corner larger than
+ * this (sum of the two triangle angles at an end point) is avoided by the paths, except where an
+ * even vertex has no other choice. */
+#define SK_MAX_QUAD_CORNER_DEG 160.0
+
+static double corner_angle(const sk_mesh *m, uint32_t h)
+{
+    /* angle at from(h) in face(h): between h and the reverse of prev(h) */
+    const double *v = m->positions + 3 * (size_t)sk_from(m, h);
+    const double *a = m->positions + 3 * (size_t)sk_to(m, h);
+    const double *b = m->positions + 3 * (size_t)sk_from(m, m->h_prev[h]);
+    double x[3], y[3], c[3];
+    for (int k = 0; k < 3; ++k) {
+        x[k] = a[k] - v[k];
+        y[k] = b[k] - v[k];
+    }
+    c[0] = x[1] * y[2] - x[2] * y[1];
+    c[1] = x[2] * y[0] - x[0] * y[2];
+    c[2] = x[0] * y[1] - x[1] * y[0];
+    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+                 x[0] * y[0] + x[1] * y[1] + x[2] * y[2]);
+}
+
+/* largest quad corner (degrees) created by deleting interior edge e */
+static double deletion_corner(const sk_mesh *m, uint32_t e)
+{
+    uint32_t h = 2 * e, o = h + 1;
+    double at_a = corner_angle(m, h) + corner_angle(m, m->h_next[o]);
+    double at_b = corner_angle(m, o) + corner_angle(m, m->h_next[h]);
+    return fmax(at_a, at_b) * (180.0 / 3.14159265358979323846);
 }
 
 typedef struct cand {
@@ -170,7 +205,7 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
     memset(&st0, 0, sizeof st0);
     sk_status st = SK_OK;
     size_t nv = m->num_vertices, ne = sk_num_edges(m), nf = m->num_faces;
-    uint8_t *even = NULL, *bnd = NULL, *dcnt = NULL;
+    uint8_t *even = NULL, *bnd = NULL, *dcnt = NULL, *forbid = NULL;
     uint32_t *comp = NULL, *queue = NULL, *dist = NULL, *src = NULL, *pred = NULL, *partner = NULL;
     uint32_t *remaining = NULL, *fq = NULL, *deleted = NULL;
     cand *cands = NULL;
@@ -195,8 +230,9 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
     partner = sk__malloc_array(nv + 1, sizeof *partner);
     remaining = sk__malloc_array(nv + 1, sizeof *remaining);
     dcnt = calloc(ne ? ne : 1, 1);
+    forbid = calloc(ne ? ne : 1, 1);
     if (!even || !bnd || !comp || !queue || !dist || !src || !pred || !partner || !remaining ||
-        !dcnt) {
+        !dcnt || !forbid) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
         goto done;
     }
@@ -215,6 +251,29 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
         }
     }
     st0.even_vertices = nrem;
+    for (uint32_t e = 0; e < ne; ++e)
+        if (!m->e_deleted[e] && !sk_is_boundary_e(m, e))
+            forbid[e] = deletion_corner(m, e) > SK_MAX_QUAD_CORNER_DEG;
+    /* an even vertex with every edge forbidden keeps its best one */
+    for (size_t i = 0; i < nrem; ++i) {
+        uint32_t v = remaining[i], h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
+        double best_c = 1e300;
+        bool any = false;
+        do {
+            uint32_t e = sk_edge(h);
+            any |= !forbid[e];
+            double c = deletion_corner(m, e);
+            if (c < best_c) {
+                best_c = c;
+                best = e;
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0 && !any);
+        if (!any && best != SK_INVALID) {
+            forbid[best] = 0;
+            st0.forced_edges++;
+        }
+    }
     st0.lower_bound = (nrem + 1) / 2;
     for (uint32_t s = 0; s < nv; ++s) {
         if (comp[s] != SK_INVALID || m->v_deleted[s] || m->v_halfedge[s] == SK_INVALID)
@@ -253,6 +312,7 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
     for (uint32_t v = 0; v < nv; ++v)
         dist[v] = SK_INVALID;
     size_t cap_c = 0, nc = 0;
+    bool relaxed_forbid = false;
     while (nrem > 0) {
         st0.initialise_rounds++;
         size_t qh = 0, qt = 0;
@@ -273,6 +333,10 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             uint32_t h0 = m->v_halfedge[v], h = h0;
             do {
                 uint32_t w = sk_to(m, h);
+                if (forbid[sk_edge(h)]) {
+                    h = sk_cw_out(m, h);
+                    continue;
+                }
                 if (dist[w] == SK_INVALID) {
                     dist[w] = dist[v] + 1;
                     src[w] = src[v];
@@ -345,6 +409,12 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             if (partner[remaining[i]] == SK_INVALID)
                 remaining[k++] = remaining[i];
         nrem = k;
+        if (paired == 0 && nrem > 0 && !relaxed_forbid) {
+            /* the avoided edges cut some even vertex off: allow them all */
+            memset(forbid, 0, ne);
+            relaxed_forbid = true;
+            continue;
+        }
         if (paired == 0 && nrem > 0) {
             st = sk__fail(err, SK_ERR_TOPOLOGY,
                           "edge deletion: even vertex %u cannot be paired (no even partner or "
@@ -356,7 +426,7 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
     /* Reduce Path on every path, then the union with cancellation of shared edges (2a) */
     for (size_t p = 0; p < ps.np; ++p) {
         uint32_t *pv = ps.v + ps.start[p];
-        size_t n = reduce_path(m, pv, ps.start[p + 1] - ps.start[p], &st0.reductions);
+        size_t n = reduce_path(m, forbid, pv, ps.start[p + 1] - ps.start[p], &st0.reductions);
         for (size_t i = 0; i + 1 < n; ++i) {
             uint32_t h = find_halfedge(m, pv[i], pv[i + 1]);
             if (h == SK_INVALID) {
@@ -411,8 +481,10 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             uint32_t et = sk_edge(h[third]);
             dcnt[sk_edge(h[which[0]])] = 0;
             dcnt[sk_edge(h[which[1]])] = 0;
-            if (!sk_is_boundary_e(m, et) && !(bnd[sk_from(m, 2 * et)] && bnd[sk_to(m, 2 * et)]))
+            if (!sk_is_boundary_e(m, et) && !(bnd[sk_from(m, 2 * et)] && bnd[sk_to(m, 2 * et)])) {
                 dcnt[et] = 1;
+                st0.forced_edges += forbid[et];
+            }
         }
         /* re-check the neighbouring faces */
         for (int i = 0; i < 3; ++i) {
@@ -494,6 +566,7 @@ done:
     free(even);
     free(bnd);
     free(dcnt);
+    free(forbid);
     free(comp);
     free(queue);
     free(dist);

@@ -38,6 +38,7 @@ typedef struct sk__vsys {
     double residual;        /* max |c| relative to the scale of the targets */
     int iterations;
     int used_fallback;
+    int relaxed;            /* set by the caller when the targets were relaxed */
 } sk__vsys;
 
 /* Solves min sum |P_m - P*_m|^2 subject to (8) by Gauss-Newton / SQP on (P, w). Returns 0 when the

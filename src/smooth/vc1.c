@@ -234,6 +234,7 @@ static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
     tangent_basis(nv, e1, e2);
     sys->n_edges = n;
     sys->closed = closed;
+    sys->relaxed = 0;
     for (int k = 0; k < n; ++k) {
         double d[3];
         sk__sub3(d, W->target + 3 * (size_t)E[k], V);
@@ -250,6 +251,49 @@ static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
         }
     }
     int ok = sk__vsys_solve(sys);
+    double lo, hi;
+    sk__vsys_angles(sys, &lo, &hi);
+    int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+    if (bad) {
+        /* relax the targets locally: blend their directions towards an even spread (lengths kept)
+         * until the solution meets the angle bounds */
+        double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], orig[2 * SK_VSYS_MAX];
+        memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
+        double acc = 0.0;
+        for (int k = 0; k < n; ++k) {
+            len[k] = hypot(orig[2 * k], orig[2 * k + 1]);
+            double a = atan2(orig[2 * k + 1], orig[2 * k]);
+            if (k == 0) {
+                acc = a;
+            } else {
+                double prev = ang[k - 1], d = a - prev;
+                while (d <= 0.0)
+                    d += 2.0 * M_PI;
+                while (d > 2.0 * M_PI)
+                    d -= 2.0 * M_PI;
+                acc = prev + d;
+            }
+            ang[k] = acc;
+        }
+        double span = closed ? 2.0 * M_PI : ang[n - 1] - ang[0];
+        if (!closed && span >= M_PI * (n - 1) * (1.0 - 2.0 * W->alpha))
+            span = M_PI; /* a folded boundary fan: spread it over a half plane */
+        int steps = closed ? n : n - 1;
+        for (int t = 1; t <= 4 && bad; ++t) {
+            double b = 0.25 * t;
+            for (int k = 0; k < n; ++k) {
+                double even = ang[0] + span * k / steps;
+                double a = (1.0 - b) * ang[k] + b * even;
+                sys->pstar[2 * k] = len[k] * cos(a);
+                sys->pstar[2 * k + 1] = len[k] * sin(a);
+            }
+            ok = sk__vsys_solve(sys);
+            sk__vsys_angles(sys, &lo, &hi);
+            bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+        }
+        memcpy(sys->pstar, orig, sizeof(double) * (size_t)(2 * n));
+        sys->relaxed = 1;
+    }
     for (int k = 0; k < n; ++k) {
         uint32_t h = E[k];
         double *P = W->P + 3 * (size_t)h;
@@ -259,9 +303,7 @@ static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
     }
     if (ok != 0)
         return 2;
-    double lo, hi;
-    sk__vsys_angles(sys, &lo, &hi);
-    if (lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha))
+    if (bad)
         return 1;
     return 0;
 }
@@ -447,12 +489,12 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     }
     /* the vertex systems (8) */
     double max_res = 0.0, dev_sum = 0.0;
-    size_t max_it = 0, fallback = 0, dev_n = 0;
+    size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
     long nvl = (long)nv;
     int too_many = -1;
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
-    reduction(+ : dev_sum, dev_n, fallback) reduction(max : max_it)
+    reduction(+ : dev_sum, dev_n, fallback, relaxed) reduction(max : max_it)
 #endif
     for (long i = 0; i < nvl; ++i) {
         uint32_t v = (uint32_t)i;
@@ -461,6 +503,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
         sk__vsys sys;
         int code = solve_vertex(&W, v, &sys);
         status[v] = (uint8_t)code;
+        relaxed += (size_t)sys.relaxed;
         if (code == 3) {
 #ifdef SK_HAVE_OPENMP
 #pragma omp critical(sk_vc1_too_many)
@@ -488,6 +531,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     s->stats.vertex_systems = nv;
     s->stats.max_iterations = max_it;
     s->stats.fallback_solves = fallback;
+    s->stats.relaxed_vertices = relaxed;
     s->stats.max_residual = max_res;
     s->stats.mean_target_deviation = dev_n ? dev_sum / (double)dev_n : 0.0;
     size_t nprob = 0;

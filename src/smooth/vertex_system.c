@@ -19,7 +19,7 @@
 
 #define EPS_W 1e-2         /* damping of dw relative to dp (coordinates scaled to unit targets); 1e-6 stalls at |c| ~ 1e-11 by cancellation */
 #define RESIDUAL_OK 1e-13   /* |c| relative to the target scale counted as "exact" */
-#define MAX_ITER 80
+#define MAX_ITER 200
 #define MAX_C (2 * SK_VSYS_MAX)
 
 /* constraint m uses p_{m-1}, p_m, p_{m+1} (indices modulo n for cycles) */
@@ -115,7 +115,7 @@ static void rows(const sk__vsys *s, const double *w, crow *r, int nc)
 }
 
 /* One Gauss-Newton / SQP step by the Schur complement; returns the step size |dx|. */
-static double step_schur(const sk__vsys *s, double *p, double *w)
+static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
 {
     int n = s->n_edges, nc = cons_count(s), ns = 2 * nc;
     double c[MAX_C], S[MAX_C * MAX_C], rhs[MAX_C], r[2 * SK_VSYS_MAX];
@@ -154,6 +154,7 @@ static double step_schur(const sk__vsys *s, double *p, double *w)
     }
     chol_skip(S, ns, drop);
     chol_solve(S, ns, drop, rhs);
+    memcpy(mu, rhs, sizeof(double) * (size_t)ns); /* the multipliers of the converged problem */
     /* dp = r - Jp^T lambda, dw_m = (1/eps) p_m . lambda_m */
     double dp[2 * SK_VSYS_MAX];
     memcpy(dp, r, sizeof(double) * (size_t)(2 * n));
@@ -215,6 +216,97 @@ static int step_dgglse(const sk__vsys *s, double *p, double *w)
     return 0;
 }
 
+/* Newton step on the full KKT system of min 1/2 |p - p*|^2 s.t. c = 0 (exact Hessian of the
+ * Lagrangian: c is bilinear, d2 c_m / dp_m dw_m = -I), solved by dense LU with partial pivoting.
+ * mu holds the multipliers (updated). Used when Gauss-Newton converges slowly (targets far from
+ * satisfying (8), large multipliers). Returns the step size, or -1 when the system is singular. */
+#define NEWTON_MAX_EDGES 16
+static double step_newton(const sk__vsys *s, double *p, double *w, double *mu)
+{
+    int n = s->n_edges, nc = cons_count(s);
+    int N = 2 * n + nc, P = 2 * nc, T = N + P;
+    double K[(5 * NEWTON_MAX_EDGES) * (5 * NEWTON_MAX_EDGES)], rhs[5 * NEWTON_MAX_EDGES];
+    double c[MAX_C];
+    crow cr[SK_VSYS_MAX];
+    residual(s, p, w, c);
+    rows(s, w, cr, nc);
+    memset(K, 0, sizeof(double) * (size_t)(T * T));
+    for (int j = 0; j < 2 * n; ++j) {
+        K[j * T + j] = 1.0;
+        rhs[j] = -(p[j] - s->pstar[j]);
+    }
+    for (int i = 0; i < nc; ++i) {
+        int wi = 2 * n + i, m = cr[i].m;
+        K[wi * T + wi] = 1e-12; /* keeps the w block from being exactly zero */
+        rhs[wi] = 0.0;
+        for (int k = 0; k < 2; ++k) {
+            int row = N + 2 * i + k;
+            /* J */
+            K[row * T + 2 * cr[i].a + k] += cr[i].ca;
+            K[row * T + 2 * cr[i].m + k] += cr[i].cm;
+            K[row * T + 2 * cr[i].b + k] += cr[i].cb;
+            K[row * T + wi] = -p[2 * m + k];
+            /* J^T */
+            K[(2 * cr[i].a + k) * T + row] += cr[i].ca;
+            K[(2 * cr[i].m + k) * T + row] += cr[i].cm;
+            K[(2 * cr[i].b + k) * T + row] += cr[i].cb;
+            K[wi * T + row] = -p[2 * m + k];
+            /* Hessian of mu^T c: d2/dp_m dw_m = -mu */
+            K[(2 * m + k) * T + wi] += -mu[2 * i + k];
+            K[wi * T + 2 * m + k] += -mu[2 * i + k];
+            rhs[row] = -c[2 * i + k];
+        }
+    }
+    /* LU with partial pivoting; unknowns (dx, mu_new) */
+    for (int k = 0; k < T; ++k) {
+        int pr = k;
+        for (int i = k + 1; i < T; ++i)
+            if (fabs(K[i * T + k]) > fabs(K[pr * T + k]))
+                pr = i;
+        if (fabs(K[pr * T + k]) < 1e-300)
+            return -1.0;
+        if (pr != k) {
+            for (int j = 0; j < T; ++j) {
+                double t = K[k * T + j];
+                K[k * T + j] = K[pr * T + j];
+                K[pr * T + j] = t;
+            }
+            double t = rhs[k];
+            rhs[k] = rhs[pr];
+            rhs[pr] = t;
+        }
+        for (int i = k + 1; i < T; ++i) {
+            double f = K[i * T + k] / K[k * T + k];
+            if (f == 0.0)
+                continue;
+            for (int j = k + 1; j < T; ++j)
+                K[i * T + j] -= f * K[k * T + j];
+            rhs[i] -= f * rhs[k];
+        }
+    }
+    for (int k = T - 1; k >= 0; --k) {
+        double v = rhs[k];
+        for (int j = k + 1; j < T; ++j)
+            v -= K[k * T + j] * rhs[j];
+        rhs[k] = v / K[k * T + k];
+    }
+    double norm = 0.0;
+    for (int j = 0; j < N; ++j)
+        if (!isfinite(rhs[j]))
+            return -1.0;
+    for (int j = 0; j < 2 * n; ++j) {
+        p[j] += rhs[j];
+        norm = fmax(norm, fabs(rhs[j]));
+    }
+    for (int i = 0; i < nc; ++i) {
+        w[cr[i].m] += rhs[2 * n + i];
+        norm = fmax(norm, fabs(rhs[2 * n + i]));
+    }
+    for (int j = 0; j < P; ++j)
+        mu[j] = rhs[N + j];
+    return norm;
+}
+
 static void initial_w(const sk__vsys *s, const double *p, double *w)
 {
     int nc = cons_count(s);
@@ -232,21 +324,43 @@ static void initial_w(const sk__vsys *s, const double *p, double *w)
     }
 }
 
+#define GN_FIRST 12 /* Gauss-Newton iterations before switching to Newton on the KKT system */
+
 static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters)
 {
+    int n = s->n_edges, nc = cons_count(s);
+    double mu[MAX_C];
+    int newton = 0;
     for (int it = 0; it < MAX_ITER; ++it) {
         double dx;
         if (use_lapack) {
             if (step_dgglse(s, p, w) != 0)
                 return -1;
             dx = 0.0;
+        } else if (newton) {
+            double p0[2 * SK_VSYS_MAX], w0[SK_VSYS_MAX], mu0[MAX_C];
+            memcpy(p0, p, sizeof p0);
+            memcpy(w0, w, sizeof w0);
+            memcpy(mu0, mu, sizeof mu0);
+            double r0 = residual(s, p, w, NULL);
+            dx = step_newton(s, p, w, mu);
+            if (dx < 0.0 || !(residual(s, p, w, NULL) < 10.0 * r0 + 1e-14)) {
+                /* Newton diverged: back to Gauss-Newton */
+                memcpy(p, p0, sizeof p0);
+                memcpy(w, w0, sizeof w0);
+                memcpy(mu, mu0, sizeof mu0);
+                newton = 0;
+                dx = step_schur(s, p, w, mu);
+            }
         } else {
-            dx = step_schur(s, p, w);
+            dx = step_schur(s, p, w, mu);
+            if (it + 1 >= GN_FIRST && n <= NEWTON_MAX_EDGES && nc > 0)
+                newton = 1;
         }
         ++*iters;
         double r2 = residual(s, p, w, NULL);
         if (getenv("SK_VSYS_DEBUG"))
-            fprintf(stderr, "it %d lapack %d res %.3e dx %.3e\n", it, use_lapack, r2, dx);
+            fprintf(stderr, "it %d lapack %d newton %d res %.3e dx %.3e\n", it, use_lapack, newton, r2, dx);
         if (!isfinite(r2) || !isfinite(dx))
             return -1;
         /* converged: constraints exact and the step has settled (use_lapack: no step size) */
@@ -276,6 +390,22 @@ int sk__vsys_solve(sk__vsys *s)
     if (nc > 0) {
         initial_w(&t, p, w);
         ok = iterate(&t, p, w, 0, &s->iterations);
+        if (ok != 0) {
+            /* feasibility restoration: minimum-norm Gauss-Newton on c(p, w) = 0 alone from the last
+             * iterate (targets moved onto the iterate each step); converges quadratically */
+            sk__vsys f = t;
+            double mu[MAX_C];
+            for (int it = 0; it < 60 && ok != 0; ++it) {
+                memcpy(f.pstar, p, sizeof(double) * (size_t)(2 * n));
+                step_schur(&f, p, w, mu);
+                ++s->iterations;
+                double r2 = residual(&t, p, w, NULL);
+                if (!isfinite(r2))
+                    break;
+                if (r2 <= 1e-15)
+                    ok = 0;
+            }
+        }
         if (ok != 0) {
             s->used_fallback = 1;
             memcpy(p, t.pstar, sizeof(double) * (size_t)(2 * n));

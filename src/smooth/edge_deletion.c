@@ -299,10 +299,9 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
         }
         if (!has_boundary && (n_even & 1u)) {
             st = sk__fail(err, SK_ERR_TOPOLOGY,
-                          "closed component of vertex %u has %zu vertices, an odd number: then the "
-                          "number of even vertices (%zu) is odd too (Euler: sum (6 - n) V_n = 6 chi), "
-                          "so they cannot be paired and no edge deletion makes every vertex odd; "
-                          "split an edge (--allow-split) to make the count even",
+                          "closed component of vertex %u: %zu vertices, odd, so its %zu even "
+                          "vertices are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot "
+                          "be paired; no edge deletion exists (--allow-split splits an edge)",
                           s, n_vert, n_even);
             goto done;
         }

@@ -7,6 +7,8 @@
 #include "surfkit/mesh.h"
 #include "surfkit/io.h"
 #include "surfkit/subdivide.h"
+#include "surfkit/analysis.h"
+#include "surfkit/smooth.h"
 #include "surfkit/mips.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"

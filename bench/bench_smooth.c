@@ -1,0 +1,62 @@
+/* bench_smooth MESH: VC1 surface of a mesh, one table row per stage (read excluded), plus the
+ * deletion counts and the continuity result (report stage: 4 samples per edge). */
+#include "surfkit/surfkit.h"
+
+#include <stdio.h>
+#include <time.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: bench_smooth MESH\n");
+        return 2;
+    }
+    sk_mesh *m = NULL;
+    sk_error err = {0};
+    double t0 = now();
+    if (sk_mesh_read(argv[1], NULL, &m, &err) != SK_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    double t1 = now();
+    sk_smooth *s = NULL;
+    if (sk_smooth_build(m, NULL, &s, &err) != SK_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    double t2 = now();
+    sk_continuity_report r;
+    sk_continuity_opts co = {0};
+    co.samples = 4;
+    sk_smooth_continuity(s, &co, &r, &err);
+    double t3 = now();
+    const sk_smooth_stats *st = &s->stats;
+    printf("mesh: %s, %zu vertices, %zu triangles (read %.2f s, not counted)\n\n", argv[1],
+           m->num_vertices, m->num_faces, t1 - t0);
+    printf("| stage          | seconds |\n|----------------|---------|\n");
+    printf("| normals        | %7.3f |\n| edge deletion  | %7.3f |\n| vertex systems | %7.3f |\n"
+           "| patches        | %7.3f |\n| report         | %7.3f |\n",
+           st->seconds_normals, st->seconds_deletion, st->seconds_systems, st->seconds_patches,
+           t3 - t2);
+    printf("| total build    | %7.3f |\n| build + report | %7.3f |\n\n", t2 - t1, t3 - t1);
+    printf("| even vertices | lower bound | deleted edges | ratio | triangles | quads | forced |\n");
+    printf("|---------------|-------------|---------------|-------|-----------|-------|--------|\n");
+    printf("| %13zu | %11zu | %13zu | %5.3f | %9zu | %5zu | %6zu |\n\n", st->deletion.even_vertices,
+           st->deletion.lower_bound, st->deletion.deleted_edges,
+           st->deletion.lower_bound ? (double)st->deletion.deleted_edges / st->deletion.lower_bound : 1.0,
+           st->deletion.triangles, st->deletion.quads, st->deletion.forced_edges);
+    printf("max normal jump %.3g deg, mean %.3g deg, max gap %.3g, singular patches %zu, relaxed "
+           "vertices %zu, angle violations %zu, failed vertices %zu, max iterations %zu\n",
+           r.max_normal_jump_deg, r.mean_normal_jump_deg, r.max_gap, r.singular_patches,
+           st->relaxed_vertices, st->angle_violations, st->failed_vertices, st->max_iterations);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&m);
+    return 0;
+}

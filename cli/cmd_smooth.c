@@ -1,0 +1,301 @@
+/* surfkit smooth: VC1 surface (Cottin & van Damme) or PN triangles, tessellated, with a continuity
+ * report. */
+#include "cli.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char help[] =
+    "usage: surfkit smooth IN -o OUT.obj|OUT.ply [--tess N] [--patches OUT.json]\n"
+    "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
+    "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
+    "                      [--scheme vc1|pn] [--allow-split] [-q]\n"
+    "\n"
+    "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
+    "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
+    "and quads in which every interior vertex is odd, then quartic triangles and bicubic quads\n"
+    "join with tangent-plane continuity across every edge, without splitting faces.\n"
+    "pn: PN triangles (Vlachos et al. 2001), cubic and only C0 across edges: a baseline.\n"
+    "\n"
+    "Normals: the file's normals (OBJ vn, PLY nx ny nz) if present, else estimated with\n"
+    "--normals (default angle); --estimate-normals ignores the file's normals.\n"
+    "A closed mesh with an odd number of vertices has no edge deletion (every vertex odd is\n"
+    "impossible by Euler's formula): it is refused unless --allow-split, which splits its\n"
+    "longest edge at the midpoint of its wire frame curve.\n"
+    "\n"
+    "  -o OUT          tessellated surface with exact patch normals (OBJ or PLY)\n"
+    "  --tess N        grid of N x N per patch (default 4)\n"
+    "  --patches F     control nets as JSON\n"
+    "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
+    "                  problem vertices in orange\n"
+    "  --render F      flat-shaded picture of the tessellated surface\n"
+    "  --report F      continuity report as JSON (--json prints it on stdout)\n";
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
+                         const char *normals_src, double seconds, double report_seconds)
+{
+    cli_json j;
+    json_begin(&j, fp);
+    json_obj_open(&j);
+    json_kstr(&j, "input", in);
+    json_kstr(&j, "scheme", s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
+    json_kstr(&j, "normals", normals_src);
+    size_t tri = 0, quad = 0;
+    for (size_t p = 0; p < s->num_patches; ++p)
+        s->patches[p].kind == SK_PATCH_QUAD ? ++quad : ++tri;
+    json_kuint(&j, "vertices", s->config->num_vertices);
+    json_kuint(&j, "triangles", tri);
+    json_kuint(&j, "quads", quad);
+    json_kuint(&j, "even_vertices", s->stats.deletion.even_vertices);
+    json_kuint(&j, "deleted_edges", s->stats.deletion.deleted_edges);
+    json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
+    json_kuint(&j, "split_edges", s->stats.split_edges);
+    json_knum(&j, "max_gap", r->max_gap);
+    json_knum(&j, "mean_gap", r->mean_gap);
+    json_knum(&j, "max_normal_jump_deg", r->max_normal_jump_deg);
+    json_knum(&j, "mean_normal_jump_deg", r->mean_normal_jump_deg);
+    json_key(&j, "worst_edge");
+    json_arr_open(&j);
+    json_uint(&j, r->worst_edge_vertices[0]);
+    json_uint(&j, r->worst_edge_vertices[1]);
+    json_arr_close(&j);
+    json_knum(&j, "max_vertex_error", r->max_vertex_error);
+    json_knum(&j, "max_normal_error_deg", r->max_normal_error_deg);
+    json_kuint(&j, "singular_patches", r->singular_patches);
+    json_kuint(&j, "uncertified_patches", r->uncertified_patches);
+    json_key(&j, "singular_patch_examples");
+    json_arr_open(&j);
+    for (size_t i = 0; i < r->num_singular_examples; ++i)
+        json_uint(&j, r->singular_examples[i]);
+    json_arr_close(&j);
+    json_kuint(&j, "relaxed_vertices", s->stats.relaxed_vertices);
+    json_kuint(&j, "angle_violations", s->stats.angle_violations);
+    json_kuint(&j, "failed_vertices", s->stats.failed_vertices);
+    json_key(&j, "problem_vertices");
+    json_arr_open(&j);
+    for (size_t i = 0; i < s->num_problems && i < 100; ++i)
+        json_uint(&j, s->problems[i]);
+    json_arr_close(&j);
+    json_kuint(&j, "max_iterations", s->stats.max_iterations);
+    json_knum(&j, "max_constraint_residual", s->stats.max_residual);
+    json_knum(&j, "mean_target_deviation", s->stats.mean_target_deviation);
+    json_kbool(&j, "pass_g1_0.5deg", r->pass_g1);
+    json_kbool(&j, "pass_gap_0.005", r->pass_gap);
+    json_key(&j, "stage_seconds");
+    json_obj_open(&j);
+    json_knum(&j, "normals", s->stats.seconds_normals);
+    json_knum(&j, "edge_deletion", s->stats.seconds_deletion);
+    json_knum(&j, "vertex_systems", s->stats.seconds_systems);
+    json_knum(&j, "patches", s->stats.seconds_patches);
+    json_knum(&j, "report", report_seconds);
+    json_obj_close(&j);
+    json_knum(&j, "seconds", seconds);
+    json_obj_close(&j);
+    json_end(&j);
+}
+
+static int write_json_file(const char *path, void (*fn)(FILE *, const void *), const void *ctx)
+{
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)clock());
+    FILE *fp = fopen(tmp, "w");
+    if (!fp) {
+        cli_error("%s: cannot write", path);
+        return EXIT_BAD_INPUT;
+    }
+    fn(fp, ctx);
+    if (fclose(fp) != 0 || rename(tmp, path) != 0) {
+        remove(tmp);
+        cli_error("%s: cannot write", path);
+        return EXIT_BAD_INPUT;
+    }
+    return EXIT_OK;
+}
+
+static void patches_json(FILE *fp, const void *ctx)
+{
+    const sk_smooth *s = ctx;
+    fprintf(fp, "{\"scheme\": \"%s\", \"layout\": \"triangles: b_ijk by rows k = 0..n, j = "
+                "0..n-k; quads: b[i + 4 j]\", \"patches\": [\n",
+            s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
+    for (size_t p = 0; p < s->num_patches; ++p) {
+        const sk_patch *pa = s->patches + p;
+        size_t np = pa->kind == SK_PATCH_QUAD ? 16 : (size_t)(pa->degree + 1) * (pa->degree + 2) / 2;
+        fprintf(fp, "{\"kind\": \"%s\", \"degree\": %d, \"corners\": [%u, %u, %u",
+                pa->kind == SK_PATCH_QUAD ? "quad" : "triangle", pa->degree, pa->corners[0],
+                pa->corners[1], pa->corners[2]);
+        if (pa->kind == SK_PATCH_QUAD)
+            fprintf(fp, ", %u", pa->corners[3]);
+        fprintf(fp, "], \"points\": [");
+        for (size_t i = 0; i < np; ++i) {
+            const double *x = s->points + 3 * (pa->first + i);
+            fprintf(fp, "%s[%.17g, %.17g, %.17g]", i ? ", " : "", x[0], x[1], x[2]);
+        }
+        fprintf(fp, "]}%s\n", p + 1 < s->num_patches ? "," : "");
+    }
+    fprintf(fp, "]}\n");
+}
+
+typedef struct report_ctx {
+    const char *in;
+    const sk_smooth *s;
+    const sk_continuity_report *r;
+    const char *normals_src;
+    double seconds, report_seconds;
+} report_ctx;
+
+static void report_json(FILE *fp, const void *ctx)
+{
+    const report_ctx *c = ctx;
+    write_report(fp, c->in, c->s, c->r, c->normals_src, c->seconds, c->report_seconds);
+}
+
+int cmd_smooth(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
+               *report = NULL, *val;
+    unsigned long tess = 4;
+    bool quiet = false, json = false;
+    sk_smooth_opts so = {0};
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(help, stdout);
+            return EXIT_OK;
+        } else if (!strcmp(a, "-q")) {
+            quiet = true;
+        } else if (!strcmp(a, "--json")) {
+            json = true;
+        } else if (!strcmp(a, "--allow-split")) {
+            so.allow_split = true;
+        } else if (!strcmp(a, "--estimate-normals")) {
+            so.estimate_normals = true;
+        } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
+            if (!val)
+                return cli_usage("smooth", "-o needs a file name");
+            out = val;
+        } else if (cli_opt_value(argc, argv, &i, "--tess", &val)) {
+            if (!cli_parse_uint(val, &tess) || tess < 1 || tess > 64)
+                return cli_usage("smooth", "--tess takes a whole number from 1 to 64");
+        } else if (cli_opt_value(argc, argv, &i, "--patches", &val)) {
+            if (!val)
+                return cli_usage("smooth", "--patches needs a file name");
+            patches = val;
+        } else if (cli_opt_value(argc, argv, &i, "--layout", &val)) {
+            if (!val)
+                return cli_usage("smooth", "--layout needs a file name");
+            layout = val;
+        } else if (cli_opt_value(argc, argv, &i, "--render", &val)) {
+            if (!val)
+                return cli_usage("smooth", "--render needs a file name");
+            render = val;
+        } else if (cli_opt_value(argc, argv, &i, "--report", &val)) {
+            if (!val)
+                return cli_usage("smooth", "--report needs a file name");
+            report = val;
+        } else if (cli_opt_value(argc, argv, &i, "--normals", &val)) {
+            int mth = sk_normal_method_from_name(val);
+            if (mth < 0)
+                return cli_usage("smooth", "--normals takes angle, area, mean or quadric");
+            so.normals = (sk_normal_method)mth;
+        } else if (cli_opt_value(argc, argv, &i, "--scheme", &val)) {
+            if (val && !strcmp(val, "vc1"))
+                so.scheme = SK_SMOOTH_VC1;
+            else if (val && !strcmp(val, "pn"))
+                so.scheme = SK_SMOOTH_PN;
+            else
+                return cli_usage("smooth", "--scheme takes vc1 or pn");
+        } else if (a[0] == '-' && a[1]) {
+            return cli_usage("smooth", "unknown option '%s'", a);
+        } else if (!in) {
+            in = a;
+        } else {
+            return cli_usage("smooth", "more than one input file");
+        }
+    }
+    if (!in)
+        return cli_usage("smooth", "needs an input file");
+    if (!out && !patches && !layout && !render && !report && !json)
+        return cli_usage("smooth", "nothing to write: give -o, --patches, --layout, --render, "
+                                   "--report or --json");
+    if (out) {
+        sk_format f = sk_format_from_path(out);
+        if (f != SK_FORMAT_OBJ && f != SK_FORMAT_PLY)
+            return cli_usage("smooth", "-o must name an .obj or .ply file (normals are written)");
+    }
+    double t0 = now();
+    cli_progress bar;
+    cli_progress_init(&bar, "smooth", quiet);
+    so.progress = cli_progress_cb;
+    so.progress_user = &bar;
+    sk_error err = {0};
+    sk_mesh *mesh = NULL;
+    sk_smooth *s = NULL;
+    sk_soup *tes = NULL;
+    int rc = EXIT_OK;
+    sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
+    const char *normals_src = "";
+    if (st == SK_OK) {
+        normals_src = mesh->normals && !so.estimate_normals ? "file"
+                                                             : sk_normal_method_name(so.normals);
+        st = sk_smooth_build(mesh, &so, &s, &err);
+    }
+    cli_progress_done(&bar);
+    if (st != SK_OK) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    double t1 = now();
+    sk_continuity_report rep;
+    if ((st = sk_smooth_continuity(s, NULL, &rep, &err)) != SK_OK) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    double t2 = now();
+    if (out || render) {
+        if ((st = sk_smooth_tessellate(s, (unsigned)tess, &tes, &err)) != SK_OK) {
+            rc = cli_fail(st, &err);
+            goto done;
+        }
+    }
+    if (out && (st = sk_soup_write(out, tes, NULL, &err)) != SK_OK) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    if (render && (st = sk_render_shaded(tes, render, NULL, &err)) != SK_OK) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    if (layout && (st = sk_render_patch_layout(s, layout, NULL, &err)) != SK_OK) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    if (patches && (rc = write_json_file(patches, patches_json, s)) != EXIT_OK)
+        goto done;
+    report_ctx rc_ctx = {in, s, &rep, normals_src, t1 - t0 + (t2 - t1), t2 - t1};
+    if (report && (rc = write_json_file(report, report_json, &rc_ctx)) != EXIT_OK)
+        goto done;
+    if (json)
+        report_json(stdout, &rc_ctx);
+    else if (!quiet)
+        fprintf(stderr,
+                "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
+                "max gap %.3g, singular patches %zu, problem vertices %zu\n",
+                s->num_patches, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
+                s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
+                rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, s->num_problems);
+done:
+    sk_soup_destroy(&tes);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&mesh);
+    return rc;
+}

@@ -1,0 +1,182 @@
+/* VC1 (tangent-plane continuous) smooth surfaces interpolating the vertices and normals of a
+ * triangle mesh, after C. Cottin and R. van Damme, "Construction of a VC1 interpolant over
+ * triangles via edge deletion" (CAGD 11, 1994):
+ *
+ *   normals (given or estimated) -> edge deletion (triangles + quads, every interior vertex odd)
+ *   -> wire frame targets -> per-vertex constrained least squares (eq. 8) -> interior control
+ *   points (system 4) -> quartic triangles (15 control points) and bicubic quads (16)
+ *
+ * and a baseline: PN triangles (Vlachos et al. 2001, cubic, only C0 across edges).
+ *
+ * Patch parametrisation. Triangle of degree n (4 for VC1, 3 for PN): control points b_ijk,
+ * i + j + k = n, i belonging to corners[0], j to corners[1], k to corners[2], stored by rows
+ * k = 0..n, inside a row by j = 0..n-k; the point at (u, v) has barycentric coordinates
+ * (1 - u - v, u, v). Bicubic quad: b[i + 4 j], i = 0..3 from corners[0] to corners[1] (u),
+ * j = 0..3 from corners[0] to corners[3] (v); corners are in counter-clockwise order seen from the
+ * side the normals point to. */
+#ifndef SURFKIT_SMOOTH_H
+#define SURFKIT_SMOOTH_H
+
+#include "surfkit/analysis.h"
+#include "surfkit/core.h"
+#include "surfkit/mesh.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------------------------------------
+ * Edge deletion (paper section 3)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct sk_edge_deletion_stats {
+    size_t even_vertices;     /* interior vertices with an even number of faces, before */
+    size_t lower_bound;       /* ceil(even_vertices / 2): each deleted edge fixes at most 2 */
+    size_t deleted_edges;
+    size_t pairs;             /* pairs formed by Initialise (even-even) */
+    size_t boundary_paths;    /* even vertices connected to the boundary instead of a partner */
+    size_t initialise_rounds; /* distance-growing rounds of Initialise */
+    size_t path_edges;        /* total length of the initial paths */
+    size_t reductions;        /* Reduce Path: loops removed and triangle short cuts */
+    size_t shared_edges;      /* case (2a): edges used by two paths (cancelled) */
+    size_t triangle_fixes;    /* case (2b): two deleted edges in one triangle, replaced by the third */
+    size_t forced_edges;      /* deleted edges making a quad corner above 160 degrees (an even
+                                 vertex without another choice, or a case-(2b) replacement) */
+    size_t triangles, quads;  /* faces after deletion */
+} sk_edge_deletion_stats;
+
+/* Deletes interior edges of a triangle mesh so that every interior vertex lies in an odd number of
+ * faces and every face is a triangle or a quad (two triangles merged across a deleted edge).
+ * Writes a new mesh (vertex ids unchanged) to *out; *deleted (may be NULL) receives a malloc'ed
+ * array of 2 * deleted_edges vertex ids (the deleted edges' end points). Fails with
+ * SK_ERR_TOPOLOGY for faces that are not triangles and for a closed component with an odd number of
+ * even vertices (equivalently an odd number of vertices, by Euler's formula: no solution exists). */
+sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t **deleted,
+                           sk_edge_deletion_stats *stats, sk_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * The smooth surface
+ * ------------------------------------------------------------------------------------------- */
+
+typedef enum { SK_SMOOTH_VC1 = 0, SK_SMOOTH_PN = 1 } sk_smooth_scheme;
+
+typedef struct sk_smooth_opts {
+    sk_smooth_scheme scheme;   /* 0 = VC1 */
+    sk_normal_method normals;  /* estimation method when the mesh has no normals (0 = angle) */
+    bool estimate_normals;     /* estimate even when the mesh carries normals */
+    bool allow_split;          /* closed component with an odd vertex count: split its longest
+                                  edge at the midpoint of its wire frame curve instead of failing */
+    double alpha;              /* angle bound alpha < angle/pi < 1 - alpha between neighbouring
+                                  tangent control points (paper section 4); 0 = 0.01 */
+    sk_progress_fn progress;
+    void *progress_user;
+} sk_smooth_opts;
+
+typedef enum { SK_PATCH_TRIANGLE = 3, SK_PATCH_QUAD = 4 } sk_patch_kind;
+
+typedef struct sk_patch {
+    uint8_t kind;        /* SK_PATCH_TRIANGLE or SK_PATCH_QUAD */
+    uint8_t degree;      /* triangles 4 (VC1) or 3 (PN); quads 3 */
+    uint32_t first;      /* index of the first control point in sk_smooth.points */
+    uint32_t corners[4]; /* vertex ids, counter-clockwise; corners[3] = SK_INVALID for triangles */
+} sk_patch;
+
+typedef struct sk_smooth_stats {
+    sk_edge_deletion_stats deletion;
+    size_t split_edges;        /* 1 when --allow-split split an edge */
+    size_t vertex_systems;     /* vertices whose system (8) was solved */
+    size_t max_iterations;     /* Gauss-Newton iterations of the hardest vertex */
+    size_t fallback_solves;    /* vertices that needed the LAPACKE dgglse fallback */
+    size_t failed_vertices;    /* vertices whose system did not converge (reported in problems) */
+    size_t relaxed_vertices;   /* vertices whose targets were relaxed to meet the angle bounds */
+    size_t angle_violations;   /* vertices violating alpha < angle < pi (1 - alpha) even so */
+    double max_residual;       /* largest |residual of (8)| relative to the vertex's scale */
+    double mean_target_deviation; /* mean |P - P*| / |P* - V| */
+    double seconds_normals, seconds_deletion, seconds_systems, seconds_patches;
+} sk_smooth_stats;
+
+typedef struct sk_smooth {
+    sk_smooth_scheme scheme;
+    sk_mesh *config;           /* the triangle/quad mesh the patches sit on (one patch per face) */
+    double *normals;           /* unit normal per vertex of config */
+    size_t num_patches;
+    sk_patch *patches;         /* patch f belongs to face f of config */
+    size_t num_points;
+    double *points;            /* 3 per control point */
+    size_t num_deleted;        /* deleted edges ... */
+    uint32_t *deleted;         /* ... as 2 vertex ids each */
+    size_t num_problems;       /* vertices with a failed system or violated angle bound */
+    uint32_t *problems;        /* their ids */
+    sk_smooth_stats stats;
+} sk_smooth;
+
+/* Builds the smooth surface of a manifold triangle mesh. Uses mesh->normals when present (and not
+ * opts->estimate_normals), else estimates them. Errors: SK_ERR_TOPOLOGY (non-triangle faces, odd
+ * closed component without allow_split), SK_ERR_NUMERIC (an edge whose normals make a cubic
+ * boundary curve impossible, named in the message), SK_ERR_CANCELLED. Vertices whose angle bounds
+ * are violated or whose system failed are listed in problems; the surface is still returned. */
+sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts, sk_smooth **out,
+                          sk_error *err);
+void sk_smooth_destroy(sk_smooth **smooth);
+
+/* Evaluates patch p at (u, v) by de Casteljau: position, first derivatives and unit normal (each
+ * output may be NULL). */
+void sk_patch_eval(const sk_smooth *s, size_t p, double u, double v, double pos[3], double du[3],
+                   double dv[3], double normal[3]);
+
+/* Tessellates every patch into an n x n grid (triangles: n^2 triangles, quads: 2 n^2), welded along
+ * patch boundaries, with the exact patch normals; the result is a triangle soup with normals. */
+sk_status sk_smooth_tessellate(const sk_smooth *s, unsigned n, sk_soup **out, sk_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Continuity report
+ * ------------------------------------------------------------------------------------------- */
+
+#define SK_CONTINUITY_EXAMPLES 16
+
+typedef struct sk_continuity_opts {
+    unsigned samples;      /* samples per edge (0 = 32) */
+    double max_angle_deg;  /* G1 tolerance (0 = 0.5 degrees, Albat & Mueller) */
+    double max_gap;        /* gap tolerance in model units (0 = 0.005, i.e. mm) */
+} sk_continuity_opts;
+
+typedef struct sk_continuity_report {
+    size_t interior_edges, samples;
+    double max_gap, mean_gap;
+    double max_normal_jump_deg, mean_normal_jump_deg;
+    uint32_t worst_edge_vertices[2];  /* where the largest normal jump is */
+    double max_vertex_error;          /* |S(corner) - V| */
+    double max_normal_error_deg;      /* angle(patch normal at corner, given normal) */
+    size_t singular_patches;          /* vanishing or flipped normal found by sampling */
+    size_t uncertified_patches;       /* the Ginkel-Peters-Umlauf normal cone contains 0 */
+    size_t num_singular_examples;
+    uint32_t singular_examples[SK_CONTINUITY_EXAMPLES]; /* patch ids */
+    bool pass_g1, pass_gap;           /* against the tolerances */
+} sk_continuity_report;
+
+sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
+                               sk_continuity_report *rep, sk_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Pictures (cairo, PNG): an orthographic flat-shaded view from a fixed direction
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct sk_render_opts {
+    unsigned width, height; /* 0 = 900 x 900 */
+    double view[3];         /* direction from the eye to the model; 0 = (-0.4, -0.5, -1) */
+} sk_render_opts;
+
+/* The triangle/quad configuration: triangles grey, quads blue, deleted edges red, problem
+ * vertices marked. */
+sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
+                                 const sk_render_opts *opts, sk_error *err);
+/* A flat-shaded picture of a triangle soup (e.g. the tessellated surface). */
+sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
+                           sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,67 @@
+/* Internal pieces of the VC1 construction shared by the files of src/smooth. */
+#ifndef SK_SMOOTH_INTERNAL_H
+#define SK_SMOOTH_INTERNAL_H
+
+#include "surfkit/smooth.h"
+
+/* Degree-elevation factor Delta of eq. (1): 3/4 for a (quartic) triangle, 1 for a bicubic quad. */
+static inline double sk__delta(size_t face_size) { return face_size == 3 ? 0.75 : 1.0; }
+
+/* Wire frame targets (paper section 4), one per half-edge h of the triangle/quad mesh: the cubic
+ * control point next to from(h) on edge h, written to target[3 h]. Fails naming the edge when its
+ * normals make a cubic impossible. */
+sk_status sk__wireframe_targets(const sk_mesh *m, const double *normals, double *target,
+                                sk_error *err);
+
+/* r_m of eq. (7) for every face: Delta/3 (triangles) or 1/4 (quads) times the sum over the corners
+ * of the area of (corner, its two targets). */
+void sk__patch_ratios(const sk_mesh *m, const double *target, double *r);
+
+/* nu of the edge between the patch containing P_{m+1} (up) and the one containing P_{m-1} (down):
+ * nu = -r_up / r_down, the orientation that agrees with eq. (3) (see docs/VC1-NOTES.md 1). */
+double sk__nu(double r_up, double r_down);
+
+/* One vertex system (8) in the tangent plane, in 2D coordinates relative to V.
+ * n_edges edge directions in counter-clockwise order; closed = interior vertex (cyclic), else a
+ * chain whose first and last edges are boundary edges and whose constraints are the interior edges
+ * 1 .. n_edges - 2. For constraint m (edge m): du[m] = Delta of the patch after edge m (containing
+ * p_{m+1}), dd[m] = Delta of the patch before it, nu[m]. */
+#define SK_VSYS_MAX 64
+typedef struct sk__vsys {
+    int n_edges;
+    int closed;
+    double pstar[2 * SK_VSYS_MAX];
+    double du[SK_VSYS_MAX], dd[SK_VSYS_MAX], nu[SK_VSYS_MAX];
+    /* results */
+    double p[2 * SK_VSYS_MAX];
+    double w[SK_VSYS_MAX];  /* w_1^m of each constraint (0 for boundary edges) */
+    double residual;        /* max |c| relative to the scale of the targets */
+    int iterations;
+    int used_fallback;
+    int relaxed;            /* set by the caller when the targets were relaxed */
+} sk__vsys;
+
+/* Solves min sum |P_m - P*_m|^2 subject to (8) by Gauss-Newton / SQP on (P, w). Returns 0 when the
+ * constraints hold to rounding (residual <= 1e-12), else -1 (the best iterate is left in p, w). */
+int sk__vsys_solve(sk__vsys *s);
+
+/* Smallest and largest counter-clockwise angle (radians) between consecutive edges of a patch
+ * corner around the vertex (n_edges pairs if closed, n_edges - 1 else). */
+void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
+
+/* Control point storage of one patch. */
+static inline size_t sk__tri_index(int n, int j, int k) { return (size_t)(k * (n + 1) - k * (k - 1) / 2 + j); }
+static inline size_t sk__patch_points(int kind, int degree)
+{
+    return kind == SK_PATCH_QUAD ? 16u : (size_t)((degree + 1) * (degree + 2) / 2);
+}
+
+/* Cone test of Ginkel, Peters, Umlauf (Lemma 3): true when the cone spanned by the cross products
+ * of every u-difference with every v-difference of the control net excludes 0 (then the patch has
+ * no singular point and its normals stay inside the cone). */
+bool sk__patch_cone_regular(const sk_smooth *s, size_t p);
+
+/* PN triangles on the triangle mesh s->config with normals s->normals (fills patches/points). */
+sk_status sk__pn_build(sk_smooth *s, sk_error *err);
+
+#endif

@@ -1,0 +1,699 @@
+/* The VC1 construction of Cottin & van Damme (section 4): driver from a triangle mesh with normals
+ * to the network of quartic triangles and bicubic quads. Also the parity split (--allow-split) and
+ * the interior control points from system (4). */
+#include "smooth/smooth_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void sk_smooth_destroy(sk_smooth **smooth)
+{
+    if (!smooth || !*smooth)
+        return;
+    sk_smooth *s = *smooth;
+    sk_mesh_destroy(&s->config);
+    free(s->normals);
+    free(s->patches);
+    free(s->points);
+    free(s->deleted);
+    free(s->problems);
+    free(s);
+    *smooth = NULL;
+}
+
+/* Tangent basis e1, e2 with e1 x e2 = n. */
+static void tangent_basis(const double n[3], double e1[3], double e2[3])
+{
+    double a[3] = {1, 0, 0};
+    if (fabs(n[0]) > 0.6)
+        a[0] = 0, a[1] = 1;
+    sk__cross3(e1, a, n);
+    sk__normalize3(e1);
+    sk__cross3(e2, n, e1);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Parity split: a closed component with an odd number of vertices has no edge deletion (section 3);
+ * its longest edge is split at the midpoint of its wire frame curve, which adds one vertex.
+ * ------------------------------------------------------------------------------------------- */
+
+static sk_status split_odd_components(const sk_mesh *m, const double *normals, sk_mesh **out,
+                                      double **out_normals, size_t *splits, sk_error *err)
+{
+    size_t nv = m->num_vertices, nh = m->num_halfedges;
+    uint32_t *comp = sk__malloc_array(nv + 1, sizeof *comp);
+    uint32_t *queue = sk__malloc_array(nv + 1, sizeof *queue);
+    uint32_t *split_h = NULL;
+    size_t nsplit = 0, cap_split = 0;
+    sk_status st = SK_OK;
+    *out = NULL;
+    *out_normals = NULL;
+    *splits = 0;
+    if (!comp || !queue) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    for (size_t v = 0; v < nv; ++v)
+        comp[v] = SK_INVALID;
+    for (uint32_t s = 0; s < nv; ++s) {
+        if (comp[s] != SK_INVALID || m->v_deleted[s] || m->v_halfedge[s] == SK_INVALID)
+            continue;
+        size_t qh = 0, qt = 0, count = 0;
+        bool boundary = false;
+        uint32_t longest = SK_INVALID;
+        double best = -1.0;
+        comp[s] = s;
+        queue[qt++] = s;
+        while (qh < qt) {
+            uint32_t v = queue[qh++];
+            ++count;
+            boundary |= sk_is_boundary_v(m, v);
+            uint32_t h0 = m->v_halfedge[v], h = h0;
+            do {
+                uint32_t w = sk_to(m, h);
+                if (comp[w] == SK_INVALID) {
+                    comp[w] = s;
+                    queue[qt++] = w;
+                }
+                double len = sk_mesh_edge_length(m, sk_edge(h));
+                if (len > best) {
+                    best = len;
+                    longest = h;
+                }
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+        if (!boundary && (count & 1u)) {
+            if (nsplit == cap_split) {
+                cap_split = cap_split ? 2 * cap_split : 8;
+                uint32_t *p = sk__realloc_array(split_h, cap_split, sizeof *p);
+                if (!p) {
+                    st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                    goto done;
+                }
+                split_h = p;
+            }
+            split_h[nsplit++] = longest;
+        }
+    }
+    if (nsplit == 0)
+        goto done;
+    {
+        /* wire frame targets of the whole mesh (only the split edges are used) */
+        double *target = sk__malloc_array(nh, 3 * sizeof(double));
+        size_t nf = m->num_faces, nv2 = nv + nsplit;
+        double *pos = sk__malloc_array(nv2, 3 * sizeof(double));
+        double *nrm = sk__malloc_array(nv2, 3 * sizeof(double));
+        uint32_t *off = sk__malloc_array(nf + 2 * nsplit + 1, sizeof(uint32_t));
+        uint32_t *idx = sk__malloc_array(3 * (nf + 2 * nsplit), sizeof(uint32_t));
+        uint32_t *fsplit = sk__malloc_array(nf + 1, sizeof(uint32_t));
+        if (!target || !pos || !nrm || !off || !idx || !fsplit) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        } else if ((st = sk__wireframe_targets(m, normals, target, err)) == SK_OK) {
+            memcpy(pos, m->positions, nv * 3 * sizeof(double));
+            memcpy(nrm, normals, nv * 3 * sizeof(double));
+            for (size_t f = 0; f < nf; ++f)
+                fsplit[f] = SK_INVALID;
+            for (size_t i = 0; i < nsplit; ++i) {
+                uint32_t h = split_h[i], o = sk_opp(h);
+                const double *a = m->positions + 3 * (size_t)sk_from(m, h);
+                const double *b = m->positions + 3 * (size_t)sk_to(m, h);
+                const double *pa = target + 3 * (size_t)h, *pb = target + 3 * (size_t)o;
+                double *x = pos + 3 * (nv + i), *n = nrm + 3 * (nv + i), tan[3];
+                for (int k = 0; k < 3; ++k) {
+                    x[k] = (a[k] + 3.0 * pa[k] + 3.0 * pb[k] + b[k]) / 8.0; /* cubic at t = 1/2 */
+                    tan[k] = b[k] + pb[k] - pa[k] - a[k];                   /* its tangent */
+                }
+                sk__add3(n, normals + 3 * (size_t)sk_from(m, h), normals + 3 * (size_t)sk_to(m, h));
+                sk__normalize3(tan);
+                sk__axpy3(n, n, -sk__dot3(n, tan), tan);
+                sk__normalize3(n);
+                fsplit[m->h_face[h]] = (uint32_t)i;
+                fsplit[m->h_face[o]] = (uint32_t)i;
+            }
+            size_t k = 0, nfo = 0;
+            off[0] = 0;
+            for (uint32_t f = 0; f < nf; ++f) {
+                if (m->f_deleted[f])
+                    continue;
+                uint32_t h = m->f_halfedge[f];
+                if (fsplit[f] != SK_INVALID) {
+                    uint32_t e = sk_edge(split_h[fsplit[f]]);
+                    while (sk_edge(h) != e)
+                        h = m->h_next[h];
+                    uint32_t a = sk_from(m, h), b = sk_to(m, h), c = sk_to(m, m->h_next[h]);
+                    uint32_t x = (uint32_t)(nv + fsplit[f]);
+                    idx[k++] = a, idx[k++] = x, idx[k++] = c, off[++nfo] = (uint32_t)k;
+                    idx[k++] = x, idx[k++] = b, idx[k++] = c, off[++nfo] = (uint32_t)k;
+                } else {
+                    idx[k++] = sk_from(m, h);
+                    idx[k++] = sk_to(m, h);
+                    idx[k++] = sk_to(m, m->h_next[h]);
+                    off[++nfo] = (uint32_t)k;
+                }
+            }
+            st = sk_mesh_from_faces(nv2, pos, nfo, off, idx, out, err);
+            if (st == SK_OK) {
+                *out_normals = nrm;
+                nrm = NULL;
+                *splits = nsplit;
+            }
+        }
+        free(target);
+        free(pos);
+        free(nrm);
+        free(off);
+        free(idx);
+        free(fsplit);
+    }
+done:
+    free(comp);
+    free(queue);
+    free(split_h);
+    return st;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Vertex systems and interior points
+ * ------------------------------------------------------------------------------------------- */
+
+/* Outgoing half-edges of v counter-clockwise; for a boundary vertex the first and the last are the
+ * boundary edges and the patches lie between consecutive ones. Returns the count (0 if too many). */
+static int ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed)
+{
+    uint32_t h0 = m->v_halfedge[v];
+    int n = 0;
+    *closed = m->h_face[h0] != SK_INVALID;
+    uint32_t start = *closed ? h0 : sk_ccw_out(m, h0), h = start;
+    do {
+        if (n == SK_VSYS_MAX)
+            return 0;
+        E[n++] = h;
+        h = sk_ccw_out(m, h);
+    } while (h != start);
+    return n;
+}
+
+typedef struct vc1_work {
+    const sk_mesh *m;
+    const double *normals;
+    const double *target; /* per half-edge */
+    const double *r;      /* per face */
+    double *P;            /* per half-edge: the cubic control point next to from(h) */
+    double *w1;           /* per half-edge: w_1 of (8) at from(h), NaN on boundary edges */
+    double *nu;           /* per half-edge: nu at from(h) (upper patch = face(h)) */
+    double *C;            /* per half-edge: interior control point of face(h) at from(h) */
+    double alpha;
+} vc1_work;
+
+static double face_delta(const sk_mesh *m, uint32_t f)
+{
+    return sk__delta(sk_mesh_face_size(m, f));
+}
+
+/* Solves vertex v's system; returns 0 ok, 1 angle violation, 2 not converged, 3 too many edges. */
+static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
+{
+    const sk_mesh *m = W->m;
+    uint32_t E[SK_VSYS_MAX];
+    int closed, n = ordered_edges(m, v, E, &closed);
+    if (n == 0)
+        return 3;
+    const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
+    double e1[3], e2[3];
+    tangent_basis(nv, e1, e2);
+    sys->n_edges = n;
+    sys->closed = closed;
+    sys->relaxed = 0;
+    for (int k = 0; k < n; ++k) {
+        double d[3];
+        sk__sub3(d, W->target + 3 * (size_t)E[k], V);
+        sys->pstar[2 * k] = sk__dot3(d, e1);
+        sys->pstar[2 * k + 1] = sk__dot3(d, e2);
+        uint32_t h = E[k];
+        if (!sk_is_boundary_e(m, sk_edge(h))) {
+            sys->du[k] = face_delta(m, m->h_face[h]);
+            sys->dd[k] = face_delta(m, m->h_face[sk_opp(h)]);
+            sys->nu[k] = W->nu[h];
+        } else {
+            sys->du[k] = sys->dd[k] = 1.0;
+            sys->nu[k] = -1.0;
+        }
+    }
+    int ok = sk__vsys_solve(sys);
+    double lo, hi;
+    sk__vsys_angles(sys, &lo, &hi);
+    int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+    if (bad) {
+        /* relax the targets locally: blend their directions towards an even spread (lengths kept)
+         * until the solution meets the angle bounds */
+        double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], orig[2 * SK_VSYS_MAX];
+        memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
+        double acc = 0.0;
+        for (int k = 0; k < n; ++k) {
+            len[k] = hypot(orig[2 * k], orig[2 * k + 1]);
+            double a = atan2(orig[2 * k + 1], orig[2 * k]);
+            if (k == 0) {
+                acc = a;
+            } else {
+                double prev = ang[k - 1], d = a - prev;
+                while (d <= 0.0)
+                    d += 2.0 * M_PI;
+                while (d > 2.0 * M_PI)
+                    d -= 2.0 * M_PI;
+                acc = prev + d;
+            }
+            ang[k] = acc;
+        }
+        double span = closed ? 2.0 * M_PI : ang[n - 1] - ang[0];
+        if (!closed && span >= M_PI * (n - 1) * (1.0 - 2.0 * W->alpha))
+            span = M_PI; /* a folded boundary fan: spread it over a half plane */
+        int steps = closed ? n : n - 1;
+        for (int t = 1; t <= 4 && bad; ++t) {
+            double b = 0.25 * t;
+            for (int k = 0; k < n; ++k) {
+                double even = ang[0] + span * k / steps;
+                double a = (1.0 - b) * ang[k] + b * even;
+                sys->pstar[2 * k] = len[k] * cos(a);
+                sys->pstar[2 * k + 1] = len[k] * sin(a);
+            }
+            ok = sk__vsys_solve(sys);
+            sk__vsys_angles(sys, &lo, &hi);
+            bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+        }
+        memcpy(sys->pstar, orig, sizeof(double) * (size_t)(2 * n));
+        sys->relaxed = 1;
+    }
+    for (int k = 0; k < n; ++k) {
+        uint32_t h = E[k];
+        double *P = W->P + 3 * (size_t)h;
+        for (int x = 0; x < 3; ++x)
+            P[x] = V[x] + sys->p[2 * k] * e1[x] + sys->p[2 * k + 1] * e2[x];
+        W->w1[h] = sk_is_boundary_e(m, sk_edge(h)) ? NAN : sys->w[k];
+    }
+    if (ok != 0)
+        return 2;
+    if (bad)
+        return 1;
+    return 0;
+}
+
+/* "Natural" interior point of face(h) at from(h), used only to fix the free point of a boundary
+ * chain: the parallelogram completion of the two (native-degree) edge points at the corner, i.e.
+ * the control net without twist at that corner. */
+static void natural_interior(const vc1_work *W, uint32_t h, double c[3])
+{
+    const sk_mesh *m = W->m;
+    const double *V = m->positions + 3 * (size_t)sk_from(m, h);
+    const double *a = W->P + 3 * (size_t)h, *b = W->P + 3 * (size_t)sk_opp(m->h_prev[h]);
+    double delta = face_delta(m, m->h_face[h]); /* native edge point = V + Delta (P - V) */
+    for (int x = 0; x < 3; ++x)
+        c[x] = V[x] + delta * (a[x] - V[x]) + delta * (b[x] - V[x]);
+}
+
+/* System (4): C_{m+1} - nu^m C_m = B_m around v (here: C of the patch after edge m minus nu times
+ * C of the patch before it). Unique for an odd cycle; a boundary chain leaves C of its first patch
+ * free, chosen to minimise the sum of |C_k - natural_k|^2 over the chain. */
+static void interior_points(vc1_work *W, uint32_t v)
+{
+    const sk_mesh *m = W->m;
+    uint32_t E[SK_VSYS_MAX];
+    int closed, n = ordered_edges(m, v, E, &closed);
+    if (n == 0)
+        return;
+    const double *V = m->positions + 3 * (size_t)v;
+    int npatch = closed ? n : n - 1;
+    /* C_k = alpha_k x + beta_k, patch k = face(E[k]) between E[k] and E[k+1] */
+    double alpha[SK_VSYS_MAX], beta[SK_VSYS_MAX][3];
+    /* patch k follows edge k; for a cycle the first constraint is edge 0 (patch n-1 -> patch 0):
+     * start from x = C_{n-1}; for a chain start from x = C_0 and use edges 1 .. n-2 */
+    int first = closed ? 0 : 1;
+    double ap = 1.0, bp[3] = {0, 0, 0};
+    if (!closed) {
+        alpha[0] = 1.0;
+        beta[0][0] = beta[0][1] = beta[0][2] = 0.0;
+    }
+    for (int k = first; k < npatch; ++k) {
+        uint32_t h = E[k];
+        double nu = W->nu[h];
+        const double *P = W->P + 3 * (size_t)h, *R = W->P + 3 * (size_t)sk_opp(h);
+        double w1 = W->w1[h], w2 = -nu * W->w1[sk_opp(h)];
+        alpha[k] = nu * ap;
+        for (int x = 0; x < 3; ++x) {
+            double B = (1.0 - nu) * P[x] + (2.0 / 3.0) * w1 * (R[x] - P[x]) +
+                       (1.0 / 3.0) * w2 * (V[x] - P[x]); /* B_m of eq. (4) */
+            beta[k][x] = nu * bp[x] + B;
+            bp[x] = beta[k][x];
+        }
+        ap = alpha[k];
+    }
+    double X[3];
+    if (closed) {
+        /* x = C_{n-1} = alpha_{n-1} x + beta_{n-1}, alpha_{n-1} = prod nu = -1 (eq. 5, M odd) */
+        double den = 1.0 - alpha[n - 1];
+        for (int x = 0; x < 3; ++x)
+            X[x] = beta[n - 1][x] / den;
+    } else {
+        double num[3] = {0, 0, 0}, den = 0.0;
+        for (int k = 0; k < npatch; ++k) {
+            double c[3];
+            natural_interior(W, E[k], c);
+            for (int x = 0; x < 3; ++x)
+                num[x] += alpha[k] * (c[x] - beta[k][x]);
+            den += alpha[k] * alpha[k];
+        }
+        for (int x = 0; x < 3; ++x)
+            X[x] = num[x] / den;
+    }
+    for (int k = 0; k < npatch; ++k) {
+        double *C = W->C + 3 * (size_t)E[k];
+        for (int x = 0; x < 3; ++x)
+            C[x] = alpha[k] * X[x] + beta[k][x];
+    }
+}
+
+/* cubic edge control points of half-edge h: from(h), P[h], P[opp h], to(h) */
+static void edge_cubic(const vc1_work *W, uint32_t h, double c[4][3])
+{
+    const sk_mesh *m = W->m;
+    memcpy(c[0], m->positions + 3 * (size_t)sk_from(m, h), sizeof c[0]);
+    memcpy(c[1], W->P + 3 * (size_t)h, sizeof c[1]);
+    memcpy(c[2], W->P + 3 * (size_t)sk_opp(h), sizeof c[2]);
+    memcpy(c[3], m->positions + 3 * (size_t)sk_to(m, h), sizeof c[3]);
+}
+
+/* quartic elevation of a cubic: q_j = j/4 c_{j-1} + (1 - j/4) c_j */
+static void elevate(double c[4][3], double q[5][3])
+{
+    for (int j = 0; j <= 4; ++j)
+        for (int x = 0; x < 3; ++x)
+            q[j][x] = (j > 0 ? j / 4.0 * c[j - 1][x] : 0.0) + (j < 4 ? (1.0 - j / 4.0) * c[j][x] : 0.0);
+}
+
+static void assemble_patch(const vc1_work *W, uint32_t f, sk_patch *pa, double *b)
+{
+    const sk_mesh *m = W->m;
+    uint32_t h[4];
+    h[0] = m->f_halfedge[f];
+    for (int i = 1; i < 4; ++i)
+        h[i] = m->h_next[h[i - 1]];
+    int n = h[3] == h[0] ? 3 : 4;
+    pa->kind = (uint8_t)n;
+    pa->degree = n == 3 ? 4 : 3;
+    for (int i = 0; i < 4; ++i)
+        pa->corners[i] = i < n ? sk_from(m, h[i]) : SK_INVALID;
+    double c[4][3];
+    if (n == 3) {
+        double q[5][3];
+        edge_cubic(W, h[0], c); /* corner 0 -> 1: b_{4-t, t, 0} */
+        elevate(c, q);
+        for (int t = 0; t <= 4; ++t)
+            memcpy(b + 3 * sk__tri_index(4, t, 0), q[t], sizeof q[t]);
+        edge_cubic(W, h[1], c); /* corner 1 -> 2: b_{0, 4-t, t} */
+        elevate(c, q);
+        for (int t = 0; t <= 4; ++t)
+            memcpy(b + 3 * sk__tri_index(4, 4 - t, t), q[t], sizeof q[t]);
+        edge_cubic(W, h[2], c); /* corner 2 -> 0: b_{t, 0, 4-t} */
+        elevate(c, q);
+        for (int t = 0; t <= 4; ++t)
+            memcpy(b + 3 * sk__tri_index(4, 0, 4 - t), q[t], sizeof q[t]);
+        memcpy(b + 3 * sk__tri_index(4, 1, 1), W->C + 3 * (size_t)h[0], 3 * sizeof(double)); /* b211 */
+        memcpy(b + 3 * sk__tri_index(4, 2, 1), W->C + 3 * (size_t)h[1], 3 * sizeof(double)); /* b121 */
+        memcpy(b + 3 * sk__tri_index(4, 1, 2), W->C + 3 * (size_t)h[2], 3 * sizeof(double)); /* b112 */
+    } else {
+        edge_cubic(W, h[0], c);
+        for (int t = 0; t < 4; ++t)
+            memcpy(b + 3 * t, c[t], sizeof c[t]);
+        edge_cubic(W, h[1], c);
+        for (int t = 0; t < 4; ++t)
+            memcpy(b + 3 * (3 + 4 * t), c[t], sizeof c[t]);
+        edge_cubic(W, h[2], c);
+        for (int t = 0; t < 4; ++t)
+            memcpy(b + 3 * ((3 - t) + 12), c[t], sizeof c[t]);
+        edge_cubic(W, h[3], c);
+        for (int t = 0; t < 4; ++t)
+            memcpy(b + 3 * (4 * (3 - t)), c[t], sizeof c[t]);
+        memcpy(b + 3 * 5, W->C + 3 * (size_t)h[0], 3 * sizeof(double));
+        memcpy(b + 3 * 6, W->C + 3 * (size_t)h[1], 3 * sizeof(double));
+        memcpy(b + 3 * 10, W->C + 3 * (size_t)h[2], 3 * sizeof(double));
+        memcpy(b + 3 * 9, W->C + 3 * (size_t)h[3], 3 * sizeof(double));
+    }
+}
+
+static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
+{
+    sk_mesh *m = s->config;
+    size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
+    sk_status st = SK_OK;
+    vc1_work W = {0};
+    double *target = sk__malloc_array(nh, 3 * sizeof(double));
+    double *r = sk__malloc_array(nf + 1, sizeof(double));
+    W.P = sk__calloc_array(nh, 3 * sizeof(double));
+    W.w1 = sk__malloc_array(nh, sizeof(double));
+    W.nu = sk__malloc_array(nh, sizeof(double));
+    W.C = sk__calloc_array(nh, 3 * sizeof(double));
+    uint8_t *status = calloc(nv ? nv : 1, 1);
+    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+        goto done;
+    }
+    W.m = m;
+    W.normals = s->normals;
+    W.target = target;
+    W.r = r;
+    W.alpha = alpha;
+    double t0 = now_seconds();
+    if ((st = sk__wireframe_targets(m, s->normals, target, err)) != SK_OK)
+        goto done;
+    sk__patch_ratios(m, target, r);
+    for (size_t h = 0; h < nh; ++h) {
+        uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
+        W.nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
+        if (f != SK_INVALID && g != SK_INVALID && !(r[f] > 0.0 && r[g] > 0.0)) {
+            st = sk__fail(err, SK_ERR_NUMERIC,
+                          "edge (%u, %u): a neighbouring patch has zero target area (r_m = 0 in "
+                          "eq. 7), the wire frame targets are collinear",
+                          sk_from(m, (uint32_t)h), sk_to(m, (uint32_t)h));
+            goto done;
+        }
+    }
+    /* the vertex systems (8) */
+    double max_res = 0.0, dev_sum = 0.0;
+    size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
+    long nvl = (long)nv;
+    int too_many = -1;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
+    reduction(+ : dev_sum, dev_n, fallback, relaxed) reduction(max : max_it)
+#endif
+    for (long i = 0; i < nvl; ++i) {
+        uint32_t v = (uint32_t)i;
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+            continue;
+        sk__vsys sys;
+        int code = solve_vertex(&W, v, &sys);
+        status[v] = (uint8_t)code;
+        relaxed += (size_t)sys.relaxed;
+        if (code == 3) {
+#ifdef SK_HAVE_OPENMP
+#pragma omp critical(sk_vc1_too_many)
+#endif
+            too_many = (int)v;
+            continue;
+        }
+        max_res = fmax(max_res, sys.residual);
+        max_it = (size_t)sys.iterations > max_it ? (size_t)sys.iterations : max_it;
+        fallback += (size_t)sys.used_fallback;
+        for (int k = 0; k < sys.n_edges; ++k) {
+            double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
+            if (len > 0.0) {
+                dev_sum += hypot(sys.p[2 * k] - sys.pstar[2 * k],
+                                 sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
+                dev_n++;
+            }
+        }
+    }
+    if (too_many >= 0) {
+        st = sk__fail(err, SK_ERR_TOPOLOGY, "vertex %d has more than %d edges", too_many,
+                      SK_VSYS_MAX);
+        goto done;
+    }
+    s->stats.vertex_systems = nv;
+    s->stats.max_iterations = max_it;
+    s->stats.fallback_solves = fallback;
+    s->stats.relaxed_vertices = relaxed;
+    s->stats.max_residual = max_res;
+    s->stats.mean_target_deviation = dev_n ? dev_sum / (double)dev_n : 0.0;
+    size_t nprob = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        s->stats.angle_violations += status[v] == 1;
+        s->stats.failed_vertices += status[v] == 2;
+        nprob += status[v] != 0;
+    }
+    if (nprob) {
+        s->problems = sk__malloc_array(nprob, sizeof(uint32_t));
+        if (!s->problems) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        for (size_t v = 0; v < nv; ++v)
+            if (status[v])
+                s->problems[s->num_problems++] = (uint32_t)v;
+    }
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+    for (long i = 0; i < nvl; ++i)
+        if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
+            interior_points(&W, (uint32_t)i);
+    double t1 = now_seconds();
+    s->stats.seconds_systems = t1 - t0;
+    /* patches */
+    s->num_patches = nf;
+    s->patches = sk__malloc_array(nf + 1, sizeof(sk_patch));
+    size_t npts = 0;
+    for (uint32_t f = 0; f < nf; ++f)
+        npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;
+    s->points = sk__malloc_array(npts + 1, 3 * sizeof(double));
+    if (!s->patches || !s->points) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    npts = 0;
+    for (uint32_t f = 0; f < nf; ++f) {
+        s->patches[f].first = (uint32_t)npts;
+        npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;
+    }
+    s->num_points = npts;
+    long nfl = (long)nf;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+    for (long f = 0; f < nfl; ++f)
+        assemble_patch(&W, (uint32_t)f, s->patches + f, s->points + 3 * (size_t)s->patches[f].first);
+    s->stats.seconds_patches = now_seconds() - t1;
+done:
+    free(target);
+    free(r);
+    free(W.P);
+    free(W.w1);
+    free(W.nu);
+    free(W.C);
+    free(status);
+    return st;
+}
+
+sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
+                          sk_error *err)
+{
+    sk_smooth_opts opts = {0};
+    if (opts_in)
+        opts = *opts_in;
+    if (!mesh || !out)
+        return sk__fail(err, SK_ERR_ARG, "sk_smooth_build: NULL argument");
+    *out = NULL;
+    if (opts.scheme != SK_SMOOTH_VC1 && opts.scheme != SK_SMOOTH_PN)
+        return sk__fail(err, SK_ERR_ARG, "unknown smooth scheme %d", (int)opts.scheme);
+    double alpha = opts.alpha > 0.0 ? opts.alpha : 0.01;
+    sk_status st = SK_OK;
+    sk_mesh *work = NULL;
+    double *normals = NULL;
+    sk_smooth *s = calloc(1, sizeof *s);
+    if (!s)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    s->scheme = opts.scheme;
+    size_t nv = mesh->num_vertices;
+    for (uint32_t f = 0; f < mesh->num_faces; ++f)
+        if (!mesh->f_deleted[f] && sk_mesh_face_size(mesh, f) != 3) {
+            st = sk__fail(err, SK_ERR_TOPOLOGY, "face %u has %zu sides: a triangle mesh is needed",
+                          f, sk_mesh_face_size(mesh, f));
+            goto fail;
+        }
+    for (size_t i = 0; i < 3 * nv; ++i)
+        if (!isfinite(mesh->positions[i])) {
+            st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", i / 3);
+            goto fail;
+        }
+    /* normals */
+    double t0 = now_seconds();
+    normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
+    if (!normals) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto fail;
+    }
+    if (mesh->normals && !opts.estimate_normals) {
+        for (size_t v = 0; v < nv; ++v) {
+            double *n = normals + 3 * v;
+            memcpy(n, mesh->normals + 3 * v, 3 * sizeof(double));
+            if (mesh->v_halfedge[v] != SK_INVALID &&
+                (!isfinite(n[0] + n[1] + n[2]) || sk__normalize3(n) == 0.0)) {
+                st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a zero or non-finite normal", v);
+                goto fail;
+            }
+        }
+    } else if ((st = sk_mesh_vertex_normals(mesh, opts.normals, normals, err)) != SK_OK) {
+        goto fail;
+    }
+    s->stats.seconds_normals = now_seconds() - t0;
+    if ((st = sk__progress(opts.progress, opts.progress_user, 0.1, err)) != SK_OK)
+        goto fail;
+
+    if (opts.scheme == SK_SMOOTH_PN) {
+        if ((st = sk_mesh_copy(mesh, &s->config, err)) != SK_OK ||
+            (st = sk_mesh_compact(s->config, NULL, NULL, err)) != SK_OK)
+            goto fail;
+        s->normals = normals;
+        normals = NULL;
+        t0 = now_seconds();
+        if ((st = sk__pn_build(s, err)) != SK_OK)
+            goto fail;
+        s->stats.seconds_patches = now_seconds() - t0;
+        *out = s;
+        sk__ok(err);
+        return sk__progress(opts.progress, opts.progress_user, 1.0, err);
+    }
+
+    /* parity split */
+    const sk_mesh *base = mesh;
+    if (opts.allow_split) {
+        double *n2 = NULL;
+        if ((st = split_odd_components(mesh, normals, &work, &n2, &s->stats.split_edges, err)) !=
+            SK_OK)
+            goto fail;
+        if (work) {
+            free(normals);
+            normals = n2;
+            base = work;
+        }
+    }
+    t0 = now_seconds();
+    if ((st = sk_edge_deletion(base, &s->config, &s->deleted, &s->stats.deletion, err)) != SK_OK)
+        goto fail;
+    s->num_deleted = s->stats.deletion.deleted_edges;
+    s->stats.seconds_deletion = now_seconds() - t0;
+    s->normals = normals;
+    normals = NULL;
+    if ((st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
+        goto fail;
+    if ((st = vc1_build(s, alpha, err)) != SK_OK)
+        goto fail;
+    sk_mesh_destroy(&work);
+    *out = s;
+    sk__ok(err);
+    return sk__progress(opts.progress, opts.progress_user, 1.0, err);
+fail:
+    sk_mesh_destroy(&work);
+    free(normals);
+    sk_smooth_destroy(&s);
+    return st;
+}

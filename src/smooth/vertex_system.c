@@ -1,0 +1,441 @@
+/* The vertex systems (8) of Cottin & van Damme, section 4:
+ *
+ *     Delta_{m+1} (P_{m+1} - V) = nu^m Delta_m (P_{m-1} - V) + w_1^m (P_m - V),
+ *
+ * P_m in the tangent plane at V (2D coordinates p_m), minimising sum |P_m - P*_m|^2. The problem is
+ * bilinear in (p, w): solved by Gauss-Newton / SQP on all unknowns together (docs/VC1-NOTES.md 3).
+ * Each step minimises |p + dp - p*|^2 + eps |dw|^2 subject to the linearised constraints
+ * c + J d(p, w) = 0. The step is computed from the Schur complement S = J H^-1 J^T of the KKT system
+ * (H = diag(1, eps)) with a Cholesky factorisation that skips vanishing pivots (at a feasible point of
+ * a cycle J loses one rank: det prod A_m = 1 holds by eq. (5)); if that does not converge, the
+ * same iteration is run with LAPACKE_dgglse (QR-based equality-constrained least squares). */
+#include "smooth/smooth_internal.h"
+#include "core/vec.h"
+
+#include <lapacke.h>
+#include <string.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define EPS_W 1e-2         /* damping of dw relative to dp (coordinates scaled to unit targets); 1e-6 stalls at |c| ~ 1e-11 by cancellation */
+#define RESIDUAL_OK 1e-13   /* |c| relative to the target scale counted as "exact" */
+#define MAX_ITER 200
+#define MAX_C (2 * SK_VSYS_MAX)
+
+/* constraint m uses p_{m-1}, p_m, p_{m+1} (indices modulo n for cycles) */
+static int cons_count(const sk__vsys *s) { return s->closed ? s->n_edges : s->n_edges - 2; }
+static int cons_edge(const sk__vsys *s, int i) { return s->closed ? i : i + 1; }
+static int wrap(const sk__vsys *s, int j) { return (j + s->n_edges) % s->n_edges; }
+
+static double residual(const sk__vsys *s, const double *p, const double *w, double *c)
+{
+    int nc = cons_count(s);
+    double mx = 0.0;
+    for (int i = 0; i < nc; ++i) {
+        int m = cons_edge(s, i), a = wrap(s, m - 1), b = wrap(s, m + 1);
+        for (int k = 0; k < 2; ++k) {
+            double v = s->du[m] * p[2 * b + k] - s->nu[m] * s->dd[m] * p[2 * a + k] -
+                       w[m] * p[2 * m + k];
+            if (c)
+                c[2 * i + k] = v;
+            mx = fmax(mx, fabs(v));
+        }
+    }
+    return mx;
+}
+
+/* Cholesky of the n x n SPD (or semi-definite) matrix A in place (lower); pivots below
+ * tol * max diagonal are dropped (their unknowns are set to 0 in the solve). */
+static void chol_skip(double *A, int n, unsigned char *drop)
+{
+    double dmax = 0.0;
+    for (int i = 0; i < n; ++i)
+        dmax = fmax(dmax, A[i * n + i]);
+    double tol = 1e-13 * dmax;
+    for (int j = 0; j < n; ++j) {
+        double d = A[j * n + j];
+        for (int k = 0; k < j; ++k)
+            d -= A[j * n + k] * A[j * n + k];
+        if (d <= tol) {
+            drop[j] = 1;
+            for (int i = j; i < n; ++i)
+                A[i * n + j] = 0.0;
+            continue;
+        }
+        drop[j] = 0;
+        d = sqrt(d);
+        A[j * n + j] = d;
+        for (int i = j + 1; i < n; ++i) {
+            double v = A[i * n + j];
+            for (int k = 0; k < j; ++k)
+                v -= A[i * n + k] * A[j * n + k];
+            A[i * n + j] = v / d;
+        }
+    }
+}
+
+static void chol_solve(const double *L, int n, const unsigned char *drop, double *b)
+{
+    for (int i = 0; i < n; ++i) {
+        if (drop[i]) {
+            b[i] = 0.0;
+            continue;
+        }
+        double v = b[i];
+        for (int k = 0; k < i; ++k)
+            v -= L[i * n + k] * b[k];
+        b[i] = v / L[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+        if (drop[i]) {
+            b[i] = 0.0;
+            continue;
+        }
+        double v = b[i];
+        for (int k = i + 1; k < n; ++k)
+            v -= L[k * n + i] * b[k];
+        b[i] = v / L[i * n + i];
+    }
+}
+
+/* coefficients of constraint i on the p's: p_{a} * ca + p_m * cm + p_b * cb (times I_2) */
+typedef struct { int a, m, b; double ca, cm, cb; } crow;
+
+static void rows(const sk__vsys *s, const double *w, crow *r, int nc)
+{
+    for (int i = 0; i < nc; ++i) {
+        int m = cons_edge(s, i);
+        r[i].a = wrap(s, m - 1);
+        r[i].m = m;
+        r[i].b = wrap(s, m + 1);
+        r[i].ca = -s->nu[m] * s->dd[m];
+        r[i].cm = -w[m];
+        r[i].cb = s->du[m];
+    }
+}
+
+/* One Gauss-Newton / SQP step by the Schur complement; returns the step size |dx|. */
+static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
+{
+    int n = s->n_edges, nc = cons_count(s), ns = 2 * nc;
+    double c[MAX_C], S[MAX_C * MAX_C], rhs[MAX_C], r[2 * SK_VSYS_MAX];
+    unsigned char drop[MAX_C];
+    crow cr[SK_VSYS_MAX];
+    residual(s, p, w, c);
+    rows(s, w, cr, nc);
+    for (int j = 0; j < 2 * n; ++j)
+        r[j] = s->pstar[j] - p[j];
+    /* S = Jp Jp^T + (1/eps) Jw Jw^T; both coordinates decouple in Jp Jp^T */
+    memset(S, 0, sizeof(double) * (size_t)(ns * ns));
+    for (int i = 0; i < nc; ++i) {
+        int ii[3] = {cr[i].a, cr[i].m, cr[i].b};
+        double ci[3] = {cr[i].ca, cr[i].cm, cr[i].cb};
+        for (int k = 0; k < nc; ++k) {
+            int kk[3] = {cr[k].a, cr[k].m, cr[k].b};
+            double ck[3] = {cr[k].ca, cr[k].cm, cr[k].cb};
+            double v = 0.0;
+            for (int x = 0; x < 3; ++x)
+                for (int y = 0; y < 3; ++y)
+                    if (ii[x] == kk[y])
+                        v += ci[x] * ck[y];
+            S[(2 * i) * ns + 2 * k] = v;
+            S[(2 * i + 1) * ns + 2 * k + 1] = v;
+        }
+        int m = cr[i].m;
+        double px = p[2 * m], py = p[2 * m + 1];
+        S[(2 * i) * ns + 2 * i] += px * px / EPS_W;
+        S[(2 * i) * ns + 2 * i + 1] += px * py / EPS_W;
+        S[(2 * i + 1) * ns + 2 * i] += py * px / EPS_W;
+        S[(2 * i + 1) * ns + 2 * i + 1] += py * py / EPS_W;
+        /* rhs = Jp r + c */
+        for (int k = 0; k < 2; ++k)
+            rhs[2 * i + k] = cr[i].ca * r[2 * cr[i].a + k] + cr[i].cm * r[2 * m + k] +
+                             cr[i].cb * r[2 * cr[i].b + k] + c[2 * i + k];
+    }
+    chol_skip(S, ns, drop);
+    chol_solve(S, ns, drop, rhs);
+    memcpy(mu, rhs, sizeof(double) * (size_t)ns); /* the multipliers of the converged problem */
+    /* dp = r - Jp^T lambda, dw_m = (1/eps) p_m . lambda_m */
+    double dp[2 * SK_VSYS_MAX];
+    memcpy(dp, r, sizeof(double) * (size_t)(2 * n));
+    double norm = 0.0;
+    for (int i = 0; i < nc; ++i) {
+        for (int k = 0; k < 2; ++k) {
+            double l = rhs[2 * i + k];
+            dp[2 * cr[i].a + k] -= cr[i].ca * l;
+            dp[2 * cr[i].m + k] -= cr[i].cm * l;
+            dp[2 * cr[i].b + k] -= cr[i].cb * l;
+        }
+        int m = cr[i].m;
+        double dw = (p[2 * m] * rhs[2 * i] + p[2 * m + 1] * rhs[2 * i + 1]) / EPS_W;
+        w[m] += dw;
+        norm = fmax(norm, fabs(dw));
+    }
+    for (int j = 0; j < 2 * n; ++j) {
+        p[j] += dp[j];
+        norm = fmax(norm, fabs(dp[j]));
+    }
+    return norm;
+}
+
+/* The same step with LAPACKE_dgglse: minimise |A x - c| subject to B x = d, x = (dp, dw). */
+static int step_dgglse(const sk__vsys *s, double *p, double *w)
+{
+    int n = s->n_edges, nc = cons_count(s);
+    int N = 2 * n + nc, M = N, P = 2 * nc;
+    double A[(3 * SK_VSYS_MAX) * (3 * SK_VSYS_MAX)], B[MAX_C * 3 * SK_VSYS_MAX];
+    double cvec[3 * SK_VSYS_MAX], d[MAX_C], x[3 * SK_VSYS_MAX], cons[MAX_C];
+    crow cr[SK_VSYS_MAX];
+    residual(s, p, w, cons);
+    rows(s, w, cr, nc);
+    memset(A, 0, sizeof(double) * (size_t)(M * N));
+    memset(B, 0, sizeof(double) * (size_t)(P * N));
+    for (int j = 0; j < 2 * n; ++j) {
+        A[j * N + j] = 1.0;
+        cvec[j] = s->pstar[j] - p[j];
+    }
+    for (int i = 0; i < nc; ++i) {
+        A[(2 * n + i) * N + 2 * n + i] = sqrt(EPS_W);
+        cvec[2 * n + i] = 0.0;
+        for (int k = 0; k < 2; ++k) {
+            double *row = B + (2 * i + k) * N;
+            row[2 * cr[i].a + k] += cr[i].ca;
+            row[2 * cr[i].m + k] += cr[i].cm;
+            row[2 * cr[i].b + k] += cr[i].cb;
+            row[2 * n + i] = -p[2 * cr[i].m + k];
+            d[2 * i + k] = -cons[2 * i + k];
+        }
+    }
+    lapack_int info = LAPACKE_dgglse(LAPACK_ROW_MAJOR, M, N, P, A, N, B, N, cvec, d, x);
+    if (info != 0)
+        return -1;
+    for (int j = 0; j < 2 * n; ++j)
+        p[j] += x[j];
+    for (int i = 0; i < nc; ++i)
+        w[cr[i].m] += x[2 * n + i];
+    return 0;
+}
+
+/* Newton step on the full KKT system of min 1/2 |p - p*|^2 s.t. c = 0 (exact Hessian of the
+ * Lagrangian: c is bilinear, d2 c_m / dp_m dw_m = -I), solved by dense LU with partial pivoting.
+ * mu holds the multipliers (updated). Used when Gauss-Newton converges slowly (targets far from
+ * satisfying (8), large multipliers). Returns the step size, or -1 when the system is singular. */
+#define NEWTON_MAX_EDGES 16
+static double step_newton(const sk__vsys *s, double *p, double *w, double *mu)
+{
+    int n = s->n_edges, nc = cons_count(s);
+    int N = 2 * n + nc, P = 2 * nc, T = N + P;
+    double K[(5 * NEWTON_MAX_EDGES) * (5 * NEWTON_MAX_EDGES)], rhs[5 * NEWTON_MAX_EDGES];
+    double c[MAX_C];
+    crow cr[SK_VSYS_MAX];
+    residual(s, p, w, c);
+    rows(s, w, cr, nc);
+    memset(K, 0, sizeof(double) * (size_t)(T * T));
+    for (int j = 0; j < 2 * n; ++j) {
+        K[j * T + j] = 1.0;
+        rhs[j] = -(p[j] - s->pstar[j]);
+    }
+    for (int i = 0; i < nc; ++i) {
+        int wi = 2 * n + i, m = cr[i].m;
+        K[wi * T + wi] = 1e-12; /* keeps the w block from being exactly zero */
+        rhs[wi] = 0.0;
+        for (int k = 0; k < 2; ++k) {
+            int row = N + 2 * i + k;
+            /* J */
+            K[row * T + 2 * cr[i].a + k] += cr[i].ca;
+            K[row * T + 2 * cr[i].m + k] += cr[i].cm;
+            K[row * T + 2 * cr[i].b + k] += cr[i].cb;
+            K[row * T + wi] = -p[2 * m + k];
+            /* J^T */
+            K[(2 * cr[i].a + k) * T + row] += cr[i].ca;
+            K[(2 * cr[i].m + k) * T + row] += cr[i].cm;
+            K[(2 * cr[i].b + k) * T + row] += cr[i].cb;
+            K[wi * T + row] = -p[2 * m + k];
+            /* Hessian of mu^T c: d2/dp_m dw_m = -mu */
+            K[(2 * m + k) * T + wi] += -mu[2 * i + k];
+            K[wi * T + 2 * m + k] += -mu[2 * i + k];
+            rhs[row] = -c[2 * i + k];
+        }
+    }
+    /* LU with partial pivoting; unknowns (dx, mu_new) */
+    for (int k = 0; k < T; ++k) {
+        int pr = k;
+        for (int i = k + 1; i < T; ++i)
+            if (fabs(K[i * T + k]) > fabs(K[pr * T + k]))
+                pr = i;
+        if (fabs(K[pr * T + k]) < 1e-300)
+            return -1.0;
+        if (pr != k) {
+            for (int j = 0; j < T; ++j) {
+                double t = K[k * T + j];
+                K[k * T + j] = K[pr * T + j];
+                K[pr * T + j] = t;
+            }
+            double t = rhs[k];
+            rhs[k] = rhs[pr];
+            rhs[pr] = t;
+        }
+        for (int i = k + 1; i < T; ++i) {
+            double f = K[i * T + k] / K[k * T + k];
+            if (f == 0.0)
+                continue;
+            for (int j = k + 1; j < T; ++j)
+                K[i * T + j] -= f * K[k * T + j];
+            rhs[i] -= f * rhs[k];
+        }
+    }
+    for (int k = T - 1; k >= 0; --k) {
+        double v = rhs[k];
+        for (int j = k + 1; j < T; ++j)
+            v -= K[k * T + j] * rhs[j];
+        rhs[k] = v / K[k * T + k];
+    }
+    double norm = 0.0;
+    for (int j = 0; j < N; ++j)
+        if (!isfinite(rhs[j]))
+            return -1.0;
+    for (int j = 0; j < 2 * n; ++j) {
+        p[j] += rhs[j];
+        norm = fmax(norm, fabs(rhs[j]));
+    }
+    for (int i = 0; i < nc; ++i) {
+        w[cr[i].m] += rhs[2 * n + i];
+        norm = fmax(norm, fabs(rhs[2 * n + i]));
+    }
+    for (int j = 0; j < P; ++j)
+        mu[j] = rhs[N + j];
+    return norm;
+}
+
+static void initial_w(const sk__vsys *s, const double *p, double *w)
+{
+    int nc = cons_count(s);
+    for (int m = 0; m < s->n_edges; ++m)
+        w[m] = 0.0;
+    for (int i = 0; i < nc; ++i) {
+        int m = cons_edge(s, i), a = wrap(s, m - 1), b = wrap(s, m + 1);
+        double num = 0.0, den = 0.0;
+        for (int k = 0; k < 2; ++k) {
+            double rhs = s->du[m] * p[2 * b + k] - s->nu[m] * s->dd[m] * p[2 * a + k];
+            num += rhs * p[2 * m + k];
+            den += p[2 * m + k] * p[2 * m + k];
+        }
+        w[m] = den > 0.0 ? num / den : 0.0;
+    }
+}
+
+#define GN_FIRST 12 /* Gauss-Newton iterations before switching to Newton on the KKT system */
+
+static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters)
+{
+    int n = s->n_edges, nc = cons_count(s);
+    double mu[MAX_C];
+    int newton = 0;
+    for (int it = 0; it < MAX_ITER; ++it) {
+        double dx;
+        if (use_lapack) {
+            if (step_dgglse(s, p, w) != 0)
+                return -1;
+            dx = 0.0;
+        } else if (newton) {
+            double p0[2 * SK_VSYS_MAX], w0[SK_VSYS_MAX], mu0[MAX_C];
+            memcpy(p0, p, sizeof p0);
+            memcpy(w0, w, sizeof w0);
+            memcpy(mu0, mu, sizeof mu0);
+            double r0 = residual(s, p, w, NULL);
+            dx = step_newton(s, p, w, mu);
+            if (dx < 0.0 || !(residual(s, p, w, NULL) < 10.0 * r0 + 1e-14)) {
+                /* Newton diverged: back to Gauss-Newton */
+                memcpy(p, p0, sizeof p0);
+                memcpy(w, w0, sizeof w0);
+                memcpy(mu, mu0, sizeof mu0);
+                newton = 0;
+                dx = step_schur(s, p, w, mu);
+            }
+        } else {
+            dx = step_schur(s, p, w, mu);
+            if (it + 1 >= GN_FIRST && n <= NEWTON_MAX_EDGES && nc > 0)
+                newton = 1;
+        }
+        ++*iters;
+        double r2 = residual(s, p, w, NULL);
+        if (getenv("SK_VSYS_DEBUG"))
+            fprintf(stderr, "it %d lapack %d newton %d res %.3e dx %.3e\n", it, use_lapack, newton, r2, dx);
+        if (!isfinite(r2) || !isfinite(dx))
+            return -1;
+        /* converged: constraints exact and the step has settled (use_lapack: no step size) */
+        if (r2 <= 1e-15 && (dx < 1e-8 || (use_lapack && it >= 3)))
+            return 0;
+    }
+    return residual(s, p, w, NULL) <= RESIDUAL_OK ? 0 : -1;
+}
+
+int sk__vsys_solve(sk__vsys *s)
+{
+    int n = s->n_edges;
+    double scale = 0.0;
+    for (int j = 0; j < n; ++j)
+        scale += hypot(s->pstar[2 * j], s->pstar[2 * j + 1]);
+    scale = scale > 0.0 ? scale / n : 1.0;
+    /* work in units of the mean target length */
+    sk__vsys t = *s;
+    for (int j = 0; j < 2 * n; ++j)
+        t.pstar[j] = s->pstar[j] / scale;
+    s->iterations = 0;
+    s->used_fallback = 0;
+    int nc = cons_count(s);
+    double p[2 * SK_VSYS_MAX], w[SK_VSYS_MAX] = {0};
+    memcpy(p, t.pstar, sizeof(double) * (size_t)(2 * n));
+    int ok = 0;
+    if (nc > 0) {
+        initial_w(&t, p, w);
+        ok = iterate(&t, p, w, 0, &s->iterations);
+        if (ok != 0) {
+            /* feasibility restoration: minimum-norm Gauss-Newton on c(p, w) = 0 alone from the last
+             * iterate (targets moved onto the iterate each step); converges quadratically */
+            sk__vsys f = t;
+            double mu[MAX_C];
+            for (int it = 0; it < 60 && ok != 0; ++it) {
+                memcpy(f.pstar, p, sizeof(double) * (size_t)(2 * n));
+                step_schur(&f, p, w, mu);
+                ++s->iterations;
+                double r2 = residual(&t, p, w, NULL);
+                if (!isfinite(r2))
+                    break;
+                if (r2 <= 1e-15)
+                    ok = 0;
+            }
+        }
+        if (ok != 0) {
+            s->used_fallback = 1;
+            memcpy(p, t.pstar, sizeof(double) * (size_t)(2 * n));
+            initial_w(&t, p, w);
+            ok = iterate(&t, p, w, 1, &s->iterations);
+        }
+    } else {
+        for (int m = 0; m < n; ++m)
+            w[m] = 0.0;
+    }
+    s->residual = residual(&t, p, w, NULL);
+    for (int j = 0; j < 2 * n; ++j)
+        s->p[j] = p[j] * scale;
+    for (int m = 0; m < n; ++m)
+        s->w[m] = w[m]; /* w is scale-free: (8) is homogeneous in p */
+    return ok;
+}
+
+void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle)
+{
+    int n = s->n_edges, pairs = s->closed ? n : n - 1;
+    double lo = 4.0 * M_PI, hi = -1.0;
+    for (int k = 0; k < pairs; ++k) {
+        const double *a = s->p + 2 * k, *b = s->p + 2 * ((k + 1) % n);
+        double ang = atan2(a[0] * b[1] - a[1] * b[0], a[0] * b[0] + a[1] * b[1]);
+        if (ang < 0.0)
+            ang += 2.0 * M_PI;
+        lo = fmin(lo, ang);
+        hi = fmax(hi, ang);
+    }
+    *min_angle = lo;
+    *max_angle = hi;
+}

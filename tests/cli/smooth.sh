@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# surfkit smooth: VC1 on the sphere (report keys, jump at rounding level, outputs written), PN
+# baseline with degree-level jumps, odd closed mesh refused (exit 1) and handled with --allow-split.
+set -u
+bin=$1 shared=$3 tmp=$4
+rm -rf "$tmp"; mkdir -p "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+m=$shared/data/meshes
+"$bin" smooth "$m/sphere.off" -o "$tmp/s.obj" --tess 3 --report "$tmp/r.json" \
+  --patches "$tmp/p.json" --layout "$tmp/l.png" --render "$tmp/s.png" -q || fail "sphere exit $?"
+for k in triangles quads even_vertices deleted_edges max_gap max_normal_jump_deg \
+         mean_normal_jump_deg max_vertex_error max_normal_error_deg singular_patches seconds; do
+  grep -q "\"$k\"" "$tmp/r.json" || fail "report key $k missing"
+done
+python3 - "$tmp/r.json" <<'PY' || fail "sphere report values"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["max_normal_jump_deg"] < 1e-7, r
+assert r["singular_patches"] == 0 and r["quads"] == r["deleted_edges"] == 75
+PY
+grep -q '^vn ' "$tmp/s.obj" || fail "no normals in the OBJ"
+[ -s "$tmp/l.png" ] && [ -s "$tmp/s.png" ] && [ -s "$tmp/p.json" ] || fail "missing outputs"
+"$bin" smooth "$m/sphere.off" --scheme pn --json -q > "$tmp/pn.json" || fail "pn exit"
+python3 -c "import json,sys; r=json.load(open('$tmp/pn.json')); assert r['max_normal_jump_deg'] > 0.3" ||
+  fail "pn jump"
+"$bin" smooth "$m/blobby.off" -o "$tmp/b.obj" 2> "$tmp/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "odd" "$tmp/err" && [ ! -e "$tmp/b.obj" ] || fail "blobby not refused ($rc)"
+"$bin" smooth "$m/blobby.off" --allow-split --json -q > "$tmp/b.json" || fail "allow-split exit"
+python3 -c "import json; r=json.load(open('$tmp/b.json')); assert r['split_edges']==1 and r['max_normal_jump_deg']<1e-7" ||
+  fail "allow-split report"
+"$bin" smooth "$m/sphere.off" 2>/dev/null; [ $? -eq 2 ] || fail "no output should be a usage error"
+echo ok

@@ -1,0 +1,117 @@
+/* Edge deletion (Cottin & van Damme section 3) on the shared meshes: every interior vertex odd,
+ * faces triangles or quads, the mesh stays valid, the deleted count is near the lower bound. */
+#include "testutil.h"
+#include "surfkit/smooth.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void check_config(const sk_mesh *m)
+{
+    sk_error err = {0};
+    assert_int_equal(sk_mesh_check(m, &err), SK_OK);
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        size_t n = sk_mesh_face_size(m, f);
+        assert_true(n == 3 || n == 4);
+    }
+    for (uint32_t v = 0; v < m->num_vertices; ++v) {
+        if (m->v_halfedge[v] == SK_INVALID || sk_is_boundary_v(m, v))
+            continue;
+        size_t faces = sk_mesh_valence(m, v);
+        if ((faces & 1u) == 0)
+            fail_msg("vertex %u has %zu faces", v, faces);
+        assert_true(faces >= 3);
+    }
+}
+
+static void run_mesh(const char *name, size_t expect_even)
+{
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh(name)), *c = NULL;
+    sk_edge_deletion_stats st;
+    uint32_t *del = NULL;
+    sk_error err = {0};
+    sk_status s = sk_edge_deletion(m, &c, &del, &st, &err);
+    if (s != SK_OK)
+        fail_msg("%s: %s", name, err.message);
+    check_config(c);
+    print_message("%-20s even %6zu bound %6zu deleted %6zu pairs %5zu bnd %4zu rounds %zu "
+                  "reductions %zu shared %zu fixes %zu tri %zu quad %zu\n",
+                  name, st.even_vertices, st.lower_bound, st.deleted_edges, st.pairs,
+                  st.boundary_paths, st.initialise_rounds, st.reductions, st.shared_edges,
+                  st.triangle_fixes, st.triangles, st.quads);
+    if (expect_even != (size_t)-1)
+        assert_int_equal(st.even_vertices, expect_even);
+    assert_true(st.deleted_edges >= st.lower_bound || st.boundary_paths > 0);
+    /* near-optimal: the paper reports optimal counts; allow 35% over the bound */
+    assert_true(st.deleted_edges <= st.lower_bound + st.lower_bound * 35 / 100 + 2);
+    assert_int_equal(st.triangles + 2 * st.quads, m->num_faces);
+    assert_int_equal(st.quads, st.deleted_edges);
+    /* deleted edges were edges of the input */
+    for (size_t i = 0; i < st.deleted_edges; ++i)
+        assert_true(del[2 * i] != del[2 * i + 1]);
+    free(del);
+    sk_mesh_destroy(&c);
+    sk_mesh_destroy(&m);
+}
+
+static void test_closed_even(void **state)
+{
+    (void)state;
+    run_mesh("icosahedron.off", 0); /* all valence 5: nothing to delete */
+    run_mesh("cube.off", (size_t)-1);
+    run_mesh("sphere.off", (size_t)-1);
+    run_mesh("cow.off", (size_t)-1);
+    run_mesh("knot1.off", (size_t)-1);
+    if (!getenv("SK_TEST_QUICK")) {
+        run_mesh("bunny00.off", (size_t)-1);
+        run_mesh("armadillo.off", (size_t)-1);
+    }
+}
+
+static void test_disks(void **state)
+{
+    (void)state;
+    const char *disks[] = {"lion-head.off", "mushroom.off", "nefertiti.off", "paraboloid-patch.off",
+                           "patch-01.off", "three_peaks.off", "cylinder.off", "mask_cone.off",
+                           "pig.off", "mech-holes-shark.off"};
+    for (size_t i = 0; i < sizeof disks / sizeof disks[0]; ++i)
+        run_mesh(disks[i], (size_t)-1);
+}
+
+static void test_odd_closed_refused(void **state)
+{
+    (void)state;
+    const char *odd[] = {"blobby.off", "eight.off", "elephant.off", "fandisk.off"};
+    for (size_t i = 0; i < 4; ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(odd[i])), *c = NULL;
+        sk_error err = {0};
+        assert_int_equal(sk_edge_deletion(m, &c, NULL, NULL, &err), SK_ERR_TOPOLOGY);
+        assert_null(c);
+        assert_non_null(strstr(err.message, "odd"));
+        sk_mesh_destroy(&m);
+    }
+}
+
+static void test_quads_refused(void **state)
+{
+    (void)state;
+    double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    uint32_t off[] = {0, 4}, idx[] = {0, 1, 2, 3};
+    sk_mesh *m = NULL, *c = NULL;
+    sk_error err = {0};
+    assert_int_equal(sk_mesh_from_faces(4, pos, 1, off, idx, &m, &err), SK_OK);
+    assert_int_equal(sk_edge_deletion(m, &c, NULL, NULL, &err), SK_ERR_TOPOLOGY);
+    sk_mesh_destroy(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_closed_even),
+        cmocka_unit_test(test_disks),
+        cmocka_unit_test(test_odd_closed_refused),
+        cmocka_unit_test(test_quads_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

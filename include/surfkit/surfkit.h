@@ -7,5 +7,6 @@
 #include "surfkit/mesh.h"
 #include "surfkit/io.h"
 #include "surfkit/subdivide.h"
+#include "surfkit/mips.h"
 
 #endif

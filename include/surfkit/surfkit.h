@@ -7,6 +7,7 @@
 #include "surfkit/mesh.h"
 #include "surfkit/io.h"
 #include "surfkit/subdivide.h"
+#include "surfkit/hierarchy.h"
 #include "surfkit/mips.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"

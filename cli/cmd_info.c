@@ -94,7 +94,7 @@ static void print_text(const char *path, sk_format fmt, const sk_validation *r, 
            r->max_angle_deg);
     printf("  area                  %.6g\n", r->area);
     printf("  Gauss-Bonnet          sum of angle deficits %.12g, 2 pi chi %.12g, error %.3g\n",
-           r->angle_deficit_sum, 2.0 * M_PI * (double)r->euler_characteristic,
+           r->angle_deficit_sum, r->angle_deficit_sum - r->gauss_bonnet_error,
            r->gauss_bonnet_error);
     size_t total = 0;
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i)

@@ -10,6 +10,10 @@
 
 #include "surfkit/surfkit.h"
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 /* Path of a file in ../shared/data/meshes (static buffer, valid until the next call). */
 const char *skt_shared_mesh(const char *name);
 /* Path of a file in tests/data. */

@@ -7,5 +7,7 @@
 #include "surfkit/mesh.h"
 #include "surfkit/io.h"
 #include "surfkit/subdivide.h"
+#include "surfkit/mips.h"
+#include "surfkit/bezier.h"
 
 #endif

@@ -1,0 +1,52 @@
+/* MIPS: the most isometric parametrization energy of Hormann & Greiner, minimised by local
+ * Newton steps that keep every vertex inside the kernel of its one ring (no triangle ever flips
+ * or degenerates: the energy is infinite there and the line search never crosses).
+ *
+ * Energy (papers README): E = sum over triangles of sigma1/sigma2 + sigma2/sigma1, the singular
+ * values of the Jacobian J of the linear map from the 3D triangle to its parameter triangle.
+ * Minimum 2 per triangle (conformal). */
+#ifndef SURFKIT_MIPS_H
+#define SURFKIT_MIPS_H
+
+#include "surfkit/mesh.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sk_mips_opts {
+    bool fixed_boundary;  /* keep boundary vertices where they are (default: free, natural) */
+    size_t max_sweeps;    /* sweeps over all vertices; 0 = 200 */
+    size_t max_steps;     /* budget of local steps (vertex moves); 0 = no budget beyond sweeps */
+    double tolerance;     /* stop when a sweep lowers the energy by less than this fraction;
+                             0 = 1e-7; negative = never stop early */
+    uint64_t seed;        /* random sweep order */
+    sk_progress_fn progress;
+    void *progress_user;
+} sk_mips_opts;
+
+typedef struct sk_mips_stats {
+    size_t sweeps;
+    size_t steps;          /* local steps taken (attempted vertex moves) */
+    double energy_start;
+    double energy;         /* plain sum over triangles */
+    size_t triangles;
+} sk_mips_stats;
+
+/* MIPS energy of uv (2 per vertex) over the alive triangles of mesh; *inverted counts triangles
+ * with non-positive parameter area (their energy is not added). Fails on non-triangle faces and
+ * on triangles that are degenerate in 3D (MIPS is undefined there). */
+sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
+                         sk_error *err);
+
+/* Lowers the MIPS energy of uv (2 per vertex, a flip-free start) by local steps in random order.
+ * Fails with SK_ERR_ARG if the start has an inverted triangle. */
+sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
+                        sk_mips_stats *stats, sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs what is needed, builds with warnings as errors, runs every test; then builds with
+# AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again (lighter data set), and
+# runs every fuzz target over the bad-input corpus (no fuzzing, only replay).
+# Usage: scripts/test.sh            (from the repository root; ../shared must be beside it)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+jobs=$(nproc 2>/dev/null || echo 2)
+
+echo "== release build (-Werror) and tests"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_WERROR=ON >/dev/null
+cmake --build build -j"$jobs"
+ctest --test-dir build --output-on-failure -j"$jobs"
+
+echo "== ASan + UBSan build and tests"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSK_WERROR=ON -DSK_SANITIZE=ON \
+  -DSK_OPENMP=OFF -DSK_BUILD_BENCH=OFF >/dev/null
+cmake --build build-asan -j"$jobs"
+SK_TEST_QUICK=1 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build-asan --output-on-failure -j"$jobs"
+
+if [ -n "$(ls tests/fuzz/fuzz_*.c 2>/dev/null)" ] && command -v clang >/dev/null; then
+  echo "== fuzz targets (clang, libFuzzer) replaying tests/data"
+  CC=clang cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSK_FUZZ=ON \
+    -DSK_OPENMP=OFF -DSK_BUILD_BENCH=OFF >/dev/null
+  targets=$(cd tests/fuzz && ls fuzz_*.c | sed 's/\.c$//')
+  # shellcheck disable=SC2086
+  cmake --build build-fuzz -j"$jobs" --target $targets
+  for t in $targets; do
+    ./build-fuzz/tests/"$t" -runs=0 tests/data/bad tests/data/good >/dev/null 2>build-fuzz/"$t".log \
+      || { cat build-fuzz/"$t".log; echo "$t failed on the corpus"; exit 1; }
+    echo "$t: corpus replayed cleanly"
+  done
+fi
+echo "== all tests passed"

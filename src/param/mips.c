@@ -1,0 +1,297 @@
+/* MIPS energy and its local minimisation (Hormann & Greiner; Hormann, Greiner, Campagna sec. 4).
+ *
+ * With c_e the cotangent of the 3D angle opposite edge e of a triangle of area A and q the
+ * parameter points, the Dirichlet identity gives |J|_F^2 = (1 / 2A) sum_e c_e |dq_e|^2 and
+ * det J = A_uv / A, so
+ *
+ *     E_t = sigma1/sigma2 + sigma2/sigma1 = |J|_F^2 / det J = sum_e c_e |dq_e|^2 / (2 A_uv).   (*)
+ *
+ * As a function of one vertex q_i this is a convex quadratic over a positive linear function
+ * (c_j + c_k = sin(theta_i) / (sin theta_j sin theta_k) > 0), hence convex on the kernel of the
+ * one ring: a damped Newton step with backtracking that never leaves the kernel converges. */
+#include "surfkit/mips.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A parameter triangle counts as inverted when twice its signed area is below this fraction of
+ * the product of its two edge lengths at the moving vertex (sine of the angle < 1e-12). */
+#define MIPS_MIN_SINE 1e-12
+
+typedef struct mips_ctx {
+    size_t nv, nt;
+    uint32_t *tri;      /* 3 vertex ids per triangle (ccw) */
+    double *cot;        /* cotangent of the 3D angle at each corner */
+    uint32_t *vt_start; /* vertex -> incident triangle corners (CSR) */
+    uint32_t *vt_corner; /* 3 * t + k */
+    uint8_t *movable;
+} mips_ctx;
+
+static void ctx_free(mips_ctx *c)
+{
+    free(c->tri);
+    free(c->cot);
+    free(c->vt_start);
+    free(c->vt_corner);
+    free(c->movable);
+}
+
+static sk_status ctx_init(mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
+{
+    memset(c, 0, sizeof *c);
+    size_t nf = m->num_faces, nv = m->num_vertices, nt = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        if (sk_mesh_face_size(m, (uint32_t)f) != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle: MIPS needs a "
+                            "triangle mesh", f);
+        nt++;
+    }
+    c->nv = nv;
+    c->nt = nt;
+    c->tri = sk__malloc_array(3 * nt, sizeof(uint32_t));
+    c->cot = sk__malloc_array(3 * nt, sizeof(double));
+    c->vt_start = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    c->vt_corner = sk__malloc_array(3 * nt, sizeof(uint32_t));
+    c->movable = sk__malloc_array(nv, 1);
+    if (!c->tri || !c->cot || !c->vt_start || !c->vt_corner || !c->movable) {
+        ctx_free(c);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    size_t t = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            c->tri[3 * t + k] = sk_from(m, h);
+        const double *p[3];
+        for (int k = 0; k < 3; ++k)
+            p[k] = m->positions + 3 * (size_t)c->tri[3 * t + k];
+        for (int k = 0; k < 3; ++k) {
+            double e1[3], e2[3], x[3];
+            sk__sub3(e1, p[(k + 1) % 3], p[k]);
+            sk__sub3(e2, p[(k + 2) % 3], p[k]);
+            sk__cross3(x, e1, e2);
+            double s = sk__norm3(x);
+            if (!(s > 1e-14 * sk__dot3(e1, e1) + 1e-300) || !(s > 1e-14 * sk__dot3(e2, e2)))
+                goto degenerate;
+            c->cot[3 * t + k] = sk__dot3(e1, e2) / s;
+        }
+        for (int k = 0; k < 3; ++k)
+            c->vt_start[c->tri[3 * t + k] + 1]++;
+        ++t;
+        continue;
+    degenerate:
+        sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is degenerate in 3D (zero area): MIPS is "
+                 "undefined there; remove it first", f);
+        ctx_free(c);
+        return SK_ERR_TOPOLOGY;
+    }
+    for (size_t v = 0; v < nv; ++v)
+        c->vt_start[v + 1] += c->vt_start[v];
+    uint32_t *fill = sk__malloc_array(nv + 1, sizeof(uint32_t));
+    if (!fill) {
+        ctx_free(c);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(fill, c->vt_start, (nv + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < 3 * nt; ++i)
+        c->vt_corner[fill[c->tri[i]]++] = (uint32_t)i;
+    free(fill);
+    for (size_t v = 0; v < nv; ++v)
+        c->movable[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
+                        !(fixed_boundary && sk_is_boundary_v(m, (uint32_t)v));
+    return SK_OK;
+}
+
+/* Energy (*) of triangle t; +inf if its parameter triangle is not positively oriented. */
+static double tri_energy(const mips_ctx *c, size_t t, const double *uv)
+{
+    const uint32_t *v = c->tri + 3 * t;
+    const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *d = uv + 2 * (size_t)v[2];
+    double ab[2] = {b[0] - a[0], b[1] - a[1]}, ad[2] = {d[0] - a[0], d[1] - a[1]};
+    double bd[2] = {d[0] - b[0], d[1] - b[1]};
+    double twice = sk__cross2(ab, ad);
+    if (!(twice > 0.0))
+        return INFINITY;
+    const double *ct = c->cot + 3 * t;
+    return (ct[0] * sk__dot2(bd, bd) + ct[1] * sk__dot2(ad, ad) + ct[2] * sk__dot2(ab, ab)) / twice;
+}
+
+/* Sum of (*) over the triangles around v with v at position x; +inf outside the kernel.
+ * With g, H non-NULL also the gradient and Hessian with respect to x. */
+static double ring_energy(const mips_ctx *c, uint32_t v, const double *uv, const double x[2],
+                          double g[2], double H[3])
+{
+    double e = 0.0;
+    if (g) {
+        g[0] = g[1] = 0.0;
+        H[0] = H[1] = H[2] = 0.0;
+    }
+    for (uint32_t i = c->vt_start[v]; i < c->vt_start[v + 1]; ++i) {
+        uint32_t corner = c->vt_corner[i], t = corner / 3, k = corner % 3;
+        const uint32_t *tv = c->tri + 3 * (size_t)t;
+        const double *qj = uv + 2 * (size_t)tv[(k + 1) % 3], *qk = uv + 2 * (size_t)tv[(k + 2) % 3];
+        const double *ct = c->cot + 3 * (size_t)t;
+        double ci = ct[k], cj = ct[(k + 1) % 3], ck = ct[(k + 2) % 3];
+        double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
+        double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
+        /* b = 2 A_uv = (qj - x) x (qk - x), linear in x with gradient perp(qk - qj) */
+        double b = sk__cross2(dj, dk);
+        double lj = sqrt(sk__dot2(dj, dj)), lk = sqrt(sk__dot2(dk, dk));
+        if (!(b > MIPS_MIN_SINE * lj * lk))
+            return INFINITY;
+        /* a = ck |x - qj|^2 + cj |x - qk|^2 + ci |qj - qk|^2 (edge opposite each corner) */
+        double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
+        e += a / b;
+        if (g) {
+            double ga[2] = {2.0 * (ck * dj[0] + cj * dk[0]), 2.0 * (ck * dj[1] + cj * dk[1])};
+            double gb[2] = {-jk[1], jk[0]};
+            double ha = 2.0 * (cj + ck);
+            double ib = 1.0 / b, ib2 = ib * ib, ib3 = ib2 * ib;
+            g[0] += ga[0] * ib - a * gb[0] * ib2;
+            g[1] += ga[1] * ib - a * gb[1] * ib2;
+            /* H = Ha / b - (ga gb^T + gb ga^T) / b^2 + 2 a gb gb^T / b^3 */
+            H[0] += ha * ib - 2.0 * ga[0] * gb[0] * ib2 + 2.0 * a * gb[0] * gb[0] * ib3;
+            H[1] += -(ga[0] * gb[1] + gb[0] * ga[1]) * ib2 + 2.0 * a * gb[0] * gb[1] * ib3;
+            H[2] += ha * ib - 2.0 * ga[1] * gb[1] * ib2 + 2.0 * a * gb[1] * gb[1] * ib3;
+        }
+    }
+    return e;
+}
+
+/* One local step at v: damped Newton with backtracking inside the kernel. Returns the energy
+ * decrease (>= 0). */
+static double local_step(const mips_ctx *c, uint32_t v, double *uv)
+{
+    double *x = uv + 2 * (size_t)v;
+    double g[2], H[3];
+    double e0 = ring_energy(c, v, uv, x, g, H);
+    if (!isfinite(e0))
+        return 0.0;
+    double det = H[0] * H[2] - H[1] * H[1];
+    double d[2];
+    if (det > 0.0 && H[0] > 0.0) {
+        d[0] = -(H[2] * g[0] - H[1] * g[1]) / det;
+        d[1] = -(-H[1] * g[0] + H[0] * g[1]) / det;
+    } else { /* not expected (the local problem is convex); fall back to gradient descent */
+        double s = 1.0 / (fabs(H[0]) + fabs(H[2]) + 1e-300);
+        d[0] = -s * g[0];
+        d[1] = -s * g[1];
+    }
+    double slope = g[0] * d[0] + g[1] * d[1];
+    if (!(slope < 0.0))
+        return 0.0;
+    double t = 1.0;
+    for (int it = 0; it < 40; ++it, t *= 0.5) {
+        double y[2] = {x[0] + t * d[0], x[1] + t * d[1]};
+        double e = ring_energy(c, v, uv, y, NULL, NULL);
+        if (e <= e0 + 1e-4 * t * slope) { /* Armijo; +inf (left the kernel) fails it */
+            x[0] = y[0];
+            x[1] = y[1];
+            return e0 - e;
+        }
+    }
+    return 0.0;
+}
+
+static double total_energy(const mips_ctx *c, const double *uv, size_t *inverted)
+{
+    double e = 0.0;
+    size_t bad = 0;
+    for (size_t t = 0; t < c->nt; ++t) {
+        double et = tri_energy(c, t, uv);
+        if (isfinite(et))
+            e += et;
+        else
+            bad++;
+    }
+    if (inverted)
+        *inverted = bad;
+    return e;
+}
+
+sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
+                         sk_error *err)
+{
+    mips_ctx c;
+    sk_status st = ctx_init(&c, mesh, false, err);
+    if (st)
+        return st;
+    *energy = total_energy(&c, uv, inverted);
+    ctx_free(&c);
+    return SK_OK;
+}
+
+sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
+                        sk_mips_stats *stats, sk_error *err)
+{
+    sk_mips_opts o = {0};
+    if (opts)
+        o = *opts;
+    size_t max_sweeps = o.max_sweeps ? o.max_sweeps : 200;
+    double tol = o.tolerance == 0.0 ? 1e-7 : o.tolerance;
+    sk_mips_stats s = {0};
+    mips_ctx c;
+    sk_status st = ctx_init(&c, mesh, o.fixed_boundary, err);
+    if (st)
+        return st;
+    size_t inverted = 0;
+    s.triangles = c.nt;
+    s.energy_start = s.energy = total_energy(&c, uv, &inverted);
+    if (inverted) {
+        ctx_free(&c);
+        return sk__fail(err, SK_ERR_ARG, "the start parametrization has %zu inverted or "
+                        "degenerate triangles; MIPS needs a flip-free start", inverted);
+    }
+    uint32_t *order = sk__malloc_array(c.nv, sizeof(uint32_t));
+    if (!order) {
+        ctx_free(&c);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    size_t n = 0;
+    for (size_t v = 0; v < c.nv; ++v)
+        if (c.movable[v])
+            order[n++] = (uint32_t)v;
+    sk__rng rng;
+    sk__rng_seed(&rng, o.seed);
+    bool budget_left = true;
+    for (size_t sweep = 0; sweep < max_sweeps && n && budget_left; ++sweep) {
+        /* random order each sweep (Fisher-Yates) */
+        for (size_t i = n - 1; i > 0; --i) {
+            size_t j = sk__rng_below(&rng, (uint32_t)(i + 1));
+            uint32_t tmp = order[i];
+            order[i] = order[j];
+            order[j] = tmp;
+        }
+        double drop = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            if (o.max_steps && s.steps >= o.max_steps) {
+                budget_left = false;
+                break;
+            }
+            drop += local_step(&c, order[i], uv);
+            s.steps++;
+        }
+        s.sweeps++;
+        double before = s.energy;
+        s.energy -= drop;
+        if ((st = sk__progress(o.progress, o.progress_user, (double)(sweep + 1) / max_sweeps, err)))
+            break;
+        if (tol > 0.0 && drop < tol * before)
+            break;
+    }
+    s.energy = total_energy(&c, uv, &inverted); /* exact sum, not the running one */
+    free(order);
+    ctx_free(&c);
+    if (stats)
+        *stats = s;
+    if (st == SK_OK && inverted)
+        return sk__fail(err, SK_WARN_FLIPS, "%zu triangles inverted", inverted);
+    return st;
+}

@@ -7,6 +7,9 @@
 #include "surfkit/mesh.h"
 #include "surfkit/io.h"
 #include "surfkit/subdivide.h"
+#include "surfkit/solve.h"
+#include "surfkit/param.h"
+#include "surfkit/render.h"
 #include "surfkit/mips.h"
 #include "surfkit/bezier.h"
 

@@ -12,6 +12,7 @@
 #include "surfkit/param.h"
 #include "surfkit/render.h"
 #include "surfkit/mips.h"
+#include "surfkit/hierarchical.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
 

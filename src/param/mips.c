@@ -12,14 +12,11 @@
 #include "surfkit/mips.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "param/mips_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* A parameter triangle counts as inverted when twice its signed area is below this fraction of
- * the product of its two edge lengths at the moving vertex (sine of the angle < 1e-12). */
-#define MIPS_MIN_SINE 1e-12
 
 typedef struct mips_ctx {
     size_t nv, nt;
@@ -142,10 +139,9 @@ static double ring_energy(const mips_ctx *c, uint32_t v, const double *uv, const
         double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
         double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
         /* b = 2 A_uv = (qj - x) x (qk - x), linear in x with gradient perp(qk - qj) */
-        double b = sk__cross2(dj, dk);
-        double lj = sqrt(sk__dot2(dj, dj)), lk = sqrt(sk__dot2(dk, dk));
-        if (!(b > MIPS_MIN_SINE * lj * lk))
+        if (!sk__mips_corner_ok(x, qj, qk))
             return INFINITY;
+        double b = sk__cross2(dj, dk);
         /* a = ck |x - qj|^2 + cj |x - qk|^2 + ci |qj - qk|^2 (edge opposite each corner) */
         double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
         e += a / b;

@@ -41,8 +41,9 @@ int main(int argc, char **argv)
         size_t budget = (size_t)(per_vertex * (double)nv);
         double *uv = malloc(2 * nv * sizeof(double));
         /* optimum: hierarchical start, then sweeps until the energy stops moving */
-        sk_hparam_opts opt = {.boundary = boundary, .seed = 7, .sweeps_per_level = 100,
-                              .finest_sweeps = 20000, .tolerance = 1e-13};
+        sk_hparam_opts opt = {.boundary = boundary, .seed = 7, .level_work = 1e6,
+                              .sweeps_per_level = 2000, .finest_sweeps = 20000,
+                              .tolerance = 1e-14};
         sk_hparam_stats so;
         sk_param_metrics mh, mc;
         if (sk_param_hierarchical(m, &opt, uv, &so, &err)) {
@@ -50,8 +51,10 @@ int main(int argc, char **argv)
             return 1;
         }
         double optimum = so.energy;
-        sk_hparam_opts ho = {.boundary = boundary, .seed = 1, .sweeps_per_level = 20,
-                             .finest_sweeps = (size_t)-1, .max_steps = budget, .tolerance = -1};
+        /* the budget: the schedule's sweeps on the coarser levels (about 5 of the finest level's
+         * size each), all the rest on the input level */
+        sk_hparam_opts ho = {.boundary = boundary, .seed = 1, .finest_sweeps = (size_t)-1,
+                             .max_steps = budget, .tolerance = -1};
         sk_hparam_stats sh;
         if (sk_param_hierarchical(m, &ho, uv, &sh, &err)) {
             fprintf(stderr, "bench_table1: %s: %s\n", argv[i], err.message);

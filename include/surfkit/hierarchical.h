@@ -23,8 +23,12 @@ typedef enum {
 
 typedef struct sk_hparam_opts {
     sk_mips_boundary boundary;
-    size_t sweeps_per_level;  /* MIPS sweeps on each level at most; 0 = 20 */
-    size_t finest_sweeps;     /* sweeps on the input level at most; 0 = sweeps_per_level */
+    /* Sweep schedule: level l (V_l vertices) gets min(sweeps_per_level, ceil(level_work * V / V_l))
+     * sweeps, V the input's vertex count: about the same work on every level, many sweeps on the
+     * cheap coarse levels where the low frequencies converge, few on the fine ones. */
+    double level_work;        /* 0 = 5 */
+    size_t sweeps_per_level;  /* cap; 0 = 400 */
+    size_t finest_sweeps;     /* sweeps on the input level; 0 = from the schedule */
     size_t max_steps;         /* budget of local steps over all levels; 0 = no budget */
     double tolerance;         /* per level: stop when a sweep lowers the energy by less than this
                                  fraction; 0 = 1e-5 */

@@ -160,8 +160,8 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     sk_hparam_opts o = {0};
     if (opts)
         o = *opts;
-    size_t sweeps = o.sweeps_per_level ? o.sweeps_per_level : 20;
-    size_t finest_sweeps = o.finest_sweeps ? o.finest_sweeps : sweeps;
+    size_t sweeps_cap = o.sweeps_per_level ? o.sweeps_per_level : 400;
+    double work = o.level_work > 0.0 ? o.level_work : 5.0;
     double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
     bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
     double t0 = now();
@@ -269,7 +269,10 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         }
         sk_mips_opts mo = {0};
         mo.fixed_boundary = fixed;
-        mo.max_sweeps = l + 1 == L ? finest_sweeps : sweeps;
+        double want = ceil(work * (double)nfine / (double)(nv ? nv : 1));
+        mo.max_sweeps = want < (double)sweeps_cap ? (size_t)want : sweeps_cap;
+        if (l + 1 == L && o.finest_sweeps)
+            mo.max_sweeps = o.finest_sweeps;
         mo.tolerance = tol;
         mo.seed = o.seed + l;
         sk_mips_stats ms = {0};

@@ -73,5 +73,6 @@ int cmd_info(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_subdivide(int argc, char **argv);
 int cmd_smooth(int argc, char **argv);
+int cmd_param(int argc, char **argv);
 
 #endif

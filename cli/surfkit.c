@@ -14,6 +14,7 @@ static const command commands[] = {
     {"convert", cmd_convert, "convert between OFF, OBJ, PLY and STL"},
     {"subdivide", cmd_subdivide, "Loop or midpoint subdivision"},
     {"smooth", cmd_smooth, "VC1 smooth surface (quartic/bicubic patches) or PN triangles, with a continuity report"},
+    {"param", cmd_param, "linear parametrization of a disk (Tutte, Floater, mean value, harmonic, LSCM)"},
 };
 
 static void usage(FILE *fp)

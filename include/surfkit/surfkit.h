@@ -9,7 +9,12 @@
 #include "surfkit/subdivide.h"
 #include "surfkit/analysis.h"
 #include "surfkit/smooth.h"
+#include "surfkit/hierarchy.h"
+#include "surfkit/solve.h"
+#include "surfkit/param.h"
+#include "surfkit/render.h"
 #include "surfkit/mips.h"
+#include "surfkit/hierarchical.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
 

@@ -12,21 +12,28 @@
 #include "surfkit/mips.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "param/mips_internal.h"
+
+/* colours of the multicolour sweep (64 covers every valence below 64) */
+#define SK__MIPS_MAX_COLORS 64
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* A parameter triangle counts as inverted when twice its signed area is below this fraction of
- * the product of its two edge lengths at the moving vertex (sine of the angle < 1e-12). */
-#define MIPS_MIN_SINE 1e-12
+/* What a local step at vertex i needs of one incident triangle (i, j, k), stored per vertex
+ * contiguously so that a step touches one run of memory plus the neighbours' uv. */
+typedef struct corner_rec {
+    uint32_t j, k;     /* the other two vertices, counter-clockwise */
+    double ci, cj, ck; /* cotangents of the 3D angles at i, j, k */
+} corner_rec;
 
 typedef struct mips_ctx {
     size_t nv, nt;
     uint32_t *tri;      /* 3 vertex ids per triangle (ccw) */
     double *cot;        /* cotangent of the 3D angle at each corner */
-    uint32_t *vt_start; /* vertex -> incident triangle corners (CSR) */
-    uint32_t *vt_corner; /* 3 * t + k */
+    uint32_t *vt_start; /* vertex -> its corner records (CSR) */
+    corner_rec *rec;
     uint8_t *movable;
 } mips_ctx;
 
@@ -35,7 +42,7 @@ static void ctx_free(mips_ctx *c)
     free(c->tri);
     free(c->cot);
     free(c->vt_start);
-    free(c->vt_corner);
+    free(c->rec);
     free(c->movable);
 }
 
@@ -56,9 +63,9 @@ static sk_status ctx_init(mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk
     c->tri = sk__malloc_array(3 * nt, sizeof(uint32_t));
     c->cot = sk__malloc_array(3 * nt, sizeof(double));
     c->vt_start = sk__calloc_array(nv + 1, sizeof(uint32_t));
-    c->vt_corner = sk__malloc_array(3 * nt, sizeof(uint32_t));
+    c->rec = sk__malloc_array(3 * nt, sizeof(corner_rec));
     c->movable = sk__malloc_array(nv, 1);
-    if (!c->tri || !c->cot || !c->vt_start || !c->vt_corner || !c->movable) {
+    if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable) {
         ctx_free(c);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
@@ -100,8 +107,12 @@ static sk_status ctx_init(mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     memcpy(fill, c->vt_start, (nv + 1) * sizeof(uint32_t));
-    for (size_t i = 0; i < 3 * nt; ++i)
-        c->vt_corner[fill[c->tri[i]]++] = (uint32_t)i;
+    for (size_t i = 0; i < 3 * nt; ++i) {
+        size_t t3 = i - i % 3, k = i % 3;
+        corner_rec r = {c->tri[t3 + (k + 1) % 3], c->tri[t3 + (k + 2) % 3], c->cot[t3 + k],
+                        c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3]};
+        c->rec[fill[c->tri[i]]++] = r;
+    }
     free(fill);
     for (size_t v = 0; v < nv; ++v)
         c->movable[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
@@ -134,18 +145,15 @@ static double ring_energy(const mips_ctx *c, uint32_t v, const double *uv, const
         H[0] = H[1] = H[2] = 0.0;
     }
     for (uint32_t i = c->vt_start[v]; i < c->vt_start[v + 1]; ++i) {
-        uint32_t corner = c->vt_corner[i], t = corner / 3, k = corner % 3;
-        const uint32_t *tv = c->tri + 3 * (size_t)t;
-        const double *qj = uv + 2 * (size_t)tv[(k + 1) % 3], *qk = uv + 2 * (size_t)tv[(k + 2) % 3];
-        const double *ct = c->cot + 3 * (size_t)t;
-        double ci = ct[k], cj = ct[(k + 1) % 3], ck = ct[(k + 2) % 3];
+        const corner_rec *r = c->rec + i;
+        const double *qj = uv + 2 * (size_t)r->j, *qk = uv + 2 * (size_t)r->k;
+        double ci = r->ci, cj = r->cj, ck = r->ck;
         double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
         double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
         /* b = 2 A_uv = (qj - x) x (qk - x), linear in x with gradient perp(qk - qj) */
-        double b = sk__cross2(dj, dk);
-        double lj = sqrt(sk__dot2(dj, dj)), lk = sqrt(sk__dot2(dk, dk));
-        if (!(b > MIPS_MIN_SINE * lj * lk))
+        if (!sk__mips_corner_ok(x, qj, qk))
             return INFINITY;
+        double b = sk__cross2(dj, dk);
         /* a = ck |x - qj|^2 + cj |x - qk|^2 + ci |qj - qk|^2 (edge opposite each corner) */
         double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
         e += a / b;
@@ -249,34 +257,79 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         return sk__fail(err, SK_ERR_ARG, "the start parametrization has %zu inverted or "
                         "degenerate triangles; MIPS needs a flip-free start", inverted);
     }
-    uint32_t *order = sk__malloc_array(c.nv, sizeof(uint32_t));
-    if (!order) {
+    /* Greedy colouring of the movable vertices: no two neighbours share a colour, so the steps of
+     * one colour are independent (parallel, and the same result for any thread count). A sweep
+     * visits the colours in random order, each colour's vertices in index order (cache friendly). */
+    uint32_t *color = sk__malloc_array(c.nv ? c.nv : 1, sizeof(uint32_t));
+    uint32_t *order = sk__malloc_array(c.nv ? c.nv : 1, sizeof(uint32_t));
+    uint32_t cstart[SK__MIPS_MAX_COLORS + 1] = {0};
+    if (!color || !order) {
+        free(color);
+        free(order);
         ctx_free(&c);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
-    size_t n = 0;
-    for (size_t v = 0; v < c.nv; ++v)
-        if (c.movable[v])
-            order[n++] = (uint32_t)v;
+    uint32_t ncolors = 0;
+    for (size_t v = 0; v < c.nv; ++v) {
+        color[v] = SK_INVALID;
+        if (!c.movable[v])
+            continue;
+        uint64_t used = 0;
+        for (uint32_t i = c.vt_start[v]; i < c.vt_start[v + 1]; ++i) {
+            uint32_t cj = color[c.rec[i].j], ck = color[c.rec[i].k];
+            if (cj < 64)
+                used |= 1ull << cj;
+            if (ck < 64)
+                used |= 1ull << ck;
+        }
+        uint32_t col = 0;
+        while (col < SK__MIPS_MAX_COLORS - 1 && (used >> col & 1u))
+            ++col;
+        color[v] = col; /* (a vertex of valence > 60 may share the last colour: then serial) */
+        ncolors = col + 1 > ncolors ? col + 1 : ncolors;
+        cstart[col + 1]++;
+    }
+    for (uint32_t k = 0; k < ncolors; ++k)
+        cstart[k + 1] += cstart[k];
+    size_t n = cstart[ncolors];
+    {
+        uint32_t fill[SK__MIPS_MAX_COLORS];
+        memcpy(fill, cstart, sizeof fill);
+        for (size_t v = 0; v < c.nv; ++v)
+            if (color[v] != SK_INVALID)
+                order[fill[color[v]]++] = (uint32_t)v;
+    }
+    bool serial_last = ncolors == SK__MIPS_MAX_COLORS;
     sk__rng rng;
     sk__rng_seed(&rng, o.seed);
+    uint32_t perm[SK__MIPS_MAX_COLORS];
+    for (uint32_t k = 0; k < ncolors; ++k)
+        perm[k] = k;
     bool budget_left = true;
     for (size_t sweep = 0; sweep < max_sweeps && n && budget_left; ++sweep) {
-        /* random order each sweep (Fisher-Yates) */
-        for (size_t i = n - 1; i > 0; --i) {
-            size_t j = sk__rng_below(&rng, (uint32_t)(i + 1));
-            uint32_t tmp = order[i];
-            order[i] = order[j];
-            order[j] = tmp;
+        for (uint32_t k = ncolors - 1; k > 0; --k) { /* random colour order (Fisher-Yates) */
+            uint32_t j = sk__rng_below(&rng, k + 1), t = perm[k];
+            perm[k] = perm[j];
+            perm[j] = t;
         }
         double drop = 0.0;
-        for (size_t i = 0; i < n; ++i) {
-            if (o.max_steps && s.steps >= o.max_steps) {
+        for (uint32_t pk = 0; pk < ncolors && budget_left; ++pk) {
+            uint32_t col = perm[pk];
+            long lo = (long)cstart[col], hi = (long)cstart[col + 1];
+            if (o.max_steps && s.steps + (size_t)(hi - lo) >= o.max_steps) {
+                hi = lo + (long)(o.max_steps - s.steps);
                 budget_left = false;
-                break;
             }
-            drop += local_step(&c, order[i], uv);
-            s.steps++;
+            double d = 0.0;
+            bool par = !(serial_last && col == SK__MIPS_MAX_COLORS - 1) && hi - lo > 2048;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) reduction(+ : d) if (par)
+#endif
+            for (long i = lo; i < hi; ++i)
+                d += local_step(&c, order[i], uv);
+            (void)par;
+            drop += d;
+            s.steps += (size_t)(hi - lo);
         }
         s.sweeps++;
         double before = s.energy;
@@ -286,6 +339,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         if (tol > 0.0 && drop < tol * before)
             break;
     }
+    free(color);
     s.energy = total_energy(&c, uv, &inverted); /* exact sum, not the running one */
     free(order);
     ctx_free(&c);

@@ -1,0 +1,76 @@
+/* Hierarchical parametrization (Hormann, Greiner, Campagna, section 4): parametrize the coarsest
+ * level of a progressive mesh, then level by level insert the removed vertices at their
+ * barycentric coordinates in the parent triangle (section 3) and lower the MIPS energy by local
+ * steps; and the "conventional" flat optimization it is compared with (Table 1). */
+#ifndef SURFKIT_HIERARCHICAL_H
+#define SURFKIT_HIERARCHICAL_H
+
+#include "surfkit/hierarchy.h"
+#include "surfkit/mips.h"
+#include "surfkit/param.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    SK_MIPS_BOUNDARY_FREE = 0, /* natural boundary (MIPS is scale invariant) */
+    SK_MIPS_BOUNDARY_CIRCLE,   /* fixed on the unit circle (chord-length spacing) */
+    SK_MIPS_BOUNDARY_SQUARE    /* fixed on the unit square */
+} sk_mips_boundary;
+
+#define SK_HPARAM_MAX_LEVELS 64
+
+typedef struct sk_hparam_opts {
+    sk_mips_boundary boundary;
+    /* Sweep schedule: level l (V_l vertices) gets min(sweeps_per_level, ceil(level_work * V / V_l))
+     * sweeps, V the input's vertex count: about the same work on every level, many sweeps on the
+     * cheap coarse levels where the low frequencies converge, few on the fine ones. */
+    double level_work;        /* 0 = 5 */
+    size_t sweeps_per_level;  /* cap; 0 = 400 */
+    size_t finest_sweeps;     /* sweeps on the input level; 0 = from the schedule */
+    size_t max_steps;         /* budget of local steps over all levels; 0 = no budget */
+    double tolerance;         /* per level: stop when a sweep lowers the energy by less than this
+                                 fraction; 0 = 1e-5 */
+    uint64_t seed;            /* hierarchy and sweep order */
+    sk_hierarchy_opts hierarchy; /* seed is taken from above; zero = defaults */
+    sk_progress_fn progress;
+    void *progress_user;
+} sk_hparam_opts;
+
+typedef struct sk_hparam_level {
+    size_t vertices, faces;
+    size_t steps, sweeps;
+    size_t repaired;       /* inserted vertices moved into the kernel of their one ring */
+    double energy;         /* MIPS sum after optimization on this level */
+    double seconds;
+} sk_hparam_level;
+
+typedef struct sk_hparam_stats {
+    size_t num_levels;     /* levels of the hierarchy (input included) */
+    sk_hparam_level levels[SK_HPARAM_MAX_LEVELS]; /* coarsest first */
+    size_t steps;          /* local steps over all levels */
+    size_t repaired;       /* total inserted vertices repaired */
+    size_t fallbacks;      /* levels re-solved with a linear method because repair failed */
+    double energy;         /* final MIPS sum on the input */
+    double hierarchy_seconds, total_seconds;
+} sk_hparam_stats;
+
+/* Hierarchical MIPS parametrization of a disk-topology triangle mesh into uv (2 per vertex). The
+ * coarsest level starts from Floater's parametrization with a circle (or square) boundary. After
+ * each insertion, a vertex whose one ring is not flip-free is moved to the centroid of the kernel
+ * of its one ring; if that kernel is empty the level is re-solved with Floater's method (counted in
+ * fallbacks). The result has no inverted triangle. */
+sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
+                                sk_hparam_stats *stats, sk_error *err);
+
+/* The conventional method of Table 1: Floater with a circle (or square) boundary on the full mesh,
+ * then MIPS local steps in random order, at most max_steps of them (0: until the tolerance). */
+sk_status sk_param_mips_flat(const sk_mesh *mesh, sk_mips_boundary boundary, size_t max_steps,
+                             double tolerance, uint64_t seed, double *uv, sk_mips_stats *stats,
+                             sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,167 @@
+/* Linear parametrizations of disk-topology triangle meshes, and their distortion metrics.
+ *
+ * A parametrization is a per-vertex array uv of 2 * mesh->num_vertices doubles (u, v of vertex i
+ * at uv[2i], uv[2i+1]); deleted and isolated vertices get (0, 0). Copy it into mesh->uvs to write
+ * an OBJ with vt or a PLY with u v.
+ *
+ * Fixed-boundary methods (the boundary is mapped to a convex polygon, then every interior vertex
+ * is an affine combination of its neighbours: sum_j w_ij (u_i - u_j) = 0, eq. (1) of Hormann,
+ * Greiner, Campagna):
+ *   SK_PARAM_TUTTE       uniform weights w_ij = 1 (symmetric: Cholesky)
+ *   SK_PARAM_FLOATER     Floater's shape-preserving weights: local exponential map of each one
+ *                        ring, averaged barycentric coordinates (non-symmetric: LU)
+ *   SK_PARAM_MEAN_VALUE  Floater's mean value coordinates (non-symmetric: LU)
+ *   SK_PARAM_HARMONIC    cotangent weights (symmetric: Cholesky). The weights can be negative
+ *                        (obtuse triangles), and then triangles CAN flip: only Tutte, Floater and
+ *                        mean value have the guarantee of Tutte's / Floater's theorem.
+ * Free boundary:
+ *   SK_PARAM_LSCM        least squares conformal maps (Levy et al.) with two pinned boundary
+ *                        vertices (the two farthest apart, or opts->pins), Cholesky.
+ * With a convex boundary, Tutte, Floater and mean value give a bijection (no flipped triangle).
+ */
+#ifndef SURFKIT_PARAM_H
+#define SURFKIT_PARAM_H
+
+#include "surfkit/mesh.h"
+#include "surfkit/solve.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    SK_PARAM_TUTTE = 0,
+    SK_PARAM_FLOATER,
+    SK_PARAM_MEAN_VALUE,
+    SK_PARAM_HARMONIC,
+    SK_PARAM_LSCM
+} sk_param_method;
+
+const char *sk_param_method_name(sk_param_method m); /* "tutte", "floater", "mvc", ... */
+/* Parses those names (and "mean-value", "cotangent"); returns false when unknown. */
+bool sk_param_method_parse(const char *name, sk_param_method *m);
+
+typedef enum {
+    SK_BOUNDARY_CIRCLE = 0, /* unit circle, counter-clockwise */
+    SK_BOUNDARY_SQUARE,     /* unit square [0,1]^2, corners on four boundary vertices */
+    SK_BOUNDARY_GIVEN       /* keep the boundary uv already in the uv array */
+} sk_boundary_shape;
+
+typedef enum {
+    SK_SPACING_CHORD = 0, /* by chord length along the boundary loop */
+    SK_SPACING_UNIFORM    /* equal steps */
+} sk_boundary_spacing;
+
+typedef struct sk_boundary_opts {
+    sk_boundary_shape shape;
+    sk_boundary_spacing spacing;
+    /* Square: the four corner vertices in boundary order (counter-clockwise in uv); when
+     * has_corners is false they are the boundary vertices closest to quarter arc length. */
+    bool has_corners;
+    uint32_t corners[4];
+    /* Circle / square: the boundary vertex mapped to (1, 0) / (0, 0); SK_INVALID or 0 with
+     * has_start false = the first vertex of the loop. */
+    bool has_start;
+    uint32_t start;
+} sk_boundary_opts;
+
+typedef enum {
+    SK_LINEAR_DIRECT = 0,  /* sparse Cholesky / LU (default) */
+    SK_LINEAR_GAUSS_SEIDEL /* iterative, starting from the interior uv given (a warm start, e.g.
+                              a coarser level's solution); stops at `tolerance` or the budget */
+} sk_linear_solver;
+
+typedef struct sk_param_opts {
+    sk_param_method method;
+    sk_boundary_opts boundary; /* ignored by LSCM */
+    sk_linear_solver solver;   /* LSCM is always direct */
+    double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10 */
+    size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000 */
+    bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
+    uint32_t pins[2];
+    sk_progress_fn progress;
+    void *progress_user;
+} sk_param_opts;
+
+typedef struct sk_param_stats {
+    size_t vertices, interior, boundary, faces;
+    sk_solve_stats solve;   /* direct solver details (n, nnz, factor nnz, phase seconds) */
+    size_t iterations;      /* Gauss-Seidel sweeps (0 for direct) */
+    double check_seconds;   /* input check */
+    double boundary_seconds;
+    double weights_seconds; /* weights + matrix assembly */
+    double solve_seconds;   /* analyse + factor + solve (or the iterations) */
+    double total_seconds;
+} sk_param_stats;
+
+/* Checks that the mesh is a triangulated disk: triangles only, one component, one boundary loop,
+ * Euler characteristic 1, no degenerate (zero-area) triangle. Otherwise SK_ERR_TOPOLOGY with a
+ * message saying what the mesh is ("closed surface of genus 2: cut it to a disk first"). */
+sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
+
+/* Writes uv of the boundary vertices (only) for the circle or square map. */
+sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
+                            sk_error *err);
+
+/* Per half-edge weights w[h] = w_ij for i = from(h), j = to(h), over mesh->num_halfedges
+ * entries; defined for half-edges leaving interior vertices (others 0). Floater and mean value
+ * are normalised to sum 1 per vertex; Tutte is 1, harmonic (cot alpha + cot beta) / 2. */
+sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
+
+/* Solves sum_j w_ij (u_i - u_j) = 0 for every free vertex, the others (fixed[i] != 0; NULL means
+ * the boundary vertices) keeping their uv. `symmetric` says w_ij = w_ji (then the fixed
+ * vertices are eliminated into the right-hand side and the matrix is symmetric positive
+ * definite: Cholesky), else LU. u and v are solved together (two right-hand sides). With
+ * opts->solver == SK_LINEAR_GAUSS_SEIDEL the free uv given are the starting guess. */
+sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
+                                 const uint8_t *fixed, const sk_param_opts *opts, double *uv,
+                                 sk_param_stats *stats, sk_error *err);
+
+/* The whole method: check, boundary map, weights, solve. uv has 2 * num_vertices doubles (with
+ * SK_BOUNDARY_GIVEN its boundary entries are inputs). */
+sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                          sk_param_stats *stats, sk_error *err);
+
+/* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM). */
+sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                        sk_param_stats *stats, sk_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Metrics
+ * ------------------------------------------------------------------------------------------- */
+
+/* Sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear, exact
+ * for all finite doubles (error-bounded filter, then exact expansion arithmetic). */
+int sk_orient2d(const double a[2], const double b[2], const double c[2]);
+
+typedef struct sk_param_metrics {
+    size_t faces;
+    size_t flipped;        /* triangles with clockwise or zero-area uv (exact orientation test) */
+    size_t degenerate;     /* of those, the zero-area ones */
+    double mips_sum;       /* sum over triangles of sigma1/sigma2 + sigma2/sigma1 (papers README);
+                              flipped triangles add their value too, zero-area ones make it inf */
+    double mips_mean;      /* mips_sum / faces (2 is the minimum) */
+    double conformal_mean; /* 3D-area-weighted mean of sigma1 / sigma2 (1 is conformal) */
+    double conformal_max;
+    double area_log_mean;  /* mean over triangles of |log((A_uv / sum A_uv) / (A / sum A))| */
+    double stretch_max;    /* max over triangles of max(sigma1, 1 / sigma2) with uv scaled to the
+                              3D area: the worst lengthening or shortening of any direction */
+    size_t boundary_self_intersections; /* crossing pairs of non-adjacent boundary edges in uv */
+    double area_uv;        /* signed uv area (sum over triangles) */
+} sk_param_metrics;
+
+sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
+                                   sk_error *err);
+
+/* Per face (num_faces entries; deleted / non-triangle faces get 0): conformal distortion
+ * sigma1/sigma2 (inf for zero uv area) and orientation (+1, -1, 0 from sk_orient2d). Either
+ * output may be NULL. */
+sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
+                                   int8_t *orientation, sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

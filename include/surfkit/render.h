@@ -1,0 +1,39 @@
+/* Pictures with cairo: UV layouts coloured by distortion, and a checkerboard textured view of
+ * the 3D mesh. PNG or SVG chosen by the file extension (.png, .svg); files are written
+ * atomically. */
+#ifndef SURFKIT_RENDER_H
+#define SURFKIT_RENDER_H
+
+#include "surfkit/mesh.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sk_render_opts {
+    int width;             /* picture width in pixels (points for SVG); 0 = 1024 */
+    int edges;             /* 0 = draw edges when the mesh has at most 100k faces, 1 = always,
+                              -1 = never */
+    double conformal_max;  /* top of the colour scale for sigma1/sigma2 (log scale from 1); 0 = 4 */
+    const char *title;     /* a line of text at the top, or NULL */
+    /* checkerboard view only */
+    double view[3];        /* direction the camera looks along; zero = (0, 0, -1) */
+    int checks;            /* squares across the uv bounding box; 0 = 16 */
+} sk_render_opts;
+
+/* The UV layout: triangles coloured by conformal distortion (legend on the right), flipped
+ * triangles filled in magenta with a thick outline, edges in thin grey, boundary in black. */
+sk_status sk_render_uv(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
+                       const char *path, sk_error *err);
+
+/* The 3D mesh seen along opts->view (orthographic, z-buffered), textured with a checkerboard
+ * in uv and shaded by the angle to the view (PNG only). */
+sk_status sk_render_checker(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
+                            const char *path, sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

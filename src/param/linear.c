@@ -1,0 +1,266 @@
+/* Fixed-boundary linear parametrization: minimise eq. (1) of Hormann, Greiner, Campagna,
+ * E = 1/2 sum c_ij |p_i - p_j|^2, i.e. solve sum_j w_ij (p_i - p_j) = 0 for the free vertices
+ * with the fixed ones moved to the right-hand side (which keeps a symmetric matrix symmetric,
+ * as Botsch et al. advise). u and v share the matrix: one factorization, two right-hand sides. */
+#include "param_internal.h"
+#include "core/internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static bool vertex_alive(const sk_mesh *m, size_t v)
+{
+    return !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID;
+}
+
+/* Gauss-Seidel sweeps p_i <- sum_j w_ij p_j / sum_j w_ij from the given uv (warm start). */
+static sk_status gauss_seidel(const sk_mesh *m, const double *w, const uint8_t *is_fixed,
+                              const sk_param_opts *o, double *uv, sk_param_stats *stats,
+                              sk_error *err)
+{
+    double tol = o->tolerance > 0 ? o->tolerance : 1e-10;
+    size_t maxit = o->max_iterations ? o->max_iterations : 10000;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        if (vertex_alive(m, v) && is_fixed[v])
+            for (int c = 0; c < 2; ++c) {
+                lo[c] = fmin(lo[c], uv[2 * v + c]);
+                hi[c] = fmax(hi[c], uv[2 * v + c]);
+            }
+    double extent = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (!(extent > 0))
+        extent = 1;
+    size_t it = 0;
+    for (; it < maxit; ++it) {
+        double change = 0;
+        for (size_t v = 0; v < m->num_vertices; ++v) {
+            if (!vertex_alive(m, v) || is_fixed[v])
+                continue;
+            uint32_t h0 = m->v_halfedge[v], h = h0;
+            double s = 0, a = 0, b = 0;
+            do {
+                uint32_t j = sk_to(m, h);
+                s += w[h];
+                a += w[h] * uv[2 * (size_t)j];
+                b += w[h] * uv[2 * (size_t)j + 1];
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+            if (s == 0)
+                continue;
+            a /= s;
+            b /= s;
+            change = fmax(change, fmax(fabs(a - uv[2 * v]), fabs(b - uv[2 * v + 1])));
+            uv[2 * v] = a;
+            uv[2 * v + 1] = b;
+        }
+        if (it % 16 == 0 && o->progress) {
+            sk_status st = sk__progress(o->progress, o->progress_user,
+                                        0.5 + 0.5 * (double)it / (double)maxit, err);
+            if (st)
+                return st;
+        }
+        if (change <= tol * extent) {
+            ++it;
+            break;
+        }
+    }
+    if (stats)
+        stats->iterations = it;
+    return SK_OK;
+}
+
+sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetric,
+                                 const uint8_t *fixed, const sk_param_opts *opts, double *uv,
+                                 sk_param_stats *stats, sk_error *err)
+{
+    sk_param_opts o = {0};
+    if (opts)
+        o = *opts;
+    double t0 = sk_seconds();
+    size_t nv = m->num_vertices;
+    sk_status st = SK_OK;
+    uint32_t *idx = sk__malloc_array(nv ? nv : 1, sizeof *idx);
+    uint8_t *is_fixed = sk__malloc_array(nv ? nv : 1, 1);
+    double *rhs = NULL, *x = NULL;
+    sk_triplets t = {0};
+    sk_sparse *a = NULL;
+    sk_solver *solver = NULL;
+    if (!idx || !is_fixed) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    size_t n = 0, nfixed = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        idx[v] = SK_INVALID;
+        if (!vertex_alive(m, v)) {
+            is_fixed[v] = 1;
+            uv[2 * v] = uv[2 * v + 1] = 0;
+            continue;
+        }
+        is_fixed[v] = fixed ? (fixed[v] != 0) : sk_is_boundary_v(m, (uint32_t)v);
+        if (is_fixed[v])
+            nfixed++;
+        else
+            idx[v] = (uint32_t)n++;
+    }
+    if (stats) {
+        stats->interior = n;
+        stats->boundary = nfixed;
+    }
+    if (n == 0)
+        goto done; /* nothing to solve (e.g. a single triangle) */
+    if (nfixed == 0) {
+        st = sk__fail(err, SK_ERR_ARG, "no fixed vertex: the linear system would be singular");
+        goto done;
+    }
+    if (o.solver == SK_LINEAR_GAUSS_SEIDEL) {
+        double ts = sk_seconds();
+        st = gauss_seidel(m, w, is_fixed, &o, uv, stats, err);
+        if (stats)
+            stats->solve_seconds = sk_seconds() - ts;
+        goto done;
+    }
+    /* assembly: row i = sum_j w_ij p_i - sum_{j free} w_ij p_j = sum_{j fixed} w_ij p_j */
+    rhs = sk__calloc_array(2 * n, sizeof *rhs);
+    x = sk__malloc_array(2 * n, sizeof *x);
+    size_t guess = 0;
+    for (size_t v = 0; v < nv; ++v)
+        if (idx[v] != SK_INVALID)
+            guess += 1 + sk_mesh_valence(m, (uint32_t)v);
+    if (!rhs || !x || sk_triplets_reserve(&t, guess, err)) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu system", n, n);
+        goto done;
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t i = idx[v];
+        if (i == SK_INVALID)
+            continue;
+        uint32_t h0 = m->v_halfedge[v], h = h0;
+        double diag = 0;
+        do {
+            uint32_t j = sk_to(m, h);
+            double wij = w[h];
+            diag += wij;
+            if (idx[j] == SK_INVALID) {
+                rhs[i] += wij * uv[2 * (size_t)j];
+                rhs[n + i] += wij * uv[2 * (size_t)j + 1];
+            } else if (!symmetric || idx[j] < i) {
+                sk_triplets_add(&t, i, idx[j], -wij);
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        sk_triplets_add(&t, i, i, diag);
+    }
+    if (!(isfinite(rhs[0]))) {
+        st = sk__fail(err, SK_ERR_NUMERIC, "non-finite weights (degenerate triangles?)");
+        goto done;
+    }
+    st = sk_sparse_from_triplets(n, &t, symmetric ? SK_SPARSE_LOWER : SK_SPARSE_FULL, &a, err);
+    sk_triplets_free(&t);
+    if (st)
+        goto done;
+    double t1 = sk_seconds();
+    if (stats)
+        stats->weights_seconds += t1 - t0;
+    if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
+        goto done;
+    sk_solver_kind kind = symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU;
+    st = sk_solver_create(a, kind, &solver, err);
+    if (st == SK_OK)
+        st = sk_solver_factorize(solver, a, err);
+    if (st == SK_OK)
+        st = sk_solver_solve(solver, 2, rhs, x, err);
+    if (solver && stats)
+        sk_solver_stats(solver, &stats->solve);
+    if (stats)
+        stats->solve_seconds = sk_seconds() - t1;
+    if (st)
+        goto done;
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t i = idx[v];
+        if (i == SK_INVALID)
+            continue;
+        uv[2 * v] = x[i];
+        uv[2 * v + 1] = x[n + i];
+        if (!isfinite(x[i]) || !isfinite(x[n + i])) {
+            st = sk__fail(err, SK_ERR_NUMERIC, "the solution is not finite at vertex %zu", v);
+            goto done;
+        }
+    }
+done:
+    sk_solver_destroy(&solver);
+    sk_sparse_destroy(&a);
+    sk_triplets_free(&t);
+    free(idx);
+    free(is_fixed);
+    free(rhs);
+    free(x);
+    return st;
+}
+
+sk_status sk_param_linear(const sk_mesh *m, const sk_param_opts *opts, double *uv,
+                          sk_param_stats *stats, sk_error *err)
+{
+    sk_param_opts o = {0};
+    if (opts)
+        o = *opts;
+    sk_param_stats s;
+    memset(&s, 0, sizeof s);
+    if (o.method == SK_PARAM_LSCM) {
+        sk_status st = sk_param_lscm(m, &o, uv, stats, err);
+        return st;
+    }
+    double t0 = sk_seconds();
+    double *w = NULL;
+    sk_status st = sk_param_check_disk(m, err);
+    if (st)
+        goto done;
+    double t1 = sk_seconds();
+    s.check_seconds = t1 - t0;
+    s.vertices = m->num_vertices;
+    s.faces = m->num_faces - m->num_deleted_faces;
+    if (o.boundary.shape != SK_BOUNDARY_GIVEN)
+        for (size_t v = 0; v < 2 * m->num_vertices; ++v)
+            uv[v] = 0;
+    if ((st = sk_param_boundary(m, &o.boundary, uv, err)))
+        goto done;
+    double t2 = sk_seconds();
+    s.boundary_seconds = t2 - t1;
+    if (o.solver == SK_LINEAR_GAUSS_SEIDEL && o.boundary.shape != SK_BOUNDARY_GIVEN) {
+        /* no warm start to keep: start the interior at the boundary's centroid */
+        double c[2] = {0, 0};
+        size_t nb = 0;
+        for (size_t v = 0; v < m->num_vertices; ++v)
+            if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && sk_is_boundary_v(m, (uint32_t)v)) {
+                c[0] += uv[2 * v];
+                c[1] += uv[2 * v + 1];
+                nb++;
+            }
+        for (size_t v = 0; nb && v < m->num_vertices; ++v)
+            if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && !sk_is_boundary_v(m, (uint32_t)v)) {
+                uv[2 * v] = c[0] / (double)nb;
+                uv[2 * v + 1] = c[1] / (double)nb;
+            }
+    }
+    w = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof *w);
+    if (!w) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    if ((st = sk_param_weights(m, o.method, w, err)))
+        goto done;
+    s.weights_seconds = sk_seconds() - t2;
+    if ((st = sk__progress(o.progress, o.progress_user, 0.2, err)))
+        goto done;
+    bool symmetric = o.method == SK_PARAM_TUTTE || o.method == SK_PARAM_HARMONIC;
+    st = sk_param_solve_weights(m, w, symmetric, NULL, &o, uv, &s, err);
+    if (st == SK_OK)
+        st = sk__progress(o.progress, o.progress_user, 1.0, err);
+done:
+    free(w);
+    s.total_seconds = sk_seconds() - t0;
+    if (stats)
+        *stats = s;
+    return st;
+}

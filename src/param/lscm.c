@@ -1,0 +1,191 @@
+/* Least squares conformal maps (Levy, Petitjean, Ray, Maillot 2002), in the form of Desbrun,
+ * Meyer, Alliez: the conformal energy
+ *
+ *     E_C(u, v) = E_D(u) + E_D(v) - A(u, v),
+ *
+ * E_D the Dirichlet energy (1/2 u^T L u with the cotangent matrix L_ij = -(cot a + cot b) / 2)
+ * and A(u, v) = 1/2 sum over the counter-clockwise boundary edges (a, b) of u_a v_b - u_b v_a the
+ * signed area of the image. E_C >= 0 with equality exactly for conformal maps; with two vertices
+ * pinned it is a positive definite quadratic form in the remaining 2 (n - 2) unknowns, solved by
+ * Cholesky with the pinned values moved to the right-hand side. */
+#include "param_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The two boundary vertices farthest apart (two sweeps of "farthest from"). */
+static void farthest_pair(const sk_mesh *m, uint32_t pins[2])
+{
+    uint32_t first = SK_INVALID;
+    for (size_t v = 0; v < m->num_vertices && first == SK_INVALID; ++v)
+        if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && sk_is_boundary_v(m, (uint32_t)v))
+            first = (uint32_t)v;
+    uint32_t a = first, b = first;
+    for (int pass = 0; pass < 2; ++pass) {
+        double best = -1;
+        uint32_t from = pass == 0 ? first : a;
+        for (size_t v = 0; v < m->num_vertices; ++v) {
+            if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || !sk_is_boundary_v(m, (uint32_t)v))
+                continue;
+            double d = sk__dist3(m->positions + 3 * (size_t)from, m->positions + 3 * v);
+            if (d > best) {
+                best = d;
+                if (pass == 0)
+                    a = (uint32_t)v;
+                else
+                    b = (uint32_t)v;
+            }
+        }
+    }
+    pins[0] = a;
+    pins[1] = b;
+}
+
+sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
+                        sk_param_stats *stats, sk_error *err)
+{
+    sk_param_opts o = {0};
+    if (opts)
+        o = *opts;
+    sk_param_stats s;
+    memset(&s, 0, sizeof s);
+    double t0 = sk_seconds();
+    size_t nv = m->num_vertices;
+    uint32_t *idx = NULL;
+    double *rhs = NULL, *x = NULL;
+    sk_triplets t = {0};
+    sk_sparse *a = NULL;
+    sk_solver *solver = NULL;
+    sk_status st = sk_param_check_disk(m, err);
+    if (st)
+        goto done;
+    s.vertices = nv;
+    s.faces = m->num_faces - m->num_deleted_faces;
+    double t1 = sk_seconds();
+    s.check_seconds = t1 - t0;
+    uint32_t pins[2];
+    if (o.has_pins) {
+        pins[0] = o.pins[0];
+        pins[1] = o.pins[1];
+        for (int k = 0; k < 2; ++k)
+            if (pins[k] >= nv || m->v_deleted[pins[k]] || m->v_halfedge[pins[k]] == SK_INVALID) {
+                st = sk__fail(err, SK_ERR_ARG, "pinned vertex %u is not a vertex of the mesh", pins[k]);
+                goto done;
+            }
+        if (pins[0] == pins[1]) {
+            st = sk__fail(err, SK_ERR_ARG, "LSCM needs two different pinned vertices");
+            goto done;
+        }
+    } else {
+        farthest_pair(m, pins);
+    }
+    for (size_t v = 0; v < 2 * nv; ++v)
+        uv[v] = 0;
+    /* pins at (0, 0) and (|P1 - P0|, 0): the result has about the surface's size */
+    double dist = sk__dist3(m->positions + 3 * (size_t)pins[0], m->positions + 3 * (size_t)pins[1]);
+    uv[2 * (size_t)pins[1]] = dist;
+    s.boundary_seconds = sk_seconds() - t1;
+    double t2 = sk_seconds();
+    idx = sk__malloc_array(nv, sizeof *idx);
+    size_t n = 0;
+    if (!idx) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        idx[v] = SK_INVALID;
+        if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && v != pins[0] && v != pins[1])
+            idx[v] = (uint32_t)n++;
+    }
+    s.interior = n;
+    s.boundary = 2;
+    size_t N = 2 * n; /* unknown 2i is u_i, 2i + 1 is v_i */
+    rhs = sk__calloc_array(N ? N : 1, sizeof *rhs);
+    x = sk__malloc_array(N ? N : 1, sizeof *x);
+    if (!rhs || !x || sk_triplets_reserve(&t, 12 * (m->num_faces + 1), err)) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    if (n == 0)
+        goto done;
+/* adds Q[(va, ca)][(vb, cb)] += q (ca, cb: 0 for u, 1 for v); pinned columns go to the rhs */
+#define ADD(va, ca, vb, cb, q)                                                                     \
+    do {                                                                                           \
+        uint32_t ia_ = idx[va], ib_ = idx[vb];                                                     \
+        if (ia_ != SK_INVALID) {                                                                   \
+            uint32_t r_ = 2 * ia_ + (ca);                                                          \
+            if (ib_ == SK_INVALID)                                                                 \
+                rhs[r_] -= (q) * uv[2 * (size_t)(vb) + (cb)];                                      \
+            else if (2 * ib_ + (cb) <= r_)                                                         \
+                sk_triplets_add(&t, r_, 2 * ib_ + (cb), (q));                                      \
+        }                                                                                          \
+    } while (0)
+    /* Dirichlet part, per triangle and edge: c/2 (x_i - x_j)^2 for u and for v */
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = sk_next(m, h)) {
+            uint32_t i = sk_from(m, h), j = sk_to(m, h), l = sk_to(m, sk_next(m, h));
+            double c = 0.5 * sk__cot3(m->positions + 3 * (size_t)i, m->positions + 3 * (size_t)j,
+                                      m->positions + 3 * (size_t)l);
+            for (int comp = 0; comp < 2; ++comp) {
+                ADD(i, comp, i, comp, c);
+                ADD(j, comp, j, comp, c);
+                ADD(i, comp, j, comp, -c);
+                ADD(j, comp, i, comp, -c);
+            }
+        }
+    }
+    /* area part: -1/2 (u_a v_b - u_b v_a) per ccw boundary edge a -> b (the interior half-edge
+     * opposite a boundary half-edge); as 1/2 x^T Q x: Q[u_a][v_b] = Q[v_b][u_a] = -1/2,
+     * Q[u_b][v_a] = Q[v_a][u_b] = +1/2 */
+    for (size_t hb = 0; hb < m->num_halfedges; ++hb) {
+        if (m->e_deleted[hb >> 1] || !sk_is_boundary_h(m, (uint32_t)hb))
+            continue;
+        uint32_t h = (uint32_t)hb ^ 1u;
+        uint32_t va = sk_from(m, h), vb = sk_to(m, h);
+        ADD(va, 0, vb, 1, -0.5);
+        ADD(vb, 1, va, 0, -0.5);
+        ADD(vb, 0, va, 1, 0.5);
+        ADD(va, 1, vb, 0, 0.5);
+    }
+#undef ADD
+    st = sk_sparse_from_triplets(N, &t, SK_SPARSE_LOWER, &a, err);
+    sk_triplets_free(&t);
+    if (st)
+        goto done;
+    double t3 = sk_seconds();
+    s.weights_seconds = t3 - t2;
+    if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
+        goto done;
+    st = sk_solver_create(a, SK_SOLVER_CHOLESKY, &solver, err);
+    if (st == SK_OK)
+        st = sk_solver_factorize(solver, a, err);
+    if (st == SK_OK)
+        st = sk_solver_solve(solver, 1, rhs, x, err);
+    if (solver)
+        sk_solver_stats(solver, &s.solve);
+    s.solve_seconds = sk_seconds() - t3;
+    if (st)
+        goto done;
+    for (size_t v = 0; v < nv; ++v)
+        if (idx[v] != SK_INVALID) {
+            uv[2 * v] = x[2 * (size_t)idx[v]];
+            uv[2 * v + 1] = x[2 * (size_t)idx[v] + 1];
+        }
+    st = sk__progress(o.progress, o.progress_user, 1.0, err);
+done:
+    sk_solver_destroy(&solver);
+    sk_sparse_destroy(&a);
+    sk_triplets_free(&t);
+    free(idx);
+    free(rhs);
+    free(x);
+    s.total_seconds = sk_seconds() - t0;
+    if (stats)
+        *stats = s;
+    return st;
+}

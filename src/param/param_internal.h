@@ -1,0 +1,16 @@
+/* Internal pieces shared by the parametrization sources. */
+#ifndef SK_PARAM_INTERNAL_H
+#define SK_PARAM_INTERNAL_H
+
+#include "surfkit/param.h"
+
+/* Weights of the half-edges leaving interior vertex / all half-edges (see sk_param_weights). */
+void sk__weights_tutte(const sk_mesh *m, double *w);
+void sk__weights_harmonic(const sk_mesh *m, double *w);
+sk_status sk__weights_floater(const sk_mesh *m, double *w, sk_error *err);
+void sk__weights_mean_value(const sk_mesh *m, double *w);
+
+/* Cotangent of the angle at c in triangle (a, b, c) (3D). */
+double sk__cot3(const double a[3], const double b[3], const double c[3]);
+
+#endif

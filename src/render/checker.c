@@ -1,0 +1,149 @@
+/* Checkerboard texture on the 3D mesh: a small z-buffered rasterizer into a cairo image
+ * (orthographic view along opts->view), uv interpolated per pixel. */
+#include "surfkit/render.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <cairo.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
+{
+    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
+                                                              : CAIRO_STATUS_WRITE_ERROR;
+}
+
+sk_status sk_render_checker(const sk_mesh *m, const double *uv, const sk_render_opts *opts,
+                            const char *path, sk_error *err)
+{
+    sk_render_opts o = {0};
+    if (opts)
+        o = *opts;
+    int W = o.width > 0 ? o.width : 1024, H = W;
+    int checks = o.checks > 0 ? o.checks : 16;
+    double d[3] = {o.view[0], o.view[1], o.view[2]};
+    if (sk__normalize3(d) == 0) {
+        d[0] = d[1] = 0;
+        d[2] = -1;
+    }
+    /* camera frame: x right, y up, looking along d */
+    double up[3] = {0, 1, 0}, x[3], y[3];
+    if (fabs(d[1]) > 0.9) {
+        up[1] = 0;
+        up[2] = 1;
+    }
+    sk__cross3(x, d, up);
+    sk__normalize3(x);
+    sk__cross3(y, x, d);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    double ulo[2] = {INFINITY, INFINITY}, uhi[2] = {-INFINITY, -INFINITY};
+    for (size_t v = 0; v < m->num_vertices; ++v) {
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+            continue;
+        const double *p = m->positions + 3 * v;
+        double px = sk__dot3(p, x), py = sk__dot3(p, y);
+        lo[0] = fmin(lo[0], px);
+        hi[0] = fmax(hi[0], px);
+        lo[1] = fmin(lo[1], py);
+        hi[1] = fmax(hi[1], py);
+        for (int c = 0; c < 2; ++c) {
+            ulo[c] = fmin(ulo[c], uv[2 * v + c]);
+            uhi[c] = fmax(uhi[c], uv[2 * v + c]);
+        }
+    }
+    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    double uspan = fmax(uhi[0] - ulo[0], uhi[1] - ulo[1]);
+    if (!(span > 0) || !(uspan > 0) || !isfinite(span) || !isfinite(uspan))
+        return sk__fail(err, SK_ERR_ARG, "nothing to draw (empty or flat mesh or uv)");
+    double s = 0.92 * W / span;
+    double ox = 0.5 * W - s * 0.5 * (lo[0] + hi[0]), oy = 0.5 * H + s * 0.5 * (lo[1] + hi[1]);
+    cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
+    float *zbuf = sk__malloc_array((size_t)W * H, sizeof *zbuf);
+    if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS || !zbuf) {
+        cairo_surface_destroy(surf);
+        free(zbuf);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %d x %d picture", W, H);
+    }
+    cairo_surface_flush(surf);
+    unsigned char *data = cairo_image_surface_get_data(surf);
+    int stride = cairo_image_surface_get_stride(surf);
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            ((uint32_t *)(data + (size_t)j * stride))[i] = 0xffffffu;
+            zbuf[(size_t)j * W + i] = INFINITY;
+        }
+    double cscale = checks / uspan;
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        if (m->f_deleted[f] || sk_mesh_face_size(m, (uint32_t)f) != 3)
+            continue;
+        double n[3];
+        sk_mesh_face_normal(m, (uint32_t)f, n);
+        double shade = 0.35 + 0.65 * fabs(sk__dot3(n, d));
+        uint32_t h = m->f_halfedge[f], vv[3];
+        double sx[3], sy[3], sz[3];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            vv[k] = sk_from(m, h);
+            const double *p = m->positions + 3 * (size_t)vv[k];
+            sx[k] = ox + s * sk__dot3(p, x);
+            sy[k] = oy - s * sk__dot3(p, y);
+            sz[k] = sk__dot3(p, d);
+        }
+        double area = (sx[1] - sx[0]) * (sy[2] - sy[0]) - (sx[2] - sx[0]) * (sy[1] - sy[0]);
+        if (fabs(area) < 1e-12)
+            continue;
+        int i0 = (int)fmax(0, floor(fmin(sx[0], fmin(sx[1], sx[2])))),
+            i1 = (int)fmin(W - 1, ceil(fmax(sx[0], fmax(sx[1], sx[2])))),
+            j0 = (int)fmax(0, floor(fmin(sy[0], fmin(sy[1], sy[2])))),
+            j1 = (int)fmin(H - 1, ceil(fmax(sy[0], fmax(sy[1], sy[2]))));
+        for (int j = j0; j <= j1; ++j) {
+            for (int i = i0; i <= i1; ++i) {
+                double px = i + 0.5, py = j + 0.5;
+                double b0 = ((sx[1] - px) * (sy[2] - py) - (sx[2] - px) * (sy[1] - py)) / area;
+                double b1 = ((sx[2] - px) * (sy[0] - py) - (sx[0] - px) * (sy[2] - py)) / area;
+                double b2 = 1 - b0 - b1;
+                if (b0 < 0 || b1 < 0 || b2 < 0)
+                    continue;
+                float z = (float)(b0 * sz[0] + b1 * sz[1] + b2 * sz[2]);
+                if (z >= zbuf[(size_t)j * W + i])
+                    continue;
+                zbuf[(size_t)j * W + i] = z;
+                double u = b0 * uv[2 * (size_t)vv[0]] + b1 * uv[2 * (size_t)vv[1]] + b2 * uv[2 * (size_t)vv[2]];
+                double v = b0 * uv[2 * (size_t)vv[0] + 1] + b1 * uv[2 * (size_t)vv[1] + 1] +
+                           b2 * uv[2 * (size_t)vv[2] + 1];
+                long cu = (long)floor((u - ulo[0]) * cscale), cv = (long)floor((v - ulo[1]) * cscale);
+                bool dark = ((cu + cv) & 1) != 0;
+                double r = dark ? 0.15 : 0.95, g = dark ? 0.25 : 0.95, b = dark ? 0.55 : 0.90;
+                uint32_t R = (uint32_t)(255 * r * shade), G = (uint32_t)(255 * g * shade),
+                         B = (uint32_t)(255 * b * shade);
+                ((uint32_t *)(data + (size_t)j * stride))[i] = (R << 16) | (G << 8) | B;
+            }
+        }
+    }
+    free(zbuf);
+    cairo_surface_mark_dirty(surf);
+    if (o.title) {
+        cairo_t *cr = cairo_create(surf);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+        cairo_set_font_size(cr, 15);
+        cairo_move_to(cr, 12, 22);
+        cairo_show_text(cr, o.title);
+        cairo_destroy(cr);
+    }
+    sk__atomic_file af;
+    sk_status st = sk__atomic_open(&af, path, err);
+    if (st) {
+        cairo_surface_destroy(surf);
+        return st;
+    }
+    cairo_status_t cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
+    cairo_surface_destroy(surf);
+    if (cs != CAIRO_STATUS_SUCCESS) {
+        sk__atomic_abort(&af);
+        return sk__fail(err, SK_ERR_IO, "%s: cairo could not write the picture: %s",
+                        sk__basename(path), cairo_status_to_string(cs));
+    }
+    return sk__atomic_commit(&af, err);
+}

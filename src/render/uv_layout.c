@@ -1,0 +1,224 @@
+/* UV layout pictures with cairo. */
+#include "surfkit/render.h"
+#include "surfkit/param.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
+{
+    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
+                                                              : CAIRO_STATUS_WRITE_ERROR;
+}
+
+static bool has_ext(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    return n >= k && !strcasecmp(path + n - k, ext);
+}
+
+/* Colour scale for t in [0, 1]: a blue - green - yellow - red ramp (no magenta, reserved for
+ * flips). */
+static void ramp(double t, double rgb[3])
+{
+    static const double stops[5][3] = {
+        {0.23, 0.30, 0.75}, {0.35, 0.70, 0.90}, {0.55, 0.80, 0.40}, {0.98, 0.80, 0.20},
+        {0.80, 0.10, 0.10}};
+    t = fmin(fmax(t, 0.0), 1.0) * 4.0;
+    int i = (int)t;
+    if (i > 3)
+        i = 3;
+    double s = t - i;
+    for (int c = 0; c < 3; ++c)
+        rgb[c] = (1 - s) * stops[i][c] + s * stops[i + 1][c];
+}
+
+static const double FLIP_RGB[3] = {1.0, 0.0, 1.0}; /* magenta */
+
+
+sk_status sk_render_uv(const sk_mesh *m, const double *uv, const sk_render_opts *opts,
+                       const char *path, sk_error *err)
+{
+    sk_render_opts o = {0};
+    if (opts)
+        o = *opts;
+    int width = o.width > 0 ? o.width : 1024;
+    double cmax = o.conformal_max > 1 ? o.conformal_max : 4.0;
+    bool svg = has_ext(path, ".svg");
+    if (!svg && !has_ext(path, ".png"))
+        return sk__fail(err, SK_ERR_ARG, "%s: pictures are .png or .svg", sk__basename(path));
+    size_t nf = m->num_faces;
+    double *conf = sk__malloc_array(nf ? nf : 1, sizeof *conf);
+    int8_t *orient = sk__malloc_array(nf ? nf : 1, 1);
+    if (!conf || !orient) {
+        free(conf);
+        free(orient);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    sk_param_face_distortion(m, uv, conf, orient, NULL);
+    /* bounding box of the layout */
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    size_t nflip = 0, nalive = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        nalive++;
+        if (orient[f] <= 0)
+            nflip++;
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            const double *q = uv + 2 * (size_t)sk_from(m, h);
+            for (int c = 0; c < 2; ++c) {
+                lo[c] = fmin(lo[c], q[c]);
+                hi[c] = fmax(hi[c], q[c]);
+            }
+        }
+    }
+    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (!(span > 0) || !isfinite(span))
+        span = 1;
+    int legend_w = 150, top = o.title ? 40 : 16, margin = 16;
+    int plot = width - legend_w - 2 * margin;
+    if (plot < 64)
+        plot = 64;
+    int height = top + plot + margin;
+    int total_w = plot + legend_w + 2 * margin;
+    double s = plot / span;
+    double ox = margin + 0.5 * (plot - s * (hi[0] - lo[0])) - s * lo[0];
+    double oy = top + plot - 0.5 * (plot - s * (hi[1] - lo[1])) + s * lo[1]; /* v up */
+#define PX(q) (ox + s * (q)[0])
+#define PY(q) (oy - s * (q)[1])
+    sk__atomic_file af;
+    sk_status st = sk__atomic_open(&af, path, err);
+    if (st) {
+        free(conf);
+        free(orient);
+        return st;
+    }
+    cairo_surface_t *surf = svg ? cairo_svg_surface_create_for_stream(write_fp, af.fp, total_w, height)
+                                : cairo_image_surface_create(CAIRO_FORMAT_ARGB32, total_w, height);
+    cairo_t *cr = cairo_create(surf);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    bool draw_edges = o.edges > 0 || (o.edges == 0 && nalive <= 100000);
+    double logmax = log(cmax);
+    /* triangles */
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    for (int pass = 0; pass < 2; ++pass) { /* flipped ones last, on top */
+        for (size_t f = 0; f < nf; ++f) {
+            if (m->f_deleted[f] || (pass == 0) != (orient[f] > 0))
+                continue;
+            uint32_t h = m->f_halfedge[f];
+            const double *q[3];
+            for (int k = 0; k < 3; ++k, h = m->h_next[h])
+                q[k] = uv + 2 * (size_t)sk_from(m, h);
+            cairo_move_to(cr, PX(q[0]), PY(q[0]));
+            cairo_line_to(cr, PX(q[1]), PY(q[1]));
+            cairo_line_to(cr, PX(q[2]), PY(q[2]));
+            cairo_close_path(cr);
+            double rgb[3];
+            if (pass == 0) {
+                ramp(log(fmax(conf[f], 1.0)) / logmax, rgb);
+                cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+                if (draw_edges) {
+                    cairo_fill_preserve(cr);
+                    cairo_set_source_rgba(cr, 0.15, 0.15, 0.15, 0.6);
+                    cairo_set_line_width(cr, 0.35);
+                    cairo_stroke(cr);
+                } else {
+                    /* a hairline of the fill colour closes the antialiasing seams */
+                    cairo_fill_preserve(cr);
+                    cairo_set_line_width(cr, 0.5);
+                    cairo_stroke(cr);
+                }
+            } else {
+                cairo_set_source_rgb(cr, FLIP_RGB[0], FLIP_RGB[1], FLIP_RGB[2]);
+                cairo_fill_preserve(cr);
+                cairo_set_line_width(cr, 3.0);
+                cairo_stroke(cr);
+                /* a ring around it so that even a sliver is seen */
+                double cx = (PX(q[0]) + PX(q[1]) + PX(q[2])) / 3,
+                       cy = (PY(q[0]) + PY(q[1]) + PY(q[2])) / 3;
+                cairo_new_path(cr);
+                cairo_arc(cr, cx, cy, 8.0, 0, 2 * M_PI);
+                cairo_set_line_width(cr, 2.0);
+                cairo_stroke(cr);
+            }
+        }
+    }
+    /* boundary */
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.2);
+    for (size_t h = 0; h < m->num_halfedges; ++h) {
+        if (m->e_deleted[h >> 1] || !sk_is_boundary_h(m, (uint32_t)h))
+            continue;
+        const double *a = uv + 2 * (size_t)sk_from(m, (uint32_t)h),
+                     *b = uv + 2 * (size_t)sk_to(m, (uint32_t)h);
+        cairo_move_to(cr, PX(a), PY(a));
+        cairo_line_to(cr, PX(b), PY(b));
+    }
+    cairo_stroke(cr);
+    /* legend */
+    double lx = margin + plot + 30, ly = top + 10, lh = plot * 0.6;
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, 12);
+    for (int i = 0; i < 100; ++i) {
+        double rgb[3];
+        ramp(1.0 - (i + 0.5) / 100.0, rgb);
+        cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+        cairo_rectangle(cr, lx, ly + lh * i / 100.0, 22, lh / 100.0 + 0.6);
+        cairo_fill(cr);
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, lx, ly, 22, lh);
+    cairo_stroke(cr);
+    for (int i = 0; i <= 4; ++i) {
+        double val = exp(logmax * i / 4.0);
+        double y = ly + lh * (1.0 - i / 4.0);
+        char buf[32];
+        snprintf(buf, sizeof buf, i == 4 ? ">= %.2f" : "%.2f", val);
+        cairo_move_to(cr, lx + 26, y + 4);
+        cairo_show_text(cr, buf);
+    }
+    cairo_move_to(cr, lx - 14, ly + lh + 22);
+    cairo_show_text(cr, "sigma1 / sigma2");
+    cairo_set_source_rgb(cr, FLIP_RGB[0], FLIP_RGB[1], FLIP_RGB[2]);
+    cairo_rectangle(cr, lx, ly + lh + 36, 22, 14);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    char fb[48];
+    snprintf(fb, sizeof fb, "flipped: %zu", nflip);
+    cairo_move_to(cr, lx + 26, ly + lh + 48);
+    cairo_show_text(cr, fb);
+    if (o.title) {
+        cairo_set_font_size(cr, 15);
+        cairo_move_to(cr, margin, 26);
+        cairo_show_text(cr, o.title);
+    }
+#undef PX
+#undef PY
+    cairo_destroy(cr);
+    cairo_status_t cs;
+    if (svg) {
+        cairo_surface_finish(surf);
+        cs = cairo_surface_status(surf);
+    } else {
+        cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
+    }
+    cairo_surface_destroy(surf);
+    free(conf);
+    free(orient);
+    if (cs != CAIRO_STATUS_SUCCESS) {
+        sk__atomic_abort(&af);
+        return sk__fail(err, SK_ERR_IO, "%s: cairo could not write the picture: %s",
+                        sk__basename(path), cairo_status_to_string(cs));
+    }
+    return sk__atomic_commit(&af, err);
+}

@@ -51,7 +51,7 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_kstr(&j, "normals", normals_src);
     size_t tri = 0, quad = 0;
     for (size_t p = 0; p < s->num_patches; ++p)
-        s->patches[p].kind == SK_PATCH_QUAD ? ++quad : ++tri;
+        s->patches[p].kind == SK_SMOOTH_QUAD ? ++quad : ++tri;
     json_kuint(&j, "vertices", s->config->num_vertices);
     json_kuint(&j, "triangles", tri);
     json_kuint(&j, "quads", quad);
@@ -128,12 +128,12 @@ static void patches_json(FILE *fp, const void *ctx)
                 "0..n-k; quads: b[i + 4 j]\", \"patches\": [\n",
             s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
     for (size_t p = 0; p < s->num_patches; ++p) {
-        const sk_patch *pa = s->patches + p;
-        size_t np = pa->kind == SK_PATCH_QUAD ? 16 : (size_t)(pa->degree + 1) * (pa->degree + 2) / 2;
+        const sk_smooth_patch *pa = s->patches + p;
+        size_t np = pa->kind == SK_SMOOTH_QUAD ? 16 : (size_t)(pa->degree + 1) * (pa->degree + 2) / 2;
         fprintf(fp, "{\"kind\": \"%s\", \"degree\": %d, \"corners\": [%u, %u, %u",
-                pa->kind == SK_PATCH_QUAD ? "quad" : "triangle", pa->degree, pa->corners[0],
+                pa->kind == SK_SMOOTH_QUAD ? "quad" : "triangle", pa->degree, pa->corners[0],
                 pa->corners[1], pa->corners[2]);
-        if (pa->kind == SK_PATCH_QUAD)
+        if (pa->kind == SK_SMOOTH_QUAD)
             fprintf(fp, ", %u", pa->corners[3]);
         fprintf(fp, "], \"points\": [");
         for (size_t i = 0; i < np; ++i) {

@@ -58,6 +58,11 @@ static inline unsigned sk_patch_num_corners(const sk_patch *p)
 double sk_patch_eval(const sk_patch *p, double a, double b, double pt[3], double du[3],
                      double dv[3], double normal[3]);
 
+/* The same on a raw control net laid out as in sk_patch (cp: 3 doubles per point). */
+double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,
+                      double a, double b, double pt[3], double du[3], double dv[3],
+                      double normal[3]);
+
 /* Point of the boundary curve from corner c to corner c + 1 at parameter t in [0, 1]. */
 void sk_patch_edge_point(const sk_patch *p, unsigned c, double t, double pt[3]);
 

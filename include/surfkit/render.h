@@ -5,6 +5,7 @@
 #define SURFKIT_RENDER_H
 
 #include "surfkit/mesh.h"
+#include "surfkit/smooth.h"
 
 #include <stdbool.h>
 
@@ -13,13 +14,16 @@ extern "C" {
 #endif
 
 typedef struct sk_render_opts {
-    int width;             /* picture width in pixels (points for SVG); 0 = 1024 */
+    int width;             /* picture width in pixels (points for SVG); 0 = 1024 (patch pictures:
+                              900) */
+    int height;            /* patch pictures only; 0 = 900 */
     int edges;             /* 0 = draw edges when the mesh has at most 100k faces, 1 = always,
                               -1 = never */
     double conformal_max;  /* top of the colour scale for sigma1/sigma2 (log scale from 1); 0 = 4 */
     const char *title;     /* a line of text at the top, or NULL */
-    /* checkerboard view only */
-    double view[3];        /* direction the camera looks along; zero = (0, 0, -1) */
+    /* checkerboard and patch pictures */
+    double view[3];        /* direction the camera looks along; zero = (0, 0, -1) for the
+                              checkerboard, (-0.4, -0.5, -1) for the patch pictures */
     int checks;            /* squares across the uv bounding box; 0 = 16 */
 } sk_render_opts;
 
@@ -32,6 +36,15 @@ sk_status sk_render_uv(const sk_mesh *mesh, const double *uv, const sk_render_op
  * in uv and shaded by the angle to the view (PNG only). */
 sk_status sk_render_checker(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
                             const char *path, sk_error *err);
+
+/* Pictures of the smooth surface (cairo, PNG, orthographic flat shading) */
+/* The triangle/quad configuration: triangles grey, quads blue, deleted edges red, problem
+ * vertices marked. */
+sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
+                                 const sk_render_opts *opts, sk_error *err);
+/* A flat-shaded picture of a triangle soup (e.g. the tessellated surface). */
+sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
+                           sk_error *err);
 
 #ifdef __cplusplus
 }

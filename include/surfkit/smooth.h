@@ -20,6 +20,7 @@
 #include "surfkit/analysis.h"
 #include "surfkit/core.h"
 #include "surfkit/mesh.h"
+#include "surfkit/bezier.h"
 
 #include <stdbool.h>
 
@@ -74,14 +75,14 @@ typedef struct sk_smooth_opts {
     void *progress_user;
 } sk_smooth_opts;
 
-typedef enum { SK_PATCH_TRIANGLE = 3, SK_PATCH_QUAD = 4 } sk_patch_kind;
+typedef enum { SK_SMOOTH_TRIANGLE = 3, SK_SMOOTH_QUAD = 4 } sk_smooth_patch_kind;
 
-typedef struct sk_patch {
-    uint8_t kind;        /* SK_PATCH_TRIANGLE or SK_PATCH_QUAD */
+typedef struct sk_smooth_patch {
+    uint8_t kind;        /* SK_SMOOTH_TRIANGLE or SK_SMOOTH_QUAD */
     uint8_t degree;      /* triangles 4 (VC1) or 3 (PN); quads 3 */
     uint32_t first;      /* index of the first control point in sk_smooth.points */
     uint32_t corners[4]; /* vertex ids, counter-clockwise; corners[3] = SK_INVALID for triangles */
-} sk_patch;
+} sk_smooth_patch;
 
 typedef struct sk_smooth_stats {
     sk_edge_deletion_stats deletion;
@@ -102,7 +103,7 @@ typedef struct sk_smooth {
     sk_mesh *config;           /* the triangle/quad mesh the patches sit on (one patch per face) */
     double *normals;           /* unit normal per vertex of config */
     size_t num_patches;
-    sk_patch *patches;         /* patch f belongs to face f of config */
+    sk_smooth_patch *patches;         /* patch f belongs to face f of config */
     size_t num_points;
     double *points;            /* 3 per control point */
     size_t num_deleted;        /* deleted edges ... */
@@ -123,8 +124,12 @@ void sk_smooth_destroy(sk_smooth **smooth);
 
 /* Evaluates patch p at (u, v) by de Casteljau: position, first derivatives and unit normal (each
  * output may be NULL). */
-void sk_patch_eval(const sk_smooth *s, size_t p, double u, double v, double pos[3], double du[3],
+void sk_smooth_eval(const sk_smooth *s, size_t p, double u, double v, double pos[3], double du[3],
                    double dv[3], double normal[3]);
+
+/* The patches as generic Bezier patches (include/surfkit/bezier.h) for the CAD writers, with the
+ * config's vertex ids as corner ids; *out is malloc'ed (free it). */
+sk_status sk_smooth_to_patches(const sk_smooth *s, sk_patch **out, size_t *count, sk_error *err);
 
 /* Tessellates every patch into an n x n grid (triangles: n^2 triangles, quads: 2 n^2), welded along
  * patch boundaries, with the exact patch normals; the result is a triangle soup with normals. */
@@ -158,23 +163,6 @@ typedef struct sk_continuity_report {
 
 sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
                                sk_continuity_report *rep, sk_error *err);
-
-/* ---------------------------------------------------------------------------------------------
- * Pictures (cairo, PNG): an orthographic flat-shaded view from a fixed direction
- * ------------------------------------------------------------------------------------------- */
-
-typedef struct sk_render_opts {
-    unsigned width, height; /* 0 = 900 x 900 */
-    double view[3];         /* direction from the eye to the model; 0 = (-0.4, -0.5, -1) */
-} sk_render_opts;
-
-/* The triangle/quad configuration: triangles grey, quads blue, deleted edges red, problem
- * vertices marked. */
-sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
-                                 const sk_render_opts *opts, sk_error *err);
-/* A flat-shaded picture of a triangle soup (e.g. the tessellated surface). */
-sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
-                           sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,7 @@
 /* Pictures of smooth surfaces (cairo, PNG): the triangle/quad configuration after edge deletion and
  * flat-shaded views of triangle soups. Orthographic projection along a fixed view direction,
  * back faces culled, faces painted far to near. */
-#include "surfkit/smooth.h"
+#include "surfkit/render.h"
 #include "core/internal.h"
 #include "core/vec.h"
 

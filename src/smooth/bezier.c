@@ -75,14 +75,15 @@ static void tensor_eval(const double *cp, unsigned du, unsigned dv, double s, do
     curve_eval(drows, dv, t, ds ? ds : tmp, NULL);
 }
 
-double sk_patch_eval(const sk_patch *p, double a, double b, double pt[3], double du[3],
-                     double dv[3], double normal[3])
+double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,
+                      double a, double b, double pt[3], double du[3], double dv[3],
+                      double normal[3])
 {
     double P[3], D1[3], D2[3], n[3];
-    if (p->kind == SK_PATCH_TRIANGLE)
-        tri_eval(p->cp, p->degree, a, b, P, D1, D2);
+    if (kind == SK_PATCH_TRIANGLE)
+        tri_eval(cp, degree, a, b, P, D1, D2);
     else
-        tensor_eval(p->cp, p->degree, p->degree_v, a, b, P, D1, D2);
+        tensor_eval(cp, degree, degree_v, a, b, P, D1, D2);
     sk__cross3(n, D1, D2);
     double len = sk__norm3(n);
     if (pt)
@@ -98,6 +99,12 @@ double sk_patch_eval(const sk_patch *p, double a, double b, double pt[3], double
             normal[0] = normal[1] = normal[2] = 0.0;
     }
     return len;
+}
+
+double sk_patch_eval(const sk_patch *p, double a, double b, double pt[3], double du[3],
+                     double dv[3], double normal[3])
+{
+    return sk_bezier_eval(p->kind, p->degree, p->degree_v, p->cp, a, b, pt, du, dv, normal);
 }
 
 unsigned sk_patch_edge_curve(const sk_patch *p, unsigned c, double *cp)

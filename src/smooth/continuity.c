@@ -11,7 +11,7 @@
 /* (u, v) of the point at t along side `side` of a patch with `kind` corners */
 static void side_param(int kind, int side, double t, double *u, double *v)
 {
-    if (kind == SK_PATCH_TRIANGLE) {
+    if (kind == SK_SMOOTH_TRIANGLE) {
         switch (side) {
         case 0: *u = t, *v = 0.0; break;
         case 1: *u = 1.0 - t, *v = t; break;
@@ -41,7 +41,7 @@ static int side_of(const sk_mesh *m, uint32_t f, uint32_t h)
 static void corner_param(int kind, int i, double *u, double *v)
 {
     static const double tu[4] = {0, 1, 1, 0}, tv[4] = {0, 0, 1, 1};
-    if (kind == SK_PATCH_TRIANGLE) {
+    if (kind == SK_SMOOTH_TRIANGLE) {
         *u = i == 1 ? 1.0 : 0.0;
         *v = i == 2 ? 1.0 : 0.0;
     } else {
@@ -82,9 +82,9 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
         for (unsigned i = 0; i <= K; ++i) {
             double t = (double)i / K, u, v, x1[3], x2[3], n1[3], n2[3];
             side_param(kf, sf, t, &u, &v);
-            sk_patch_eval(s, f, u, v, x1, NULL, NULL, n1);
+            sk_smooth_eval(s, f, u, v, x1, NULL, NULL, n1);
             side_param(kg, sg, 1.0 - t, &u, &v);
-            sk_patch_eval(s, g, u, v, x2, NULL, NULL, n2);
+            sk_smooth_eval(s, g, u, v, x2, NULL, NULL, n2);
             double gap = sk__dist3(x1, x2), jump = sk__angle3(n1, n2) * RAD2DEG;
             if (sk__norm3(n1) == 0.0 || sk__norm3(n2) == 0.0)
                 jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
@@ -123,12 +123,12 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
 #pragma omp parallel for schedule(static) reduction(max : max_verr, max_nerr) reduction(+ : uncert)
 #endif
     for (long p = 0; p < np; ++p) {
-        const sk_patch *pa = s->patches + p;
+        const sk_smooth_patch *pa = s->patches + p;
         double ref[3] = {0, 0, 0};
         for (int i = 0; i < pa->kind; ++i) {
             double u, v, x[3], n[3];
             corner_param(pa->kind, i, &u, &v);
-            sk_patch_eval(s, (size_t)p, u, v, x, NULL, NULL, n);
+            sk_smooth_eval(s, (size_t)p, u, v, x, NULL, NULL, n);
             const double *V = m->positions + 3 * (size_t)pa->corners[i];
             const double *N = s->normals + 3 * (size_t)pa->corners[i];
             max_verr = fmax(max_verr, sk__dist3(x, V));
@@ -142,15 +142,15 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
         double scale = 0.0;
         {
             double du[3], dv[3];
-            sk_patch_eval(s, (size_t)p, 1.0 / 3.0, 1.0 / 3.0, NULL, du, dv, NULL);
+            sk_smooth_eval(s, (size_t)p, 1.0 / 3.0, 1.0 / 3.0, NULL, du, dv, NULL);
             scale = sk__norm3(du) * sk__norm3(dv);
         }
         for (unsigned i = 0; i <= G && !singular; ++i)
             for (unsigned j = 0; j <= G && !singular; ++j) {
-                if (pa->kind == SK_PATCH_TRIANGLE && i + j > G)
+                if (pa->kind == SK_SMOOTH_TRIANGLE && i + j > G)
                     continue;
                 double u = (double)i / G, v = (double)j / G, du[3], dv[3], c[3];
-                sk_patch_eval(s, (size_t)p, u, v, NULL, du, dv, NULL);
+                sk_smooth_eval(s, (size_t)p, u, v, NULL, du, dv, NULL);
                 sk__cross3(c, du, dv);
                 double len = sk__norm3(c);
                 if (!(len > 1e-10 * scale) || sk__dot3(c, ref) <= 0.0)

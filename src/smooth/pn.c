@@ -24,15 +24,15 @@ sk_status sk__pn_build(sk_smooth *s, sk_error *err)
     size_t nf = m->num_faces;
     s->num_patches = nf;
     s->num_points = 10 * nf;
-    s->patches = sk__malloc_array(nf + 1, sizeof(sk_patch));
+    s->patches = sk__malloc_array(nf + 1, sizeof(sk_smooth_patch));
     s->points = sk__malloc_array(10 * nf + 1, 3 * sizeof(double));
     if (!s->patches || !s->points)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory building PN triangles");
     for (uint32_t f = 0; f < nf; ++f) {
-        sk_patch *pa = s->patches + f;
+        sk_smooth_patch *pa = s->patches + f;
         uint32_t h = m->f_halfedge[f];
         uint32_t c[3] = {sk_from(m, h), sk_to(m, h), sk_to(m, m->h_next[h])};
-        pa->kind = SK_PATCH_TRIANGLE;
+        pa->kind = SK_SMOOTH_TRIANGLE;
         pa->degree = 3;
         pa->first = 10 * f;
         pa->corners[0] = c[0], pa->corners[1] = c[1], pa->corners[2] = c[2];

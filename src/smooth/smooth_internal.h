@@ -53,7 +53,7 @@ void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
 static inline size_t sk__tri_index(int n, int j, int k) { return (size_t)(k * (n + 1) - k * (k - 1) / 2 + j); }
 static inline size_t sk__patch_points(int kind, int degree)
 {
-    return kind == SK_PATCH_QUAD ? 16u : (size_t)((degree + 1) * (degree + 2) / 2);
+    return kind == SK_SMOOTH_QUAD ? 16u : (size_t)((degree + 1) * (degree + 2) / 2);
 }
 
 /* Cone test of Ginkel, Peters, Umlauf (Lemma 3): true when the cone spanned by the cross products

@@ -10,7 +10,7 @@ sk_status sk_smooth_tessellate(const sk_smooth *s, unsigned n, sk_soup **out, sk
         return sk__fail(err, SK_ERR_ARG, "sk_smooth_tessellate: bad arguments (n = %u)", n);
     size_t nv = 0, nf = 0;
     for (size_t p = 0; p < s->num_patches; ++p) {
-        if (s->patches[p].kind == SK_PATCH_QUAD) {
+        if (s->patches[p].kind == SK_SMOOTH_QUAD) {
             nv += (size_t)(n + 1) * (n + 1);
             nf += 2 * (size_t)n * n;
         } else {
@@ -26,12 +26,12 @@ sk_status sk_smooth_tessellate(const sk_smooth *s, unsigned n, sk_soup **out, sk
         return st;
     uint32_t base = 0;
     for (size_t p = 0; p < s->num_patches && st == SK_OK; ++p) {
-        const sk_patch *pa = s->patches + p;
-        if (pa->kind == SK_PATCH_QUAD) {
+        const sk_smooth_patch *pa = s->patches + p;
+        if (pa->kind == SK_SMOOTH_QUAD) {
             for (unsigned j = 0; j <= n; ++j)
                 for (unsigned i = 0; i <= n; ++i) {
                     double x[3], nn[3];
-                    sk_patch_eval(s, p, (double)i / n, (double)j / n, x, NULL, NULL, nn);
+                    sk_smooth_eval(s, p, (double)i / n, (double)j / n, x, NULL, NULL, nn);
                     if ((st = sk_soup_push_vertex(soup, x, nn, NULL)) != SK_OK)
                         goto done;
                 }
@@ -49,7 +49,7 @@ sk_status sk_smooth_tessellate(const sk_smooth *s, unsigned n, sk_soup **out, sk
             for (unsigned k = 0; k <= n; ++k)
                 for (unsigned j = 0; j <= n - k; ++j) {
                     double x[3], nn[3];
-                    sk_patch_eval(s, p, (double)j / n, (double)k / n, x, NULL, NULL, nn);
+                    sk_smooth_eval(s, p, (double)j / n, (double)k / n, x, NULL, NULL, nn);
                     if ((st = sk_soup_push_vertex(soup, x, nn, NULL)) != SK_OK)
                         goto done;
                 }

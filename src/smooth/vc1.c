@@ -400,7 +400,7 @@ static void elevate(double c[4][3], double q[5][3])
             q[j][x] = (j > 0 ? j / 4.0 * c[j - 1][x] : 0.0) + (j < 4 ? (1.0 - j / 4.0) * c[j][x] : 0.0);
 }
 
-static void assemble_patch(const vc1_work *W, uint32_t f, sk_patch *pa, double *b)
+static void assemble_patch(const vc1_work *W, uint32_t f, sk_smooth_patch *pa, double *b)
 {
     const sk_mesh *m = W->m;
     uint32_t h[4];
@@ -560,7 +560,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     s->stats.seconds_systems = t1 - t0;
     /* patches */
     s->num_patches = nf;
-    s->patches = sk__malloc_array(nf + 1, sizeof(sk_patch));
+    s->patches = sk__malloc_array(nf + 1, sizeof(sk_smooth_patch));
     size_t npts = 0;
     for (uint32_t f = 0; f < nf; ++f)
         npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;

@@ -8,10 +8,11 @@
 #include <time.h>
 
 static const char help[] =
-    "usage: surfkit smooth IN -o OUT.obj|OUT.ply [--tess N] [--patches OUT.json]\n"
+    "usage: surfkit smooth IN -o OUT.obj|OUT.ply|OUT.igs|OUT.step [--tess N] [--patches OUT.json]\n"
     "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
     "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
-    "                      [--scheme vc1|pn] [--allow-split] [-q]\n"
+    "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
+    "                      [--iges-triangles split|degenerate] [-q]\n"
     "\n"
     "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
@@ -25,7 +26,14 @@ static const char help[] =
     "impossible by Euler's formula): it is refused unless --allow-split, which splits its\n"
     "longest edge at the midpoint of its wire frame curve.\n"
     "\n"
-    "  -o OUT          tessellated surface with exact patch normals (OBJ or PLY)\n"
+    "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
+    "                  .igs/.iges IGES 5.3, one B-spline surface (entity 128) per patch;\n"
+    "                  .step/.stp STEP AP214, one shell whose faces share edges and vertices;\n"
+    "                  .obj with --obj-freeform: OBJ free-form Bezier surfaces (cstype bezier).\n"
+    "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
+    "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
+    "                  collapsed side instead (IGES only)\n"
+    "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
     "  --tess N        grid of N x N per patch (default 4)\n"
     "  --patches F     control nets as JSON\n"
     "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
@@ -159,13 +167,70 @@ static void report_json(FILE *fp, const void *ctx)
     write_report(fp, c->in, c->s, c->r, c->normals_src, c->seconds, c->report_seconds);
 }
 
+typedef enum { CAD_NONE, CAD_IGES, CAD_STEP, CAD_OBJ_FREEFORM } cad_kind;
+
+static bool has_ext(const char *path, const char *ext)
+{
+    size_t n = strlen(path), m = strlen(ext);
+    if (n < m)
+        return false;
+    for (size_t i = 0; i < m; ++i) {
+        char c = path[n - m + i];
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != ext[i])
+            return false;
+    }
+    return true;
+}
+
+static cad_kind cad_kind_of(const char *path, bool freeform)
+{
+    if (has_ext(path, ".igs") || has_ext(path, ".iges"))
+        return CAD_IGES;
+    if (has_ext(path, ".step") || has_ext(path, ".stp"))
+        return CAD_STEP;
+    if (freeform && has_ext(path, ".obj"))
+        return CAD_OBJ_FREEFORM;
+    return CAD_NONE;
+}
+
+static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_export_opts *eo,
+                     bool quiet)
+{
+    sk_error err = {0};
+    sk_patch *ps = NULL;
+    size_t n = 0;
+    sk_export_stats es = {0};
+    sk_status st = sk_smooth_to_patches(s, &ps, &n, &err);
+    if (st == SK_OK) {
+        if (cad == CAD_IGES)
+            st = sk_export_iges(path, ps, n, eo, &es, &err);
+        else if (cad == CAD_STEP)
+            st = sk_export_step(path, ps, n, eo, &es, &err);
+        else
+            st = sk_export_obj_freeform(path, ps, n, eo, &es, &err);
+    }
+    free(ps);
+    if (st != SK_OK)
+        return cli_fail(st, &err);
+    if (!quiet) {
+        fprintf(stderr, "smooth: wrote %s: %zu surfaces", path, es.faces);
+        if (cad == CAD_STEP)
+            fprintf(stderr, ", %zu edges, %zu vertices", es.edges, es.vertices);
+        fprintf(stderr, ", %.1f KiB\n", (double)es.bytes / 1024.0);
+    }
+    return EXIT_OK;
+}
+
 int cmd_smooth(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
                *report = NULL, *val;
     unsigned long tess = 4;
-    bool quiet = false, json = false;
+    bool quiet = false, json = false, freeform = false;
     sk_smooth_opts so = {0};
+    sk_export_opts eo = {0};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -179,6 +244,19 @@ int cmd_smooth(int argc, char **argv)
             so.allow_split = true;
         } else if (!strcmp(a, "--estimate-normals")) {
             so.estimate_normals = true;
+        } else if (!strcmp(a, "--obj-freeform")) {
+            freeform = true;
+        } else if (cli_opt_value(argc, argv, &i, "--units", &val)) {
+            if (!val || !sk_export_units_known(val))
+                return cli_usage("smooth", "--units takes mm, cm, m, um, in or ft");
+            eo.units = val;
+        } else if (cli_opt_value(argc, argv, &i, "--iges-triangles", &val)) {
+            if (val && !strcmp(val, "split"))
+                eo.degenerate_triangles = false;
+            else if (val && !strcmp(val, "degenerate"))
+                eo.degenerate_triangles = true;
+            else
+                return cli_usage("smooth", "--iges-triangles takes split or degenerate");
         } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
             if (!val)
                 return cli_usage("smooth", "-o needs a file name");
@@ -227,11 +305,15 @@ int cmd_smooth(int argc, char **argv)
     if (!out && !patches && !layout && !render && !report && !json)
         return cli_usage("smooth", "nothing to write: give -o, --patches, --layout, --render, "
                                    "--report or --json");
-    if (out) {
+    cad_kind cad = out ? cad_kind_of(out, freeform) : CAD_NONE;
+    if (out && cad == CAD_NONE) {
         sk_format f = sk_format_from_path(out);
         if (f != SK_FORMAT_OBJ && f != SK_FORMAT_PLY)
-            return cli_usage("smooth", "-o must name an .obj or .ply file (normals are written)");
+            return cli_usage("smooth", "-o must name an .obj, .ply, .igs, .iges, .step or .stp "
+                                       "file");
     }
+    if (freeform && cad != CAD_OBJ_FREEFORM)
+        return cli_usage("smooth", "--obj-freeform needs -o with an .obj file");
     double t0 = now();
     cli_progress bar;
     cli_progress_init(&bar, "smooth", quiet);
@@ -261,13 +343,15 @@ int cmd_smooth(int argc, char **argv)
         goto done;
     }
     double t2 = now();
-    if (out || render) {
+    if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
+        goto done;
+    if ((out && cad == CAD_NONE) || render) {
         if ((st = sk_smooth_tessellate(s, (unsigned)tess, &tes, &err)) != SK_OK) {
             rc = cli_fail(st, &err);
             goto done;
         }
     }
-    if (out && (st = sk_soup_write(out, tes, NULL, &err)) != SK_OK) {
+    if (out && cad == CAD_NONE && (st = sk_soup_write(out, tes, NULL, &err)) != SK_OK) {
         rc = cli_fail(st, &err);
         goto done;
     }

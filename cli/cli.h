@@ -62,6 +62,10 @@ void json_knum(cli_json *j, const char *key, double v);
 void json_kbool(cli_json *j, const char *key, bool v);
 void json_kstr(cli_json *j, const char *key, const char *s);
 
+/* Writes a text file through fn into a temporary beside path, renamed into place when complete;
+ * on failure prints the error and returns EXIT_BAD_INPUT. */
+int cli_write_file(const char *path, void (*fn)(FILE *, const void *), const void *ctx);
+
 /* Option parsing: returns true and sets *out when argv[*i] is `name` followed by a value, or
  * `name=value`; advances *i. */
 bool cli_opt_value(int argc, char **argv, int *i, const char *name, const char **out);

@@ -1,12 +1,15 @@
-/* surfkit param: linear parametrization of a disk, metrics, pictures. */
+/* surfkit param: parametrization of a disk (linear methods, or hierarchical / flat MIPS), metrics,
+ * pictures. */
 #include "cli.h"
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static const char help[] =
-    "usage: surfkit param IN -o OUT [--method tutte|floater|mvc|harmonic|lscm]\n"
-    "                     [--boundary circle|square] [--spacing chord|uniform]\n"
+    "usage: surfkit param IN -o OUT [--method tutte|floater|mvc|harmonic|lscm|mips]\n"
+    "                     [--boundary circle|square|free] [--spacing chord|uniform]\n"
+    "                     [--hierarchical | --flat] [--steps N] [--seed S]\n"
     "                     [--png LAYOUT.png] [--svg LAYOUT.svg] [--checker VIEW.png]\n"
     "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii] [-q]\n"
     "\n"
@@ -17,6 +20,13 @@ static const char help[] =
     "triangles give negative weights that can flip triangles). Free boundary: lscm (least\n"
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
     "triangle with a convex boundary.\n"
+    "\n"
+    "mips: minimises the MIPS energy (sum of sigma1/sigma2 + sigma2/sigma1) by local steps that\n"
+    "never flip a triangle. --hierarchical (default): Hormann, Greiner, Campagna: a progressive\n"
+    "mesh, the coarsest level from Floater, then level by level the removed vertices inserted\n"
+    "at their barycentric coordinates and optimised. --flat: the conventional method, Floater on\n"
+    "the full mesh then local steps in random order. --boundary free (default for mips) lets\n"
+    "the boundary move; circle/square keep it fixed. --steps N bounds the local steps.\n"
     "\n"
     "OUT: .obj (v + vt, faces v/vt) or .ply (with u v), also .off (positions only).\n"
     "--png/--svg draw the uv layout coloured by conformal distortion sigma1/sigma2, flipped\n"
@@ -42,18 +52,28 @@ static bool parse_view(const char *s, double v[3])
     return *s == '\0';
 }
 
-static void write_json(FILE *fp, const char *in, sk_param_method method, const char *boundary,
-                       const sk_param_stats *ps, const sk_param_metrics *pm)
+/* What a run did, for the report. */
+typedef struct run_info {
+    const char *in, *method, *boundary;
+    bool linear, hierarchical;
+    sk_param_stats ps;   /* linear methods */
+    sk_hparam_stats hs;  /* hierarchical MIPS */
+    sk_mips_stats ms;    /* flat MIPS */
+    sk_param_metrics pm;
+    double seconds;
+} run_info;
+
+static void write_json(FILE *fp, const void *ctx)
 {
+    const run_info *r = ctx;
+    const sk_param_metrics *pm = &r->pm;
     cli_json j;
     json_begin(&j, fp);
     json_obj_open(&j);
-    json_kstr(&j, "file", in);
-    json_kstr(&j, "method", sk_param_method_name(method));
-    json_kstr(&j, "boundary", method == SK_PARAM_LSCM ? "free" : boundary);
-    json_kuint(&j, "vertices", ps->vertices);
+    json_kstr(&j, "file", r->in);
+    json_kstr(&j, "method", r->method);
+    json_kstr(&j, "boundary", r->boundary);
     json_kuint(&j, "faces", pm->faces);
-    json_kuint(&j, "interior", ps->interior);
     json_kuint(&j, "flipped", pm->flipped);
     json_kuint(&j, "degenerate", pm->degenerate);
     json_knum(&j, "mips_sum", pm->mips_sum);
@@ -63,32 +83,70 @@ static void write_json(FILE *fp, const char *in, sk_param_method method, const c
     json_knum(&j, "area_log_mean", pm->area_log_mean);
     json_knum(&j, "stretch_max", pm->stretch_max);
     json_kuint(&j, "boundary_self_intersections", pm->boundary_self_intersections);
-    json_knum(&j, "seconds", ps->total_seconds);
-    json_key(&j, "timing");
-    json_obj_open(&j);
-    json_knum(&j, "check", ps->check_seconds);
-    json_knum(&j, "boundary", ps->boundary_seconds);
-    json_knum(&j, "weights_and_assembly", ps->weights_seconds);
-    json_knum(&j, "analyse", ps->solve.analyse_seconds);
-    json_knum(&j, "factor", ps->solve.factor_seconds);
-    json_knum(&j, "solve", ps->solve.solve_seconds);
-    json_obj_close(&j);
-    json_key(&j, "solver");
-    json_obj_open(&j);
-    json_kstr(&j, "kind", ps->solve.kind == SK_SOLVER_CHOLESKY ? "cholmod" : "umfpack");
-    json_kuint(&j, "n", ps->solve.n);
-    json_kuint(&j, "nnz", ps->solve.nnz);
-    json_kuint(&j, "factor_nnz", ps->solve.factor_nnz);
-    json_obj_close(&j);
+    json_knum(&j, "seconds", r->seconds);
+    if (r->linear) {
+        const sk_param_stats *ps = &r->ps;
+        json_kuint(&j, "vertices", ps->vertices);
+        json_kuint(&j, "interior", ps->interior);
+        json_key(&j, "timing");
+        json_obj_open(&j);
+        json_knum(&j, "check", ps->check_seconds);
+        json_knum(&j, "boundary", ps->boundary_seconds);
+        json_knum(&j, "weights_and_assembly", ps->weights_seconds);
+        json_knum(&j, "analyse", ps->solve.analyse_seconds);
+        json_knum(&j, "factor", ps->solve.factor_seconds);
+        json_knum(&j, "solve", ps->solve.solve_seconds);
+        json_obj_close(&j);
+        json_key(&j, "solver");
+        json_obj_open(&j);
+        json_kstr(&j, "kind", ps->solve.kind == SK_SOLVER_CHOLESKY ? "cholmod" : "umfpack");
+        json_kuint(&j, "n", ps->solve.n);
+        json_kuint(&j, "nnz", ps->solve.nnz);
+        json_kuint(&j, "factor_nnz", ps->solve.factor_nnz);
+        json_obj_close(&j);
+    } else if (r->hierarchical) {
+        const sk_hparam_stats *hs = &r->hs;
+        json_kuint(&j, "steps", hs->steps);
+        json_kuint(&j, "repaired_insertions", hs->repaired);
+        json_kuint(&j, "fallbacks", hs->fallbacks);
+        json_knum(&j, "hierarchy_seconds", hs->hierarchy_seconds);
+        json_key(&j, "levels"); /* coarsest first */
+        json_arr_open(&j);
+        for (size_t l = 0; l < hs->num_levels; ++l) {
+            const sk_hparam_level *lv = &hs->levels[l];
+            json_obj_open(&j);
+            json_kuint(&j, "vertices", lv->vertices);
+            json_kuint(&j, "faces", lv->faces);
+            json_kuint(&j, "sweeps", lv->sweeps);
+            json_kuint(&j, "steps", lv->steps);
+            json_kuint(&j, "repaired", lv->repaired);
+            json_knum(&j, "energy", lv->energy);
+            json_knum(&j, "seconds", lv->seconds);
+            json_obj_close(&j);
+        }
+        json_arr_close(&j);
+    } else {
+        json_kuint(&j, "steps", r->ms.steps);
+        json_kuint(&j, "sweeps", r->ms.sweeps);
+        json_knum(&j, "energy_start", r->ms.energy_start);
+    }
     json_obj_close(&j);
     json_end(&j);
+}
+
+static double seconds_since(const struct timespec *t0)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
 }
 
 int cmd_param(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *png = NULL, *svg = NULL, *checker = NULL, *report = NULL;
-    const char *val, *boundary = "circle";
-    bool quiet = false, json = false;
+    const char *val, *boundary = NULL;
+    bool quiet = false, json = false, mips = false, flat = false, hier_flag = false;
+    unsigned long steps = 0, seed = 1;
     sk_param_opts po = {0};
     sk_write_opts wo = {0};
     sk_render_opts ro = {0};
@@ -104,20 +162,23 @@ int cmd_param(int argc, char **argv)
             json = true;
         } else if (!strcmp(a, "--ascii")) {
             wo.ascii = true;
+        } else if (!strcmp(a, "--flat")) {
+            flat = true;
+        } else if (!strcmp(a, "--hierarchical")) {
+            hier_flag = true;
         } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
             if (!val)
                 return cli_usage("param", "-o needs a file name");
             out = val;
         } else if (cli_opt_value(argc, argv, &i, "--method", &val)) {
-            if (!sk_param_method_parse(val, &po.method))
-                return cli_usage("param", "--method takes tutte, floater, mvc, harmonic or lscm");
+            if (val && !strcmp(val, "mips"))
+                mips = true;
+            else if (!sk_param_method_parse(val, &po.method))
+                return cli_usage("param", "--method takes tutte, floater, mvc, harmonic, lscm or "
+                                          "mips");
         } else if (cli_opt_value(argc, argv, &i, "--boundary", &val)) {
-            if (val && !strcmp(val, "circle"))
-                po.boundary.shape = SK_BOUNDARY_CIRCLE;
-            else if (val && !strcmp(val, "square"))
-                po.boundary.shape = SK_BOUNDARY_SQUARE;
-            else
-                return cli_usage("param", "--boundary takes circle or square");
+            if (!val || (strcmp(val, "circle") && strcmp(val, "square") && strcmp(val, "free")))
+                return cli_usage("param", "--boundary takes circle, square or free");
             boundary = val;
         } else if (cli_opt_value(argc, argv, &i, "--spacing", &val)) {
             if (val && !strcmp(val, "chord"))
@@ -126,6 +187,12 @@ int cmd_param(int argc, char **argv)
                 po.boundary.spacing = SK_SPACING_UNIFORM;
             else
                 return cli_usage("param", "--spacing takes chord or uniform");
+        } else if (cli_opt_value(argc, argv, &i, "--steps", &val)) {
+            if (!cli_parse_uint(val, &steps) || steps == 0)
+                return cli_usage("param", "--steps takes a positive whole number");
+        } else if (cli_opt_value(argc, argv, &i, "--seed", &val)) {
+            if (!cli_parse_uint(val, &seed))
+                return cli_usage("param", "--seed takes a whole number");
         } else if (cli_opt_value(argc, argv, &i, "--png", &val)) {
             if (!val)
                 return cli_usage("param", "--png needs a file name");
@@ -157,6 +224,21 @@ int cmd_param(int argc, char **argv)
         return cli_usage("param", "needs an input file and -o OUT");
     if (sk_format_from_path(out) == SK_FORMAT_UNKNOWN)
         return cli_usage("param", "cannot tell the output format of '%s'", out);
+    if ((flat || hier_flag || steps) && !mips)
+        return cli_usage("param", "--flat, --hierarchical and --steps go with --method mips");
+    if (flat && hier_flag)
+        return cli_usage("param", "--flat and --hierarchical exclude each other");
+    if (!boundary)
+        boundary = mips || po.method == SK_PARAM_LSCM ? "free" : "circle";
+    if (!mips && ((po.method == SK_PARAM_LSCM) != !strcmp(boundary, "free")))
+        return cli_usage("param", "%s", po.method == SK_PARAM_LSCM
+                                            ? "lscm has a free boundary"
+                                            : "a free boundary needs --method lscm or mips");
+    po.boundary.shape = !strcmp(boundary, "square") ? SK_BOUNDARY_SQUARE : SK_BOUNDARY_CIRCLE;
+    sk_mips_boundary mb = !strcmp(boundary, "free")     ? SK_MIPS_BOUNDARY_FREE
+                          : !strcmp(boundary, "square") ? SK_MIPS_BOUNDARY_SQUARE
+                                                        : SK_MIPS_BOUNDARY_CIRCLE;
+
     cli_progress bar;
     cli_progress_init(&bar, "param", quiet);
     po.progress = cli_progress_cb;
@@ -164,28 +246,47 @@ int cmd_param(int argc, char **argv)
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     double *uv = NULL;
-    sk_param_stats ps;
-    sk_param_metrics pm;
+    run_info r;
+    memset(&r, 0, sizeof r);
+    r.in = in;
+    r.boundary = boundary;
+    r.method = mips ? (flat ? "mips-flat" : "mips-hierarchical") : sk_param_method_name(po.method);
+    r.linear = !mips;
+    r.hierarchical = mips && !flat;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
     sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
     if (st == SK_OK) {
         uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
         if (!uv)
-            st = SK_ERR_NOMEM;
+            st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
     }
-    if (st == SK_OK)
-        st = sk_param_linear(mesh, &po, uv, &ps, &err);
+    clock_gettime(CLOCK_MONOTONIC, &t0); /* time the method, not the reading */
+    if (st == SK_OK && r.linear) {
+        st = sk_param_linear(mesh, &po, uv, &r.ps, &err);
+    } else if (st == SK_OK && r.hierarchical) {
+        sk_hparam_opts ho = {0};
+        ho.boundary = mb;
+        ho.max_steps = steps;
+        ho.seed = seed;
+        ho.progress = cli_progress_cb;
+        ho.progress_user = &bar;
+        st = sk_param_hierarchical(mesh, &ho, uv, &r.hs, &err);
+    } else if (st == SK_OK) {
+        st = sk_param_mips_flat(mesh, mb, steps, 0.0, seed, uv, &r.ms, &err);
+    }
+    r.seconds = seconds_since(&t0);
     cli_progress_done(&bar);
     if (st == SK_OK)
-        st = sk_param_metrics_compute(mesh, uv, &pm, &err);
+        st = sk_param_metrics_compute(mesh, uv, &r.pm, &err);
     if (st == SK_OK && !(st = sk_mesh_add_uvs(mesh, &err))) {
         memcpy(mesh->uvs, uv, 2 * mesh->num_vertices * sizeof *uv);
         st = sk_mesh_write(out, mesh, &wo, &err);
     }
     char title[256];
     if (st == SK_OK)
-        snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu",
-                 in, sk_param_method_name(po.method),
-                 po.method == SK_PARAM_LSCM ? "free" : boundary, pm.mips_mean, pm.flipped);
+        snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", in,
+                 r.method, boundary, r.pm.mips_mean, r.pm.flipped);
     ro.title = title;
     if (st == SK_OK && png)
         st = sk_render_uv(mesh, uv, &ro, png, &err);
@@ -193,44 +294,20 @@ int cmd_param(int argc, char **argv)
         st = sk_render_uv(mesh, uv, &ro, svg, &err);
     if (st == SK_OK && checker)
         st = sk_render_checker(mesh, uv, &ro, checker, &err);
-    if (st == SK_OK && report) {
-        size_t n = strlen(report);
-        char *tmp = malloc(n + 8);
-        FILE *fp = tmp ? (snprintf(tmp, n + 8, "%s.tmp", report), fopen(tmp, "w")) : NULL;
-        if (!fp) {
-            cli_error("%s: cannot write the report", report);
-            free(tmp);
-            free(uv);
-            sk_mesh_destroy(&mesh);
-            return EXIT_BAD_INPUT;
-        }
-        write_json(fp, in, po.method, boundary, &ps, &pm);
-        bool ok = !ferror(fp);
-        ok = (fclose(fp) == 0) && ok && rename(tmp, report) == 0;
-        if (!ok) {
-            remove(tmp);
-            cli_error("%s: cannot write the report", report);
-        }
-        free(tmp);
-        if (!ok) {
-            free(uv);
-            sk_mesh_destroy(&mesh);
-            return EXIT_BAD_INPUT;
-        }
-    }
-    if (st == SK_OK) {
+    int rc = st ? cli_fail(st, &err) : EXIT_OK;
+    if (rc == EXIT_OK && report)
+        rc = cli_write_file(report, write_json, &r);
+    if (rc == EXIT_OK) {
         if (json)
-            write_json(stdout, in, po.method, boundary, &ps, &pm);
+            write_json(stdout, &r);
         else if (!quiet)
-            printf("%s: %zu faces, %s, flipped %zu, MIPS sum %.6g (mean %.6f), conformal %.4f, "
-                   "area log %.4f, boundary self-intersections %zu, %.3f s\n",
-                   in, pm.faces, sk_param_method_name(po.method), pm.flipped, pm.mips_sum,
-                   pm.mips_mean, pm.conformal_mean, pm.area_log_mean,
-                   pm.boundary_self_intersections, ps.total_seconds);
+            printf("%s: %zu faces, %s, %s boundary, flipped %zu, MIPS sum %.6f (mean %.6f), "
+                   "conformal %.4f, area log %.4f, boundary self-intersections %zu, %.3f s\n",
+                   in, r.pm.faces, r.method, boundary, r.pm.flipped, r.pm.mips_sum, r.pm.mips_mean,
+                   r.pm.conformal_mean, r.pm.area_log_mean, r.pm.boundary_self_intersections,
+                   r.seconds);
     }
     free(uv);
     sk_mesh_destroy(&mesh);
-    if (st == SK_ERR_NOMEM && err.message[0] == '\0')
-        snprintf(err.message, sizeof err.message, "out of memory");
-    return st ? cli_fail(st, &err) : EXIT_OK;
+    return rc;
 }

@@ -111,23 +111,6 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_end(&j);
 }
 
-static int write_json_file(const char *path, void (*fn)(FILE *, const void *), const void *ctx)
-{
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)clock());
-    FILE *fp = fopen(tmp, "w");
-    if (!fp) {
-        cli_error("%s: cannot write", path);
-        return EXIT_BAD_INPUT;
-    }
-    fn(fp, ctx);
-    if (fclose(fp) != 0 || rename(tmp, path) != 0) {
-        remove(tmp);
-        cli_error("%s: cannot write", path);
-        return EXIT_BAD_INPUT;
-    }
-    return EXIT_OK;
-}
 
 static void patches_json(FILE *fp, const void *ctx)
 {
@@ -363,10 +346,10 @@ int cmd_smooth(int argc, char **argv)
         rc = cli_fail(st, &err);
         goto done;
     }
-    if (patches && (rc = write_json_file(patches, patches_json, s)) != EXIT_OK)
+    if (patches && (rc = cli_write_file(patches, patches_json, s)) != EXIT_OK)
         goto done;
     report_ctx rc_ctx = {in, s, &rep, normals_src, t1 - t0 + (t2 - t1), t2 - t1};
-    if (report && (rc = write_json_file(report, report_json, &rc_ctx)) != EXIT_OK)
+    if (report && (rc = cli_write_file(report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
     if (json)
         report_json(stdout, &rc_ctx);

@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 void cli_error(const char *fmt, ...)
@@ -199,6 +200,25 @@ void json_kstr(cli_json *j, const char *key, const char *s)
 {
     json_key(j, key);
     json_str(j, s);
+}
+
+int cli_write_file(const char *path, void (*fn)(FILE *, const void *), const void *ctx)
+{
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)clock());
+    FILE *fp = fopen(tmp, "w");
+    if (!fp) {
+        cli_error("%s: cannot write", path);
+        return EXIT_BAD_INPUT;
+    }
+    fn(fp, ctx);
+    bool bad = ferror(fp) != 0;
+    if (fclose(fp) != 0 || bad || rename(tmp, path) != 0) {
+        remove(tmp);
+        cli_error("%s: cannot write", path);
+        return EXIT_BAD_INPUT;
+    }
+    return EXIT_OK;
 }
 
 /* --- options --------------------------------------------------------------------------------- */

@@ -148,7 +148,7 @@ sk_status sk_param_mips_flat(const sk_mesh *mesh, sk_mips_boundary boundary, siz
     sk_mips_opts mo = {0};
     mo.fixed_boundary = boundary != SK_MIPS_BOUNDARY_FREE;
     mo.max_steps = max_steps;
-    mo.max_sweeps = (size_t)-1;
+    mo.max_sweeps = max_steps ? (size_t)-1 : 0; /* a budget, or the default sweeps */
     mo.tolerance = tolerance;
     mo.seed = seed;
     return sk_param_mips(mesh, &mo, uv, stats, err);

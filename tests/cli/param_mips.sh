@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# surfkit param --method mips: hierarchical (default) and flat, free and fixed boundary; the report
+# says no triangle flipped and has the per-level table; option errors exit 2.
+set -u
+bin=$1 src=$2 shared=$3 tmp=$4
+rm -rf "$tmp"; mkdir -p "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+val() { grep "\"$1\": " "$2" | head -1 | sed 's/.*: //; s/,$//'; }
+m=$shared/data/meshes
+"$bin" param "$m/nefertiti.off" -o "$tmp/h.obj" --method mips --report "$tmp/h.json" -q || fail "hierarchical"
+[ "$(val flipped "$tmp/h.json")" = 0 ] || fail "hierarchical flipped"
+[ "$(val boundary "$tmp/h.json")" = '"free"' ] || fail "mips default boundary is free"
+grep -q '"levels": \[' "$tmp/h.json" || fail "no levels table"
+hier=$(val mips_sum "$tmp/h.json")
+# same budget, flat: worse (Table 1 of the paper)
+steps=$(val steps "$tmp/h.json")
+"$bin" param "$m/nefertiti.off" -o "$tmp/f.ply" --method mips --flat --steps "$steps" --report "$tmp/f.json" -q || fail "flat"
+[ "$(val flipped "$tmp/f.json")" = 0 ] || fail "flat flipped"
+flat=$(val mips_sum "$tmp/f.json")
+awk "BEGIN{exit !($hier < $flat)}" || fail "hierarchical $hier not below flat $flat at $steps steps"
+# fixed circle boundary: boundary stays on the unit circle
+"$bin" param "$m/mushroom.off" -o "$tmp/c.obj" --method mips --boundary circle --report "$tmp/c.json" -q || fail "circle"
+[ "$(val flipped "$tmp/c.json")" = 0 ] || fail "circle flipped"
+grep -c '^vt ' "$tmp/c.obj" | grep -q '^2337$' || fail "vt count"
+# usage errors
+"$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --flat >/dev/null 2>&1; [ $? -eq 2 ] || fail "--flat without mips"
+"$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --method mips --flat --hierarchical >/dev/null 2>&1; [ $? -eq 2 ] || fail "flat+hier"
+"$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --method harmonic --boundary free >/dev/null 2>&1; [ $? -eq 2 ] || fail "harmonic free"
+"$bin" param "$m/sphere.off" -o "$tmp/x.obj" --method mips >/dev/null 2>&1; [ $? -eq 1 ] || fail "sphere must be refused"
+[ ! -e "$tmp/x.obj" ] || fail "output left after an error"
+echo "param mips CLI: hierarchical $hier < flat $flat at $steps steps; ok"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job on the bundled samples: installs what is needed, builds, and runs surfkit.
-# Outputs go to out/ (created). Usage: scripts/demo.sh
+# Outputs go to out/. Usage: scripts/demo.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh >/dev/null
@@ -8,13 +8,23 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc 2>/dev/null || echo 2)" --target surfkit >/dev/null
 sk=./build/surfkit
 mkdir -p out
-echo "== surfkit info data/nefertiti.off"
+echo "== 1. surfkit info data/nefertiti.off"
 $sk info data/nefertiti.off
 echo
-echo "== surfkit convert data/nefertiti.off out/nefertiti.ply (binary PLY)"
-$sk convert data/nefertiti.off out/nefertiti.ply
-echo "== surfkit subdivide data/sphere.off -o out/sphere-loop2.obj --scheme loop -n 2"
-$sk subdivide -q data/sphere.off -o out/sphere-loop2.obj --scheme loop -n 2
-$sk info out/sphere-loop2.obj | sed -n '2,7p'
+echo "== 2. hierarchical MIPS parametrization (free boundary) -> out/nefertiti_uv.obj + PNGs"
+$sk param data/nefertiti.off -o out/nefertiti_uv.obj --method mips \
+  --png out/nefertiti_uv.png --checker out/nefertiti_checker.png --report out/nefertiti_param.json
 echo
-echo "demo outputs are in out/: $(cd out && ls | tr '\n' ' ')"
+echo "== 3. VC1 smooth surface of data/sphere.off: continuity report, tessellation, STEP, IGES"
+$sk smooth data/sphere.off -o out/sphere_smooth.obj --tess 6 --report out/sphere_report.json \
+  --layout out/sphere_layout.png --render out/sphere_shaded.png -q
+$sk smooth data/sphere.off -o out/sphere.step
+$sk smooth data/sphere.off -o out/sphere.igs -q
+grep -E '"(triangles|quads|deleted_edges|max_gap|max_normal_jump_deg|max_vertex_error|max_normal_error_deg|singular_patches)"' \
+  out/sphere_report.json | sed 's/^ */  /'
+echo
+echo "== 4. surfkit convert / subdivide"
+$sk convert data/nefertiti.off out/nefertiti.ply
+$sk subdivide -q data/sphere.off -o out/sphere-loop2.obj --scheme loop -n 2
+echo
+echo "demo outputs in out/: $(cd out && ls | tr '\n' ' ')"

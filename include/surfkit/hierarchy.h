@@ -108,8 +108,9 @@ typedef struct sk_vertex_split {
 
 /* Splits taking level to level + 1 (level < L - 1), in collapse order, and their count. */
 const sk_vertex_split *sk_hierarchy_splits(const sk_hierarchy *h, size_t level, size_t *count);
-/* Vertex map of level + 1 -> level: the level number of a kept vertex, SK_INVALID for a removed one
- * (numbering keeps the relative order). Its length is the vertex count of level + 1. */
+/* Vertex map of level + 1 -> level: the level number of a kept vertex, SK_INVALID for a removed one.
+ * Its length is the vertex count of level + 1. Coarser levels are numbered in a spatial (Morton)
+ * order of the vertices, and keep the relative order from there on. */
 const uint32_t *sk_hierarchy_vertex_map(const sk_hierarchy *h, size_t level);
 
 /* Turns mesh, which must be level `level` (as from sk_hierarchy_coarsest or an earlier call), into

@@ -140,14 +140,13 @@ uint32_t sk__vertex_split(sk_mesh *m, const sk_vertex_split *s)
     return v0;
 }
 
-/* Renumbers the vertices: vertex k becomes newid[k] (a permutation of 0..nv-1). */
-static sk_status permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
+sk_status sk__permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
 {
     size_t nv = m->num_vertices;
-    double *pos = sk__malloc_array(nv, 3 * sizeof(double));
-    double *nrm = m->normals ? sk__malloc_array(nv, 3 * sizeof(double)) : NULL;
-    double *uv = m->uvs ? sk__malloc_array(nv, 2 * sizeof(double)) : NULL;
-    uint32_t *vh = sk__malloc_array(nv, sizeof(uint32_t));
+    double *pos = sk__alloc_huge(nv, 3 * sizeof(double));
+    double *nrm = m->normals ? sk__alloc_huge(nv, 3 * sizeof(double)) : NULL;
+    double *uv = m->uvs ? sk__alloc_huge(nv, 2 * sizeof(double)) : NULL;
+    uint32_t *vh = sk__alloc_huge(nv, sizeof(uint32_t));
     if (!pos || !vh || (m->normals && !nrm) || (m->uvs && !uv)) {
         free(pos);
         free(nrm);
@@ -233,11 +232,12 @@ sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *m, sk
     sk_status st = sk_mesh_reserve(m, nc + ns, m->num_halfedges + 6 * ns, m->num_faces + 2 * ns, err);
     if (st)
         return st;
+    sk__mesh_huge_hint(m); /* the grown, untouched tails */
     for (size_t j = ns; j-- > 0;)
         if (sk__vertex_split(m, &L->splits[j]) == SK_INVALID)
             return sk__fail(err, SK_ERR_TOPOLOGY, "vertex split %zu of level %zu does not fit the "
                             "mesh", j, level);
-    uint32_t *newid = sk__malloc_array(nf, sizeof(uint32_t));
+    uint32_t *newid = sk__alloc_huge(nf, sizeof(uint32_t));
     if (!newid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t f = 0; f < nf; ++f)
@@ -245,7 +245,7 @@ sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *m, sk
             newid[L->fine_to_coarse[f]] = (uint32_t)f;
     for (size_t t = 0; t < ns; ++t) /* appended in reverse record order */
         newid[nc + t] = L->splits[ns - 1 - t].v;
-    st = permute_vertices(m, newid, err);
+    st = sk__permute_vertices(m, newid, err);
     free(newid);
     return st;
 }

@@ -72,5 +72,6 @@ bool cli_parse_double(const char *s, double *out);
 int cmd_info(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_subdivide(int argc, char **argv);
+int cmd_simplify(int argc, char **argv);
 
 #endif

@@ -13,6 +13,7 @@ static const command commands[] = {
     {"info", cmd_info, "topology, defects, geometry and Gauss-Bonnet report of a mesh"},
     {"convert", cmd_convert, "convert between OFF, OBJ, PLY and STL"},
     {"subdivide", cmd_subdivide, "Loop or midpoint subdivision"},
+    {"simplify", cmd_simplify, "progressive-mesh hierarchy by random independent half-edge collapses"},
 };
 
 static void usage(FILE *fp)

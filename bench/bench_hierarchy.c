@@ -80,8 +80,12 @@ int main(int argc, char **argv)
         for (size_t i = L; i-- > 0;) {
             sk_level_info li = sk_hierarchy_level_info(h, i);
             double ratio = i + 1 < L ? (double)sk_hierarchy_level_info(h, i + 1).faces / (double)li.faces : 0;
-            printf("| M^%zu | %zu | %zu | %s%.3f | %.3f |\n", i, li.vertices, li.faces,
-                   i + 1 < L ? "" : "-", i + 1 < L ? ratio : 0.0, li.seconds);
+            if (i + 1 < L)
+                printf("| M^%zu | %zu | %zu | %.3f | %.3f |\n", i, li.vertices, li.faces, ratio,
+                       li.seconds);
+            else
+                printf("| M^%zu (input) | %zu | %zu | - | %.3f |\n", i, li.vertices, li.faces,
+                       li.seconds);
         }
     }
     sk_mesh_destroy(&m);

@@ -82,7 +82,8 @@ void sk_hierarchy_destroy(sk_hierarchy **h);
 
 typedef struct sk_level_info {
     size_t vertices, faces;
-    double seconds; /* time spent building this level from the next finer one (0 for the input) */
+    double seconds; /* time spent building this level from the next finer one; for the input: the
+                       setup (checks, working copy) */
 } sk_level_info;
 
 /* Number of levels L (at least 1: the input itself). */

@@ -107,7 +107,8 @@ typedef struct sk_vertex_split {
     double position[3]; /* v's position, exact */
 } sk_vertex_split;
 
-/* Splits taking level to level + 1 (level < L - 1), in collapse order, and their count. */
+/* Splits taking level to level + 1 (level < L - 1) and their count. They commute (the removed
+ * vertices of a level are pairwise non-adjacent); they are stored sorted by w0. */
 const sk_vertex_split *sk_hierarchy_splits(const sk_hierarchy *h, size_t level, size_t *count);
 /* Vertex map of level + 1 -> level: the level number of a kept vertex, SK_INVALID for a removed one.
  * Its length is the vertex count of level + 1. Coarser levels are numbered in a spatial (Morton)

@@ -51,7 +51,7 @@ sk_status sk__permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
 
 /* The levels, as built by levels.c and read by split.c. */
 typedef struct sk__level {
-    size_t vertices, faces;
+    size_t vertices, faces, halfedges;
     double seconds;
     /* transition from this level + 1 (finer) to this level; empty for the finest level */
     uint32_t *fine_to_coarse; /* vertices of level + 1 entries */

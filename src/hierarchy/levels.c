@@ -369,6 +369,37 @@ done:
     return st;
 }
 
+/* Sorts the records by w0 (stable); idx needs n entries; *tmp is a reusable buffer. */
+static sk_status sort_by_w0(sk_vertex_split *sp, size_t n, uint32_t *idx, sk_vertex_split **tmp,
+                            size_t *cap, sk_error *err)
+{
+    if (n < 2)
+        return SK_OK;
+    if (n > *cap) {
+        free(*tmp);
+        *tmp = sk__alloc_huge(n, sizeof(sk_vertex_split));
+        *cap = *tmp ? n : 0;
+    }
+    uint64_t *keys = sk__malloc_array(n, sizeof(uint64_t));
+    if (!*tmp || !keys) {
+        free(keys);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+    }
+    for (size_t k = 0; k < n; ++k) {
+        keys[k] = sp[k].w0;
+        idx[k] = (uint32_t)k;
+    }
+    if (sk__sort_u64_u32(keys, idx, n)) {
+        free(keys);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+    }
+    for (size_t k = 0; k < n; ++k)
+        (*tmp)[k] = sp[idx[k]];
+    memcpy(sp, *tmp, n * sizeof(sk_vertex_split));
+    free(keys);
+    return SK_OK;
+}
+
 static sk_status check_input(const sk_mesh *m, sk_error *err)
 {
     for (size_t f = 0; f < m->num_faces; ++f) {
@@ -420,7 +451,8 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     sk_mesh *m = NULL;
     sk__level *trans = NULL; /* transitions, finest first */
     size_t ntrans = 0, cap_trans = 64;
-    sk_vertex_split *store = NULL;
+    sk_vertex_split *store = NULL, *sort_tmp = NULL;
+    size_t sort_cap = 0;
     size_t nv0 = mesh->num_vertices - mesh->num_deleted_vertices;
     size_t nf0 = mesh->num_faces - mesh->num_deleted_faces;
     uint32_t *work_to_finest = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
@@ -434,6 +466,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     }
     if ((st = working_copy(mesh, &m, work_to_finest, err)))
         goto done;
+    size_t nh0 = m->num_halfedges;
     w.perm = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
     w.lock = sk__alloc_huge(nv0 ? nv0 : 1, 1);
     w.stamp = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
@@ -496,8 +529,13 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
                 w.perm[work_to_finest[v]] = map[v];
             memcpy(map, w.perm, nv * sizeof(uint32_t));
         }
+        /* splits commute within a level: store them sorted by w0 (Morton order of the coarse
+           level) so that the walk up applies them with good locality */
+        if ((st = sort_by_w0(sp, w.num_splits, w.perm, &sort_tmp, &sort_cap, err)))
+            goto done;
         L->splits = sp;
         L->num_splits = w.num_splits;
+        L->halfedges = m->num_halfedges;
         stored += w.num_splits;
         L->vertices = m->num_vertices;
         L->faces = m->num_faces;
@@ -528,6 +566,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     sk__level *fin = &hier->levels[ntrans];
     fin->vertices = nv0;
     fin->faces = nf0;
+    fin->halfedges = nh0;
     fin->seconds = finest_seconds;
     for (size_t k = 0; k < ntrans; ++k) { /* transition k makes level ntrans - 1 - k */
         hier->levels[ntrans - 1 - k] = trans[k];
@@ -550,6 +589,7 @@ done:
     sk_hierarchy_destroy(&hier);
     sk_mesh_destroy(&m);
     free(store);
+    free(sort_tmp);
     free(work_to_finest);
     free(w.perm);
     free(w.lock);

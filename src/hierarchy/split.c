@@ -7,7 +7,7 @@
  * vertex and recreates the one or two triangles of the collapsed edge; the half-edge that took
  * another one's place during the collapse gives it back. Splits of one level touch disjoint faces
  * (the removed vertices are pairwise non-adjacent), so their order does not matter; they are
- * applied in reverse collapse order. The renumbering at the end gives every vertex its level i+1
+ * stored sorted by w0 (locality) and applied in reverse order. The renumbering at the end gives every vertex its level i+1
  * number, so the result equals level i+1 face for face (half-edge and face ids may differ). */
 #include "hierarchy/hierarchy_internal.h"
 #include "core/internal.h"
@@ -229,10 +229,19 @@ sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *m, sk
         m->num_deleted_faces)
         return sk__fail(err, SK_ERR_ARG, "the mesh is not level %zu (%zu vertices, %zu faces; the "
                         "level has %zu and %zu)", level, m->num_vertices, m->num_faces, nc, L->faces);
-    sk_status st = sk_mesh_reserve(m, nc + ns, m->num_halfedges + 6 * ns, m->num_faces + 2 * ns, err);
-    if (st)
-        return st;
-    sk__mesh_huge_hint(m); /* the grown, untouched tails */
+    /* room for the finest level at once: one reallocation for the whole walk up (pages that are
+       never touched cost nothing) */
+    const sk__level *F = &h->levels[h->num_levels - 1];
+    size_t need_v = nc + ns, need_h = m->num_halfedges + 6 * ns, need_f = m->num_faces + 2 * ns;
+    sk_status st = SK_OK;
+    if (m->cap_vertices < need_v || m->cap_halfedges < need_h || m->cap_faces < need_f) {
+        st = sk_mesh_reserve(m, need_v > F->vertices ? need_v : F->vertices,
+                             need_h > F->halfedges ? need_h : F->halfedges,
+                             need_f > F->faces ? need_f : F->faces, err);
+        if (st)
+            return st;
+        sk__mesh_huge_hint(m); /* the grown, untouched tails */
+    }
     for (size_t j = ns; j-- > 0;)
         if (sk__vertex_split(m, &L->splits[j]) == SK_INVALID)
             return sk__fail(err, SK_ERR_TOPOLOGY, "vertex split %zu of level %zu does not fit the "

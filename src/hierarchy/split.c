@@ -7,8 +7,9 @@
  * vertex and recreates the one or two triangles of the collapsed edge; the half-edge that took
  * another one's place during the collapse gives it back. Splits of one level touch disjoint faces
  * (the removed vertices are pairwise non-adjacent), so their order does not matter; they are
- * stored sorted by w0 (locality) and applied in reverse order. The renumbering at the end gives every vertex its level i+1
- * number, so the result equals level i+1 face for face (half-edge and face ids may differ). */
+ * stored sorted by w0 (locality) and applied in reverse order. The renumbering at the end gives
+ * every vertex its level i+1 number, so the result equals level i+1 face for face (half-edge and
+ * face ids may differ). */
 #include "hierarchy/hierarchy_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"

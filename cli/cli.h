@@ -78,5 +78,6 @@ int cmd_convert(int argc, char **argv);
 int cmd_subdivide(int argc, char **argv);
 int cmd_smooth(int argc, char **argv);
 int cmd_param(int argc, char **argv);
+int cmd_simplify(int argc, char **argv);
 
 #endif

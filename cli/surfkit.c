@@ -15,6 +15,7 @@ static const command commands[] = {
     {"subdivide", cmd_subdivide, "Loop or midpoint subdivision"},
     {"smooth", cmd_smooth, "VC1 smooth surface (quartic/bicubic patches) or PN triangles, with a continuity report"},
     {"param", cmd_param, "linear parametrization of a disk (Tutte, Floater, mean value, harmonic, LSCM)"},
+    {"simplify", cmd_simplify, "progressive-mesh hierarchy by random independent half-edge collapses"},
 };
 
 static void usage(FILE *fp)

@@ -82,7 +82,8 @@ void sk_hierarchy_destroy(sk_hierarchy **h);
 
 typedef struct sk_level_info {
     size_t vertices, faces;
-    double seconds; /* time spent building this level from the next finer one (0 for the input) */
+    double seconds; /* time spent building this level from the next finer one; for the input: the
+                       setup (checks, working copy) */
 } sk_level_info;
 
 /* Number of levels L (at least 1: the input itself). */
@@ -106,10 +107,12 @@ typedef struct sk_vertex_split {
     double position[3]; /* v's position, exact */
 } sk_vertex_split;
 
-/* Splits taking level to level + 1 (level < L - 1), in collapse order, and their count. */
+/* Splits taking level to level + 1 (level < L - 1) and their count. They commute (the removed
+ * vertices of a level are pairwise non-adjacent); they are stored sorted by w0. */
 const sk_vertex_split *sk_hierarchy_splits(const sk_hierarchy *h, size_t level, size_t *count);
-/* Vertex map of level + 1 -> level: the level number of a kept vertex, SK_INVALID for a removed one
- * (numbering keeps the relative order). Its length is the vertex count of level + 1. */
+/* Vertex map of level + 1 -> level: the level number of a kept vertex, SK_INVALID for a removed one.
+ * Its length is the vertex count of level + 1. Coarser levels are numbered in a spatial (Morton)
+ * order of the vertices, and keep the relative order from there on. */
 const uint32_t *sk_hierarchy_vertex_map(const sk_hierarchy *h, size_t level);
 
 /* Turns mesh, which must be level `level` (as from sk_hierarchy_coarsest or an earlier call), into

@@ -41,9 +41,17 @@ void sk__barycentric(const sk_mesh *m, uint32_t v, const uint32_t *ring, size_t 
 /* Vertex split on a mesh in level-i numbering; appends the new vertex and returns its index. */
 uint32_t sk__vertex_split(sk_mesh *m, const sk_vertex_split *s);
 
+/* Transparent-huge-page hint for big arrays (memory.c); results never depend on it. */
+void sk__huge_hint(void *p, size_t bytes);
+void *sk__alloc_huge(size_t n, size_t size); /* sk__malloc_array + hint; free() it */
+void sk__mesh_huge_hint(sk_mesh *m);         /* hint on the whole capacity of every array */
+
+/* Renumbers the vertices of a compacted mesh: vertex k becomes newid[k] (a permutation). */
+sk_status sk__permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err);
+
 /* The levels, as built by levels.c and read by split.c. */
 typedef struct sk__level {
-    size_t vertices, faces;
+    size_t vertices, faces, halfedges;
     double seconds;
     /* transition from this level + 1 (finer) to this level; empty for the finest level */
     uint32_t *fine_to_coarse; /* vertices of level + 1 entries */
@@ -53,6 +61,7 @@ typedef struct sk__level {
 
 struct sk_hierarchy {
     size_t num_levels;
+    sk_vertex_split *split_store; /* all records; levels[i].splits point into it */
     sk__level *levels; /* [0] coarsest ... [num_levels - 1] input */
     sk_mesh *coarsest;
 };

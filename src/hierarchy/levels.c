@@ -23,7 +23,11 @@
  * each one is a face of the coarser level (section 3).
  *
  * Cost: O(valence) per visited vertex, no allocation inside the level loop; each level ends with
- * sk_mesh_compact, which gives the fine -> coarse vertex map. */
+ * sk_mesh_compact, which gives the fine -> coarse vertex map. The random visiting order jumps all
+ * over memory, so before the first level the working copy is renumbered in Morton (Z) order of the
+ * vertex positions, with edges sorted by their first vertex: a one-ring then sits in a few cache
+ * lines. The renumbering is undone in the records and map of the first transition, so the input
+ * keeps its numbering; coarser levels are numbered in the spatial order. */
 #include "hierarchy/hierarchy_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -32,6 +36,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+#if defined(__GNUC__)
+#define SK_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define SK_PREFETCH(p) ((void)0)
+#endif
 
 static double now_seconds(void)
 {
@@ -82,25 +92,6 @@ static void ring_free(ring_buffers *rb)
     free(rb->scratch);
 }
 
-/* A growable list of split records. */
-typedef struct split_list {
-    sk_vertex_split *items;
-    size_t count, cap;
-} split_list;
-
-static sk_vertex_split *split_push(split_list *l)
-{
-    if (l->count == l->cap) {
-        size_t cap = l->cap ? 2 * l->cap : 1024;
-        sk_vertex_split *p = sk__realloc_array(l->items, cap, sizeof *p);
-        if (!p)
-            return NULL;
-        l->items = p;
-        l->cap = cap;
-    }
-    return &l->items[l->count++];
-}
-
 /* Everything one simplification pass needs, allocated once for the finest level. */
 typedef struct level_work {
     uint32_t *perm;
@@ -108,13 +99,14 @@ typedef struct level_work {
     uint32_t *stamp;
     uint32_t *valence;
     ring_buffers rb;
-    split_list splits;
+    sk_vertex_split *splits; /* this level's records go here */
+    size_t num_splits;
     sk__collapse_ctx ctx;
     sk__rng rng;
 } level_work;
 
-/* One pass of the paper's rule over mesh m; appends a record per collapse to w->splits (with
- * level i+1 = current numbering). Returns false when a buffer cannot grow. */
+/* One pass of the paper's rule over mesh m; writes a record per collapse to w->splits (ids in the
+ * current numbering = level i+1). Returns false when a buffer cannot grow. */
 static bool simplify_level(sk_mesh *m, level_work *w)
 {
     size_t nv = m->num_vertices;
@@ -140,7 +132,24 @@ static bool simplify_level(sk_mesh *m, level_work *w)
         perm[j] = t;
     }
 
+    /* The random order defeats the caches: prefetch the vertex record 16 visits ahead and its
+       first half-edge and position 8 visits ahead. */
+    const uint32_t *hf = m->h_face;
     for (size_t i = 0; i < nv; ++i) {
+        if (i + 16 < nv) {
+            SK_PREFETCH(&vh[perm[i + 16]]);
+            SK_PREFETCH(&lock[perm[i + 16]]);
+        }
+        if (i + 8 < nv) {
+            uint32_t u = perm[i + 8], hu = vh[u];
+            if (!lock[u] && hu != SK_INVALID) {
+                SK_PREFETCH(&hf[hu]);
+                SK_PREFETCH(&hn[hu ^ 1u]);
+                SK_PREFETCH(&hv[hu]);
+                SK_PREFETCH(&m->h_prev[hu]);
+                SK_PREFETCH(P + 3 * (size_t)u);
+            }
+        }
         uint32_t v = perm[i];
         if (lock[v])
             continue;
@@ -195,9 +204,7 @@ static bool simplify_level(sk_mesh *m, level_work *w)
             continue;
 
         /* barycentric coordinates in the parent triangle, then the collapse */
-        sk_vertex_split *s = split_push(&w->splits);
-        if (!s)
-            return false;
+        sk_vertex_split *s = &w->splits[w->num_splits++];
         bool closed;
         uint32_t *ring = w->rb.ring;
         size_t count = sk__collapse_ring(m, h, ring, &closed);
@@ -215,6 +222,182 @@ static bool simplify_level(sk_mesh *m, level_work *w)
             lock[ring[k]] = 1;
     }
     return true;
+}
+
+/* Spreads the low 21 bits of x to every third bit. */
+static uint64_t spread3(uint64_t x)
+{
+    x &= 0x1fffffULL;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+}
+
+/* The working copy of the input: alive elements only (so numbered as sk_mesh_compact would),
+ * vertices renumbered in Morton order of their positions, edges sorted by their smaller new
+ * vertex, faces in their order. Built in one pass into fresh (huge-page hinted) arrays.
+ * work_to_finest[w] receives the compacted input number of working vertex w. */
+static sk_status working_copy(const sk_mesh *in, sk_mesh **out, uint32_t *work_to_finest,
+                              sk_error *err)
+{
+    size_t nvi = in->num_vertices, nhi = in->num_halfedges, nfi = in->num_faces;
+    size_t nv = nvi - in->num_deleted_vertices, ne = nhi / 2 - in->num_deleted_edges;
+    size_t nf = nfi - in->num_deleted_faces;
+    sk_mesh *m = NULL;
+    uint64_t *keys = sk__malloc_array(nv, sizeof(uint64_t));
+    uint32_t *vals = sk__malloc_array(nv, sizeof(uint32_t));
+    uint32_t *vnew = sk__alloc_huge(nvi, sizeof(uint32_t));
+    uint32_t *hnew = sk__alloc_huge(nhi / 2, sizeof(uint32_t)); /* per edge */
+    uint32_t *fnew = sk__alloc_huge(nfi, sizeof(uint32_t));
+    uint32_t *count = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    uint32_t *eold = sk__alloc_huge(ne ? ne : 1, sizeof(uint32_t)); /* new edge -> input edge */
+    sk_status st = SK_OK;
+    if (!keys || !vals || !vnew || !hnew || !fnew || !count || !eold)
+        goto nomem;
+    {
+        double pos0 = 0.0;
+        uint32_t off0 = 0, idx0 = 0;
+        if ((st = sk_mesh_from_faces(0, &pos0, 0, &off0, &idx0, &m, err)))
+            goto done;
+    }
+    if ((st = sk_mesh_reserve(m, nv, 2 * ne, nf, err)))
+        goto done;
+    if ((in->normals && (st = sk_mesh_add_normals(m, err))) || (in->uvs && (st = sk_mesh_add_uvs(m, err))))
+        goto done;
+    sk__mesh_huge_hint(m);
+
+    /* vertices: Morton order of the positions (ties: input order) */
+    double lo[3], hi[3], scale[3];
+    sk_mesh_bbox(in, lo, hi);
+    for (int k = 0; k < 3; ++k)
+        scale[k] = hi[k] > lo[k] ? 2097151.0 / (hi[k] - lo[k]) : 0.0;
+    size_t k = 0;
+    for (size_t v = 0; v < nvi; ++v) {
+        vnew[v] = SK_INVALID;
+        if (in->v_deleted[v])
+            continue;
+        const double *p = in->positions + 3 * v;
+        uint64_t c[3];
+        for (int d = 0; d < 3; ++d) {
+            double q = (p[d] - lo[d]) * scale[d];
+            c[d] = q > 0.0 ? (q < 2097151.0 ? (uint64_t)q : 2097151u) : 0u;
+        }
+        keys[k] = spread3(c[0]) | spread3(c[1]) << 1 | spread3(c[2]) << 2;
+        vals[k++] = (uint32_t)v;
+    }
+    if (sk__sort_u64_u32(keys, vals, nv))
+        goto nomem;
+    {
+        size_t finest = 0;
+        for (size_t v = 0; v < nvi; ++v) /* finest number = rank among the alive */
+            if (!in->v_deleted[v])
+                vnew[v] = (uint32_t)finest++;
+        for (size_t j = 0; j < nv; ++j) {
+            work_to_finest[j] = vnew[vals[j]];
+        }
+        for (size_t j = 0; j < nv; ++j)
+            vnew[vals[j]] = (uint32_t)j;
+    }
+    /* edges: counting sort by the smaller new vertex */
+    for (size_t e = 0; e < nhi / 2; ++e) {
+        if (in->e_deleted[e])
+            continue;
+        uint32_t a = vnew[in->h_vertex[2 * e]], b = vnew[in->h_vertex[2 * e + 1]];
+        count[(a < b ? a : b) + 1]++;
+    }
+    for (size_t j = 0; j < nv; ++j)
+        count[j + 1] += count[j];
+    for (size_t e = 0; e < nhi / 2; ++e) {
+        hnew[e] = SK_INVALID;
+        if (in->e_deleted[e])
+            continue;
+        uint32_t a = vnew[in->h_vertex[2 * e]], b = vnew[in->h_vertex[2 * e + 1]];
+        uint32_t t = count[a < b ? a : b]++;
+        hnew[e] = t;
+        eold[t] = (uint32_t)e;
+    }
+    k = 0;
+    for (size_t f = 0; f < nfi; ++f)
+        fnew[f] = in->f_deleted[f] ? SK_INVALID : (uint32_t)k++;
+
+#define HMAP(h) ((h) == SK_INVALID ? SK_INVALID : 2u * hnew[(h) >> 1] + ((h)&1u))
+    for (size_t v = 0; v < nvi; ++v) {
+        uint32_t t = vnew[v];
+        if (t == SK_INVALID)
+            continue;
+        memcpy(m->positions + 3 * (size_t)t, in->positions + 3 * v, 3 * sizeof(double));
+        if (in->normals)
+            memcpy(m->normals + 3 * (size_t)t, in->normals + 3 * v, 3 * sizeof(double));
+        if (in->uvs)
+            memcpy(m->uvs + 2 * (size_t)t, in->uvs + 2 * v, 2 * sizeof(double));
+        m->v_halfedge[t] = HMAP(in->v_halfedge[v]);
+    }
+    for (size_t t = 0; t < 2 * ne; ++t) { /* in the new order: sequential writes */
+        uint32_t h = 2 * eold[t >> 1] + (uint32_t)(t & 1u), f = in->h_face[h];
+        m->h_vertex[t] = vnew[in->h_vertex[h]];
+        m->h_next[t] = HMAP(in->h_next[h]);
+        m->h_prev[t] = HMAP(in->h_prev[h]);
+        m->h_face[t] = f == SK_INVALID ? SK_INVALID : fnew[f];
+    }
+    for (size_t f = 0; f < nfi; ++f)
+        if (fnew[f] != SK_INVALID)
+            m->f_halfedge[fnew[f]] = HMAP(in->f_halfedge[f]);
+#undef HMAP
+    memset(m->v_deleted, 0, nv);
+    memset(m->e_deleted, 0, ne);
+    memset(m->f_deleted, 0, nf);
+    m->num_vertices = nv;
+    m->num_halfedges = 2 * ne;
+    m->num_faces = nf;
+    goto done;
+nomem:
+    st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+done:
+    free(keys);
+    free(vals);
+    free(vnew);
+    free(hnew);
+    free(fnew);
+    free(count);
+    free(eold);
+    if (st)
+        sk_mesh_destroy(&m);
+    *out = m;
+    return st;
+}
+
+/* Sorts the records by w0 (stable); idx needs n entries; *tmp is a reusable buffer. */
+static sk_status sort_by_w0(sk_vertex_split *sp, size_t n, uint32_t *idx, sk_vertex_split **tmp,
+                            size_t *cap, sk_error *err)
+{
+    if (n < 2)
+        return SK_OK;
+    if (n > *cap) {
+        free(*tmp);
+        *tmp = sk__alloc_huge(n, sizeof(sk_vertex_split));
+        *cap = *tmp ? n : 0;
+    }
+    uint64_t *keys = sk__malloc_array(n, sizeof(uint64_t));
+    if (!*tmp || !keys) {
+        free(keys);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+    }
+    for (size_t k = 0; k < n; ++k) {
+        keys[k] = sp[k].w0;
+        idx[k] = (uint32_t)k;
+    }
+    if (sk__sort_u64_u32(keys, idx, n)) {
+        free(keys);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+    }
+    for (size_t k = 0; k < n; ++k)
+        (*tmp)[k] = sp[idx[k]];
+    memcpy(sp, *tmp, n * sizeof(sk_vertex_split));
+    free(keys);
+    return SK_OK;
 }
 
 static sk_status check_input(const sk_mesh *m, sk_error *err)
@@ -239,11 +422,10 @@ void sk_hierarchy_destroy(sk_hierarchy **hp)
     if (!hp || !*hp)
         return;
     sk_hierarchy *h = *hp;
-    for (size_t i = 0; i < h->num_levels; ++i) {
+    for (size_t i = 0; i < h->num_levels; ++i)
         free(h->levels[i].fine_to_coarse);
-        free(h->levels[i].splits);
-    }
     free(h->levels);
+    free(h->split_store);
     sk_mesh_destroy(&h->coarsest);
     free(h);
     *hp = NULL;
@@ -263,34 +445,40 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     if (st)
         return st;
 
+    double t_start = now_seconds();
     level_work w;
     memset(&w, 0, sizeof w);
     sk_mesh *m = NULL;
     sk__level *trans = NULL; /* transitions, finest first */
-    size_t ntrans = 0;
+    size_t ntrans = 0, cap_trans = 64;
+    sk_vertex_split *store = NULL, *sort_tmp = NULL;
+    size_t sort_cap = 0;
+    size_t nv0 = mesh->num_vertices - mesh->num_deleted_vertices;
+    size_t nf0 = mesh->num_faces - mesh->num_deleted_faces;
+    uint32_t *work_to_finest = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
     sk_hierarchy *hier = NULL;
-    double t_start = now_seconds();
-    if ((st = sk_mesh_copy(mesh, &m, err)))
-        goto done;
-    if (m->num_deleted_vertices || m->num_deleted_edges || m->num_deleted_faces)
-        if ((st = sk_mesh_compact(m, NULL, NULL, err)))
-            goto done;
-    size_t nv0 = m->num_vertices, nf0 = m->num_faces;
-    w.perm = sk__malloc_array(nv0, sizeof(uint32_t));
-    w.lock = sk__malloc_array(nv0, 1);
-    w.stamp = sk__malloc_array(nv0, sizeof(uint32_t));
-    w.valence = sk__malloc_array(nv0, sizeof(uint32_t));
-    /* at most log_{1/(1 - min_reduction)}(faces) transitions; 64 covers every sane case and the
-       array grows when needed */
-    size_t cap_trans = 64;
+    /* every vertex is removed at most once: nv0 records in all; untouched pages cost nothing */
+    store = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(sk_vertex_split));
     trans = calloc(cap_trans, sizeof *trans);
-    if (!w.perm || !w.lock || !w.stamp || !w.valence || !trans) {
+    if (!work_to_finest || !store || !trans) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+        goto done;
+    }
+    if ((st = working_copy(mesh, &m, work_to_finest, err)))
+        goto done;
+    size_t nh0 = m->num_halfedges;
+    w.perm = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
+    w.lock = sk__alloc_huge(nv0 ? nv0 : 1, 1);
+    w.stamp = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
+    w.valence = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
+    if (!w.perm || !w.lock || !w.stamp || !w.valence) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
         goto done;
     }
     sk__collapse_ctx_init(&w.ctx, &opts.collapse);
     sk__rng_seed(&w.rng, opts.seed);
     double finest_seconds = now_seconds() - t_start;
+    size_t stored = 0;
 
     for (;;) {
         size_t faces = m->num_faces, nv = m->num_vertices;
@@ -299,12 +487,13 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
         if (opts.target_faces && faces <= opts.target_faces)
             break;
         double t0 = now_seconds();
-        w.splits.count = 0;
+        w.splits = store + stored;
+        w.num_splits = 0;
         if (!simplify_level(m, &w)) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
             goto done;
         }
-        if (w.splits.count == 0)
+        if (w.num_splits == 0)
             break;
         if (ntrans == cap_trans) {
             sk__level *p = sk__realloc_array(trans, 2 * cap_trans, sizeof *trans);
@@ -317,25 +506,37 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
             cap_trans *= 2;
         }
         sk__level *L = &trans[ntrans++];
-        L->fine_to_coarse = sk__malloc_array(nv, sizeof(uint32_t));
-        L->splits = sk__malloc_array(w.splits.count, sizeof(sk_vertex_split));
-        if (!L->fine_to_coarse || !L->splits) {
+        L->fine_to_coarse = sk__alloc_huge(nv, sizeof(uint32_t));
+        if (!L->fine_to_coarse) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
             goto done;
         }
         if ((st = sk_mesh_compact(m, L->fine_to_coarse, NULL, err)))
             goto done;
-        const uint32_t *map = L->fine_to_coarse;
-        for (size_t k = 0; k < w.splits.count; ++k) {
-            sk_vertex_split *s = &w.splits.items[k];
-            s->w0 = map[s->w0];
-            s->first = map[s->first];
-            s->last = map[s->last];
+        uint32_t *map = L->fine_to_coarse;
+        sk_vertex_split *sp = w.splits;
+        for (size_t k = 0; k < w.num_splits; ++k) {
+            sp[k].w0 = map[sp[k].w0];
+            sp[k].first = map[sp[k].first];
+            sp[k].last = map[sp[k].last];
             for (int j = 0; j < 3; ++j)
-                s->parent[j] = map[s->parent[j]];
+                sp[k].parent[j] = map[sp[k].parent[j]];
         }
-        memcpy(L->splits, w.splits.items, w.splits.count * sizeof(sk_vertex_split));
-        L->num_splits = w.splits.count;
+        if (ntrans == 1) { /* the finest level keeps the input numbering */
+            for (size_t k = 0; k < w.num_splits; ++k)
+                sp[k].v = work_to_finest[sp[k].v];
+            for (size_t v = 0; v < nv; ++v) /* perm: finest -> coarse (perm is free here) */
+                w.perm[work_to_finest[v]] = map[v];
+            memcpy(map, w.perm, nv * sizeof(uint32_t));
+        }
+        /* splits commute within a level: store them sorted by w0 (Morton order of the coarse
+           level) so that the walk up applies them with good locality */
+        if ((st = sort_by_w0(sp, w.num_splits, w.perm, &sort_tmp, &sort_cap, err)))
+            goto done;
+        L->splits = sp;
+        L->num_splits = w.num_splits;
+        L->halfedges = m->num_halfedges;
+        stored += w.num_splits;
         L->vertices = m->num_vertices;
         L->faces = m->num_faces;
         L->seconds = now_seconds() - t0;
@@ -349,6 +550,12 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
         if ((double)(faces - m->num_faces) < min_reduction * (double)faces)
             break;
     }
+    if (ntrans == 0) { /* no level below the input: give the input its numbering back */
+        uint32_t *newid = w.perm;
+        memcpy(newid, work_to_finest, nv0 * sizeof(uint32_t));
+        if ((st = sk__permute_vertices(m, newid, err)))
+            goto done;
+    }
 
     hier = calloc(1, sizeof *hier);
     if (!hier || !(hier->levels = calloc(ntrans + 1, sizeof(sk__level)))) {
@@ -359,11 +566,14 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     sk__level *fin = &hier->levels[ntrans];
     fin->vertices = nv0;
     fin->faces = nf0;
+    fin->halfedges = nh0;
     fin->seconds = finest_seconds;
     for (size_t k = 0; k < ntrans; ++k) { /* transition k makes level ntrans - 1 - k */
         hier->levels[ntrans - 1 - k] = trans[k];
         memset(&trans[k], 0, sizeof trans[k]);
     }
+    hier->split_store = store;
+    store = NULL;
     hier->coarsest = m;
     m = NULL;
     st = SK_OK;
@@ -372,19 +582,19 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
 
 done:
     if (trans) {
-        for (size_t k = 0; k < ntrans; ++k) {
+        for (size_t k = 0; k < ntrans; ++k)
             free(trans[k].fine_to_coarse);
-            free(trans[k].splits);
-        }
         free(trans);
     }
     sk_hierarchy_destroy(&hier);
     sk_mesh_destroy(&m);
+    free(store);
+    free(sort_tmp);
+    free(work_to_finest);
     free(w.perm);
     free(w.lock);
     free(w.stamp);
     free(w.valence);
-    free(w.splits.items);
     ring_free(&w.rb);
     return st;
 }

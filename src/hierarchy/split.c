@@ -7,8 +7,9 @@
  * vertex and recreates the one or two triangles of the collapsed edge; the half-edge that took
  * another one's place during the collapse gives it back. Splits of one level touch disjoint faces
  * (the removed vertices are pairwise non-adjacent), so their order does not matter; they are
- * applied in reverse collapse order. The renumbering at the end gives every vertex its level i+1
- * number, so the result equals level i+1 face for face (half-edge and face ids may differ). */
+ * stored sorted by w0 (locality) and applied in reverse order. The renumbering at the end gives
+ * every vertex its level i+1 number, so the result equals level i+1 face for face (half-edge and
+ * face ids may differ). */
 #include "hierarchy/hierarchy_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -140,14 +141,13 @@ uint32_t sk__vertex_split(sk_mesh *m, const sk_vertex_split *s)
     return v0;
 }
 
-/* Renumbers the vertices: vertex k becomes newid[k] (a permutation of 0..nv-1). */
-static sk_status permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
+sk_status sk__permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
 {
     size_t nv = m->num_vertices;
-    double *pos = sk__malloc_array(nv, 3 * sizeof(double));
-    double *nrm = m->normals ? sk__malloc_array(nv, 3 * sizeof(double)) : NULL;
-    double *uv = m->uvs ? sk__malloc_array(nv, 2 * sizeof(double)) : NULL;
-    uint32_t *vh = sk__malloc_array(nv, sizeof(uint32_t));
+    double *pos = sk__alloc_huge(nv, 3 * sizeof(double));
+    double *nrm = m->normals ? sk__alloc_huge(nv, 3 * sizeof(double)) : NULL;
+    double *uv = m->uvs ? sk__alloc_huge(nv, 2 * sizeof(double)) : NULL;
+    uint32_t *vh = sk__alloc_huge(nv, sizeof(uint32_t));
     if (!pos || !vh || (m->normals && !nrm) || (m->uvs && !uv)) {
         free(pos);
         free(nrm);
@@ -230,14 +230,24 @@ sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *m, sk
         m->num_deleted_faces)
         return sk__fail(err, SK_ERR_ARG, "the mesh is not level %zu (%zu vertices, %zu faces; the "
                         "level has %zu and %zu)", level, m->num_vertices, m->num_faces, nc, L->faces);
-    sk_status st = sk_mesh_reserve(m, nc + ns, m->num_halfedges + 6 * ns, m->num_faces + 2 * ns, err);
-    if (st)
-        return st;
+    /* room for the finest level at once: one reallocation for the whole walk up (pages that are
+       never touched cost nothing) */
+    const sk__level *F = &h->levels[h->num_levels - 1];
+    size_t need_v = nc + ns, need_h = m->num_halfedges + 6 * ns, need_f = m->num_faces + 2 * ns;
+    sk_status st = SK_OK;
+    if (m->cap_vertices < need_v || m->cap_halfedges < need_h || m->cap_faces < need_f) {
+        st = sk_mesh_reserve(m, need_v > F->vertices ? need_v : F->vertices,
+                             need_h > F->halfedges ? need_h : F->halfedges,
+                             need_f > F->faces ? need_f : F->faces, err);
+        if (st)
+            return st;
+        sk__mesh_huge_hint(m); /* the grown, untouched tails */
+    }
     for (size_t j = ns; j-- > 0;)
         if (sk__vertex_split(m, &L->splits[j]) == SK_INVALID)
             return sk__fail(err, SK_ERR_TOPOLOGY, "vertex split %zu of level %zu does not fit the "
                             "mesh", j, level);
-    uint32_t *newid = sk__malloc_array(nf, sizeof(uint32_t));
+    uint32_t *newid = sk__alloc_huge(nf, sizeof(uint32_t));
     if (!newid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t f = 0; f < nf; ++f)
@@ -245,7 +255,7 @@ sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *m, sk
             newid[L->fine_to_coarse[f]] = (uint32_t)f;
     for (size_t t = 0; t < ns; ++t) /* appended in reverse record order */
         newid[nc + t] = L->splits[ns - 1 - t].v;
-    st = permute_vertices(m, newid, err);
+    st = sk__permute_vertices(m, newid, err);
     free(newid);
     return st;
 }

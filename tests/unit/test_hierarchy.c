@@ -170,13 +170,18 @@ static void check_records(const sk_hierarchy *h, size_t level, const level_copy 
     const uint32_t *map = sk_hierarchy_vertex_map(h, level);
     assert_non_null(map);
     size_t kept = 0;
+    uint8_t *hit = calloc(coarse->nv + 1, 1);
     for (size_t f = 0; f < fine->nv; ++f) {
         if (map[f] != SK_INVALID) {
-            assert_int_equal(map[f], kept);
+            assert_true(map[f] < coarse->nv && !hit[map[f]]); /* one to one */
+            hit[map[f]] = 1;
+            if (level + 2 < sk_hierarchy_num_levels(h))
+                assert_int_equal(map[f], kept); /* below the input: relative order kept */
             ++kept;
             assert_memory_equal(fine->pos + 3 * f, coarse->pos + 3 * (size_t)map[f], 3 * sizeof(double));
         }
     }
+    free(hit);
     assert_int_equal(kept, coarse->nv);
     assert_int_equal(kept + ns, fine->nv);
     for (size_t j = 0; j < ns; ++j) {
@@ -579,6 +584,53 @@ static void test_flat_barycentric(void **state)
     }
 }
 
+/* Given a mesh with an isolated vertex, the vertex stays on every level and the splits still give
+ * back the input exactly. */
+static void test_isolated_vertex(void **state)
+{
+    (void)state;
+    double pos[3 * 26];
+    uint32_t tri[3 * 32];
+    size_t nf = 0;
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) {
+            pos[3 * (5 * j + i)] = i;
+            pos[3 * (5 * j + i) + 1] = j;
+            pos[3 * (5 * j + i) + 2] = 0.1 * ((i * 7 + j * 3) % 5);
+        }
+    pos[75] = 9, pos[76] = 9, pos[77] = 9; /* vertex 25: isolated */
+    for (uint32_t j = 0; j < 4; ++j)
+        for (uint32_t i = 0; i < 4; ++i) {
+            uint32_t a = 5 * j + i, b = a + 1, c = a + 6, d = a + 5;
+            tri[3 * nf] = a, tri[3 * nf + 1] = b, tri[3 * nf + 2] = c, ++nf;
+            tri[3 * nf] = a, tri[3 * nf + 1] = c, tri[3 * nf + 2] = d, ++nf;
+        }
+    sk_mesh *m = make_mesh(26, pos, nf, tri);
+    sk_hierarchy *h = NULL;
+    sk_error err;
+    assert_int_equal(sk_hierarchy_build(m, NULL, &h, &err), SK_OK);
+    size_t L = sk_hierarchy_num_levels(h);
+    assert_true(L >= 3);
+    const sk_mesh *c = sk_hierarchy_coarsest(h);
+    size_t isolated = 0;
+    for (size_t v = 0; v < c->num_vertices; ++v)
+        isolated += c->v_halfedge[v] == SK_INVALID;
+    assert_int_equal(isolated, 1);
+    sk_mesh *top = NULL;
+    assert_int_equal(sk_hierarchy_level_mesh(h, L - 1, &top, &err), SK_OK);
+    assert_int_equal(top->num_vertices, 26);
+    assert_memory_equal(top->positions, m->positions, 26 * 3 * sizeof(double));
+    assert_int_equal(top->v_halfedge[25], SK_INVALID);
+    face_set a = faces_of(top), b = faces_of(m);
+    assert_int_equal(a.n, b.n);
+    assert_memory_equal(a.keys, b.keys, a.n * sizeof(uint64_t));
+    free(a.keys);
+    free(b.keys);
+    sk_mesh_destroy(&top);
+    sk_hierarchy_destroy(&h);
+    sk_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -587,6 +639,7 @@ int main(void)
         cmocka_unit_test(test_normal_threshold),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_flat_barycentric),
+        cmocka_unit_test(test_isolated_vertex),
         cmocka_unit_test(test_seed_and_stop_rules),
         cmocka_unit_test(test_level_mesh_and_uv),
         cmocka_unit_test(test_all_shared_meshes),

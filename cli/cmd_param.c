@@ -4,7 +4,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 static const char help[] =
     "usage: surfkit param IN -o OUT [--method tutte|floater|mvc|harmonic|lscm|mips]\n"
@@ -134,12 +133,6 @@ static void write_json(FILE *fp, const void *ctx)
     json_end(&j);
 }
 
-static double seconds_since(const struct timespec *t0)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
-}
 
 int cmd_param(int argc, char **argv)
 {
@@ -253,15 +246,13 @@ int cmd_param(int argc, char **argv)
     r.method = mips ? (flat ? "mips-flat" : "mips-hierarchical") : sk_param_method_name(po.method);
     r.linear = !mips;
     r.hierarchical = mips && !flat;
-    struct timespec t0;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
     sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
     if (st == SK_OK) {
         uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
         if (!uv)
             st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
     }
-    clock_gettime(CLOCK_MONOTONIC, &t0); /* time the method, not the reading */
+    double t0 = sk_seconds(); /* time the method, not the reading */
     if (st == SK_OK && r.linear) {
         st = sk_param_linear(mesh, &po, uv, &r.ps, &err);
     } else if (st == SK_OK && r.hierarchical) {
@@ -275,7 +266,7 @@ int cmd_param(int argc, char **argv)
     } else if (st == SK_OK) {
         st = sk_param_mips_flat(mesh, mb, steps, 0.0, seed, uv, &r.ms, &err);
     }
-    r.seconds = seconds_since(&t0);
+    r.seconds = sk_seconds() - t0;
     cli_progress_done(&bar);
     if (st == SK_OK)
         st = sk_param_metrics_compute(mesh, uv, &r.pm, &err);

@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 static const char help[] =
     "usage: surfkit smooth IN -o OUT.obj|OUT.ply|OUT.igs|OUT.step [--tess N] [--patches OUT.json]\n"
@@ -41,12 +40,6 @@ static const char help[] =
     "  --render F      flat-shaded picture of the tessellated surface\n"
     "  --report F      continuity report as JSON (--json prints it on stdout)\n";
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
                          const char *normals_src, double seconds, double report_seconds)
@@ -297,7 +290,7 @@ int cmd_smooth(int argc, char **argv)
     }
     if (freeform && cad != CAD_OBJ_FREEFORM)
         return cli_usage("smooth", "--obj-freeform needs -o with an .obj file");
-    double t0 = now();
+    double t0 = sk_seconds();
     cli_progress bar;
     cli_progress_init(&bar, "smooth", quiet);
     so.progress = cli_progress_cb;
@@ -319,13 +312,13 @@ int cmd_smooth(int argc, char **argv)
         rc = cli_fail(st, &err);
         goto done;
     }
-    double t1 = now();
+    double t1 = sk_seconds();
     sk_continuity_report rep;
     if ((st = sk_smooth_continuity(s, NULL, &rep, &err)) != SK_OK) {
         rc = cli_fail(st, &err);
         goto done;
     }
-    double t2 = now();
+    double t2 = sk_seconds();
     if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
         goto done;
     if ((out && cad == CAD_NONE) || render) {

@@ -40,6 +40,9 @@ typedef int (*sk_progress_fn)(void *user, double fraction);
 /* A short English name of a status ("parse error", ...). */
 const char *sk_status_string(sk_status status);
 
+/* Monotonic clock in seconds (for timings in reports and benchmarks). */
+double sk_seconds(void);
+
 /* Library version string, "MAJOR.MINOR.PATCH". */
 const char *sk_version(void);
 

@@ -100,8 +100,7 @@ void sk_solver_destroy(sk_solver **s);
 sk_status sk_sparse_solve(const sk_sparse *a, sk_solver_kind kind, size_t nrhs, const double *b,
                           double *x, sk_solve_stats *stats, sk_error *err);
 
-/* Monotonic wall clock in seconds (for timings). */
-double sk_seconds(void);
+
 
 #ifdef __cplusplus
 }

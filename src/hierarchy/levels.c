@@ -35,7 +35,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #if defined(__GNUC__)
 #define SK_PREFETCH(p) __builtin_prefetch(p)
@@ -43,12 +42,6 @@
 #define SK_PREFETCH(p) ((void)0)
 #endif
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    timespec_get(&ts, TIME_UTC);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Scratch buffers sized for the largest valence seen so far. */
 typedef struct ring_buffers {
@@ -445,7 +438,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     if (st)
         return st;
 
-    double t_start = now_seconds();
+    double t_start = sk_seconds();
     level_work w;
     memset(&w, 0, sizeof w);
     sk_mesh *m = NULL;
@@ -477,7 +470,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     }
     sk__collapse_ctx_init(&w.ctx, &opts.collapse);
     sk__rng_seed(&w.rng, opts.seed);
-    double finest_seconds = now_seconds() - t_start;
+    double finest_seconds = sk_seconds() - t_start;
     size_t stored = 0;
 
     for (;;) {
@@ -486,7 +479,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
             break;
         if (opts.target_faces && faces <= opts.target_faces)
             break;
-        double t0 = now_seconds();
+        double t0 = sk_seconds();
         w.splits = store + stored;
         w.num_splits = 0;
         if (!simplify_level(m, &w)) {
@@ -539,7 +532,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
         stored += w.num_splits;
         L->vertices = m->num_vertices;
         L->faces = m->num_faces;
-        L->seconds = now_seconds() - t0;
+        L->seconds = sk_seconds() - t0;
         if (opts.on_level && opts.on_level(opts.on_level_user, ntrans, m)) {
             st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
             goto done;

@@ -1,6 +1,5 @@
 /* Hierarchical parametrization (Hormann, Greiner, Campagna, section 4) and the conventional flat
  * MIPS optimization it is measured against (Table 1). */
-#define _POSIX_C_SOURCE 200809L
 #include "surfkit/hierarchical.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -11,12 +10,6 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* True when every triangle around v is counter-clockwise with the MIPS margin at v. */
 static bool ring_ok(const sk_mesh *m, const double *uv, uint32_t v, const double x[2])
@@ -164,7 +157,7 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     double work = o.level_work > 0.0 ? o.level_work : 5.0;
     double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
     bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
-    double t0 = now();
+    double t0 = sk_seconds();
     sk_hparam_stats s;
     memset(&s, 0, sizeof s);
     sk_status st = sk_param_check_disk(mesh, err);
@@ -179,7 +172,7 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     ho.seed = o.seed;
     if ((st = sk_hierarchy_build(mesh, &ho, &hier, err)))
         goto done;
-    s.hierarchy_seconds = now() - t0;
+    s.hierarchy_seconds = sk_seconds() - t0;
     size_t L = sk_hierarchy_num_levels(hier);
     if (L > SK_HPARAM_MAX_LEVELS) {
         st = sk__fail(err, SK_ERR_ARG, "%zu hierarchy levels (at most %d)", L, SK_HPARAM_MAX_LEVELS);
@@ -233,7 +226,7 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     if ((st = sk_mesh_copy(sk_hierarchy_coarsest(hier), &m, err)))
         goto done;
     for (size_t l = 0; l < L; ++l) {
-        double tl = now();
+        double tl = sk_seconds();
         sk_hparam_level *lv = &s.levels[l];
         if (l > 0) {
             /* section 3: insert the new vertices at rho p0 + sigma pi + tau pi+1 */
@@ -291,13 +284,13 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         lv->sweeps = ms.sweeps;
         lv->energy = ms.energy;
         s.steps += ms.steps;
-        lv->seconds = now() - tl;
+        lv->seconds = sk_seconds() - tl;
         if ((st = sk__progress(o.progress, o.progress_user, (double)(l + 1) / (double)L, err)))
             goto done;
     }
     memcpy(uv, cur, 2 * nfine * sizeof(double));
     s.energy = s.levels[L - 1].energy;
-    s.total_seconds = now() - t0;
+    s.total_seconds = sk_seconds() - t0;
 done:
     if (finest_id) {
         for (size_t l = 0; l < s.num_levels; ++l)

@@ -7,14 +7,7 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void sk_smooth_destroy(sk_smooth **smooth)
 {
@@ -472,7 +465,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     W.target = target;
     W.r = r;
     W.alpha = alpha;
-    double t0 = now_seconds();
+    double t0 = sk_seconds();
     if ((st = sk__wireframe_targets(m, s->normals, target, err)) != SK_OK)
         goto done;
     sk__patch_ratios(m, target, r);
@@ -556,7 +549,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     for (long i = 0; i < nvl; ++i)
         if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
             interior_points(&W, (uint32_t)i);
-    double t1 = now_seconds();
+    double t1 = sk_seconds();
     s->stats.seconds_systems = t1 - t0;
     /* patches */
     s->num_patches = nf;
@@ -581,7 +574,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
 #endif
     for (long f = 0; f < nfl; ++f)
         assemble_patch(&W, (uint32_t)f, s->patches + f, s->points + 3 * (size_t)s->patches[f].first);
-    s->stats.seconds_patches = now_seconds() - t1;
+    s->stats.seconds_patches = sk_seconds() - t1;
 done:
     free(target);
     free(r);
@@ -625,7 +618,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             goto fail;
         }
     /* normals */
-    double t0 = now_seconds();
+    double t0 = sk_seconds();
     normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
     if (!normals) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -644,7 +637,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     } else if ((st = sk_mesh_vertex_normals(mesh, opts.normals, normals, err)) != SK_OK) {
         goto fail;
     }
-    s->stats.seconds_normals = now_seconds() - t0;
+    s->stats.seconds_normals = sk_seconds() - t0;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.1, err)) != SK_OK)
         goto fail;
 
@@ -654,10 +647,10 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             goto fail;
         s->normals = normals;
         normals = NULL;
-        t0 = now_seconds();
+        t0 = sk_seconds();
         if ((st = sk__pn_build(s, err)) != SK_OK)
             goto fail;
-        s->stats.seconds_patches = now_seconds() - t0;
+        s->stats.seconds_patches = sk_seconds() - t0;
         *out = s;
         sk__ok(err);
         return sk__progress(opts.progress, opts.progress_user, 1.0, err);
@@ -676,11 +669,11 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             base = work;
         }
     }
-    t0 = now_seconds();
+    t0 = sk_seconds();
     if ((st = sk_edge_deletion(base, &s->config, &s->deleted, &s->stats.deletion, err)) != SK_OK)
         goto fail;
     s->num_deleted = s->stats.deletion.deleted_edges;
-    s->stats.seconds_deletion = now_seconds() - t0;
+    s->stats.seconds_deletion = sk_seconds() - t0;
     s->normals = normals;
     normals = NULL;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)

@@ -69,6 +69,14 @@ int cli_write_file(const char *path, void (*fn)(FILE *, const void *), const voi
 /* Option parsing: returns true and sets *out when argv[*i] is `name` followed by a value, or
  * `name=value`; advances *i. */
 bool cli_opt_value(int argc, char **argv, int *i, const char *name, const char **out);
+/* Options that take a file name: when argv[*i] is one of them, stores its value and returns 1;
+ * a missing value prints the usage error and returns -1; any other argument returns 0. */
+typedef struct cli_path_opt {
+    const char *name;
+    const char **value;
+} cli_path_opt;
+int cli_take_path(int argc, char **argv, int *i, const char *cmd, const cli_path_opt *opts,
+                  size_t n);
 bool cli_parse_uint(const char *s, unsigned long *out);
 bool cli_parse_double(const char *s, double *out);
 

@@ -144,6 +144,9 @@ int cmd_param(int argc, char **argv)
     sk_write_opts wo = {0};
     sk_render_opts ro = {0};
     po.method = SK_PARAM_FLOATER;
+    const cli_path_opt paths[] = {{"-o", &out}, {"--png", &png}, {"--svg", &svg},
+                                  {"--checker", &checker}, {"--report", &report}};
+    int took;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -159,10 +162,9 @@ int cmd_param(int argc, char **argv)
             flat = true;
         } else if (!strcmp(a, "--hierarchical")) {
             hier_flag = true;
-        } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
-            if (!val)
-                return cli_usage("param", "-o needs a file name");
-            out = val;
+        } else if ((took = cli_take_path(argc, argv, &i, "param", paths, 5)) != 0) {
+            if (took < 0)
+                return EXIT_USAGE;
         } else if (cli_opt_value(argc, argv, &i, "--method", &val)) {
             if (val && !strcmp(val, "mips"))
                 mips = true;
@@ -186,25 +188,9 @@ int cmd_param(int argc, char **argv)
         } else if (cli_opt_value(argc, argv, &i, "--seed", &val)) {
             if (!cli_parse_uint(val, &seed))
                 return cli_usage("param", "--seed takes a whole number");
-        } else if (cli_opt_value(argc, argv, &i, "--png", &val)) {
-            if (!val)
-                return cli_usage("param", "--png needs a file name");
-            png = val;
-        } else if (cli_opt_value(argc, argv, &i, "--svg", &val)) {
-            if (!val)
-                return cli_usage("param", "--svg needs a file name");
-            svg = val;
-        } else if (cli_opt_value(argc, argv, &i, "--checker", &val)) {
-            if (!val)
-                return cli_usage("param", "--checker needs a file name");
-            checker = val;
         } else if (cli_opt_value(argc, argv, &i, "--view", &val)) {
             if (!parse_view(val, ro.view))
                 return cli_usage("param", "--view takes three numbers X,Y,Z");
-        } else if (cli_opt_value(argc, argv, &i, "--report", &val)) {
-            if (!val)
-                return cli_usage("param", "--report needs a file name");
-            report = val;
         } else if (a[0] == '-' && a[1]) {
             return cli_usage("param", "unknown option '%s'", a);
         } else if (!in) {

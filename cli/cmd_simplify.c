@@ -117,6 +117,8 @@ int cmd_simplify(int argc, char **argv)
     sk_write_opts wo = {0};
     bool quiet = false, have_levels = false, have_faces = false;
     unsigned long seed = 1;
+    const cli_path_opt paths[] = {{"-o", &out}, {"--all-levels", &all_dir}, {"--report", &report}};
+    int took;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         unsigned long n;
@@ -126,10 +128,9 @@ int cmd_simplify(int argc, char **argv)
             return EXIT_OK;
         } else if (!strcmp(a, "-q")) {
             quiet = true;
-        } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
-            if (!val)
-                return cli_usage("simplify", "-o needs a file name");
-            out = val;
+        } else if ((took = cli_take_path(argc, argv, &i, "simplify", paths, 3)) != 0) {
+            if (took < 0)
+                return EXIT_USAGE;
         } else if (cli_opt_value(argc, argv, &i, "--levels", &val)) {
             if (!cli_parse_uint(val, &n) || n < 1 || n > 1000)
                 return cli_usage("simplify", "--levels takes a whole number from 1 to 1000");
@@ -148,14 +149,6 @@ int cmd_simplify(int argc, char **argv)
             if (!cli_parse_double(val, &d) || !(d > 0.0 && d <= 180.0))
                 return cli_usage("simplify", "--max-angle takes degrees in (0, 180]");
             ho.collapse.max_normal_deviation_deg = d;
-        } else if (cli_opt_value(argc, argv, &i, "--all-levels", &val)) {
-            if (!val || !*val)
-                return cli_usage("simplify", "--all-levels needs a folder");
-            all_dir = val;
-        } else if (cli_opt_value(argc, argv, &i, "--report", &val)) {
-            if (!val || !*val)
-                return cli_usage("simplify", "--report needs a file name");
-            report = val;
         } else if (a[0] == '-' && a[1]) {
             return cli_usage("simplify", "unknown option '%s'", a);
         } else if (!in) {

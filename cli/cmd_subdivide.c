@@ -17,6 +17,8 @@ int cmd_subdivide(int argc, char **argv)
     sk_write_opts wo = {0};
     bool quiet = false;
     so.iterations = 1;
+    const cli_path_opt paths[] = {{"-o", &out}};
+    int took;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -26,10 +28,9 @@ int cmd_subdivide(int argc, char **argv)
             quiet = true;
         } else if (!strcmp(a, "--ascii")) {
             wo.ascii = true;
-        } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
-            if (!val)
-                return cli_usage("subdivide", "-o needs a file name");
-            out = val;
+        } else if ((took = cli_take_path(argc, argv, &i, "subdivide", paths, 1)) != 0) {
+            if (took < 0)
+                return EXIT_USAGE;
         } else if (cli_opt_value(argc, argv, &i, "--scheme", &val)) {
             if (val && !strcmp(val, "loop"))
                 so.scheme = SK_SUBDIV_LOOP;

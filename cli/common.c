@@ -221,6 +221,23 @@ int cli_write_file(const char *path, void (*fn)(FILE *, const void *), const voi
     return EXIT_OK;
 }
 
+int cli_take_path(int argc, char **argv, int *i, const char *cmd, const cli_path_opt *opts,
+                  size_t n)
+{
+    for (size_t k = 0; k < n; ++k) {
+        const char *val;
+        if (!cli_opt_value(argc, argv, i, opts[k].name, &val))
+            continue;
+        if (!val || !*val) {
+            cli_usage(cmd, "%s needs a file name", opts[k].name);
+            return -1;
+        }
+        *opts[k].value = val;
+        return 1;
+    }
+    return 0;
+}
+
 /* --- options --------------------------------------------------------------------------------- */
 
 bool cli_opt_value(int argc, char **argv, int *i, const char *name, const char **out)

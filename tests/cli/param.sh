@@ -3,7 +3,6 @@
 set -u
 BIN=$1; SRC=$2; SHARED=$3; TMP=$4
 M=$SHARED/data/meshes
-# cairo text goes through fontconfig, whose global caches live until exit (not a leak of ours)
 rm -rf "$TMP"; mkdir -p "$TMP"
 fail() { echo "FAIL: $*"; exit 1; }
 

@@ -13,7 +13,9 @@ out="$build/bench-export"; mkdir -p "$out"
 m=../shared/data/meshes
 echo "| mesh               | file             |  faces |       KiB | deviation  | normal jump   | STEP edges   | result |"
 echo "|---|---|---|---|---|---|---|---|"
-for mesh in icosahedron sphere cube cow knot1 bunny00 nefertiti paraboloid-patch patch-01 three_peaks mushroom lion-head; do
-  closed=""; case $mesh in icosahedron|sphere|cube|cow|knot1|bunny00) closed=--closed;; esac
+# bunny00, armadillo and lion-head (60k+ patches) would give STEP files of hundreds of MB (about
+# 4 KB per face): the table covers the meshes up to about 6k triangles.
+for mesh in icosahedron sphere cube cow knot1 nefertiti paraboloid-patch patch-01 three_peaks mushroom; do
+  closed=""; case $mesh in icosahedron|sphere|cube|cow|knot1) closed=--closed;; esac
   "$build/tests/occt_check" "$out" "$m/$mesh.off" $closed --max-jump 1e-6 | grep -v "^\*\*\*\|loaded entities\|^.\[0m$"
 done

@@ -65,33 +65,46 @@ static int net_differences(const sk_smooth_patch *pa, const double *b, double du
     return 0;
 }
 
-bool sk__patch_cone_regular(const sk_smooth *s, size_t p)
+void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double scale,
+                       bool *cone_regular, bool *sampling_certified)
 {
     const sk_smooth_patch *pa = s->patches + p;
     const double *b = s->points + 3 * (size_t)pa->first;
-    double du[12][3], dv[12][3], axis[3] = {0, 0, 0};
+    double du[12][3], dv[12][3], g[144][3], axis[3] = {0, 0, 0};
     int nu, nv;
     net_differences(pa, b, du, dv, &nu, &nv);
-    /* axis: the sum of all cross products (Lemma 3: the normal lies in their cone) */
+    /* the generators g = du_i x dv_j; axis: their sum (Lemma 3: the normal lies in their cone) */
+    int ng = 0;
     for (int i = 0; i < nu; ++i)
         for (int j = 0; j < nv; ++j) {
-            double x[3];
-            sk__cross3(x, du[i], dv[j]);
-            sk__add3(axis, axis, x);
+            sk__cross3(g[ng], du[i], dv[j]);
+            sk__add3(axis, axis, g[ng]);
+            ++ng;
         }
-    if (sk__normalize3(axis) == 0.0)
-        return false;
+    bool cone = sk__normalize3(axis) != 0.0;
     /* the cone excludes 0 if every generator that is not zero lies strictly on the axis side
      * (zero generators, e.g. collapsed differences, add nothing to the cone) */
-    for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-            double x[3];
-            sk__cross3(x, du[i], dv[j]);
-            double len = sk__norm3(x);
-            if (len == 0.0)
-                continue;
-            if (sk__dot3(x, axis) <= 1e-12 * len)
-                return false;
+    double refn[3] = {ref[0], ref[1], ref[2]};
+    bool sample = sk__normalize3(refn) != 0.0 && scale > 0.0;
+    double min_ref = 1e300, max_len = 0.0;
+    for (int k = 0; k < ng; ++k) {
+        double len = sk__norm3(g[k]);
+        max_len = fmax(max_len, len);
+        if (len == 0.0) {
+            sample = false; /* a zero generator may carry all the weight at a corner */
+            continue;
         }
-    return true;
+        if (cone && sk__dot3(g[k], axis) <= 1e-12 * len)
+            cone = false;
+        min_ref = fmin(min_ref, sk__dot3(g[k], refn));
+    }
+    /* du x dv = W sum_k beta_k g_k with beta_k >= 0, sum beta_k = 1 (products of Bernstein
+     * polynomials), W = 9 for bicubics, n^2 for triangles of degree n; so (du x dv) . ref >=
+     * W min_k g_k . ref: the sampled test (|du x dv| > 1e-10 scale, (du x dv) . ref > 0) cannot fail
+     * anywhere when that bound clears it with a margin against rounding */
+    double W = pa->kind == SK_SMOOTH_QUAD ? 9.0 : (double)pa->degree * pa->degree;
+    if (sample)
+        sample = min_ref > 1e-9 * max_len && W * min_ref > 2e-10 * scale;
+    *cone_regular = cone;
+    *sampling_certified = sample;
 }

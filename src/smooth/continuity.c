@@ -9,25 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* (u, v) of the point at t along side `side` of a patch with `kind` corners */
-static void side_param(int kind, int side, double t, double *u, double *v)
-{
-    if (kind == SK_SMOOTH_TRIANGLE) {
-        switch (side) {
-        case 0: *u = t, *v = 0.0; break;
-        case 1: *u = 1.0 - t, *v = t; break;
-        default: *u = 0.0, *v = 1.0 - t; break;
-        }
-    } else {
-        switch (side) {
-        case 0: *u = t, *v = 0.0; break;
-        case 1: *u = 1.0, *v = t; break;
-        case 2: *u = 1.0 - t, *v = 1.0; break;
-        default: *u = 0.0, *v = 1.0 - t; break;
-        }
-    }
-}
-
 static int side_of(const sk_mesh *m, uint32_t f, uint32_t h)
 {
     uint32_t g = m->f_halfedge[f];
@@ -68,6 +49,101 @@ typedef struct patch_block {
     size_t uncert;
 } patch_block;
 
+/* The data of one side of a patch that the samples along it need: the boundary row of control
+ * points (degree n, from the side's first corner to its second) and the next row inwards (triangle:
+ * n points, b_{.,.,1} of the net relabelled so that the side is side 0; quad: 4 points). A cyclic
+ * relabelling of the corners keeps their counter-clockwise order, so du x dv of the relabelled
+ * patch has the direction of the original normal. */
+typedef struct side_rows {
+    int kind, n;
+    double row0[5][3], row1[5][3];
+} side_rows;
+
+static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
+{
+    const sk_smooth_patch *pa = s->patches + f;
+    const double *b = s->points + 3 * (size_t)pa->first;
+    r->kind = pa->kind;
+    if (pa->kind == SK_SMOOTH_TRIANGLE) {
+        int n = pa->degree;
+        r->n = n;
+        for (int t = 0; t <= n; ++t) {
+            /* barycentric multi-index (i, j, k) of the boundary point t and of the inner point */
+            int I0[3], I1[3];
+            I0[0] = n - t, I0[1] = t, I0[2] = 0;       /* relabelled: side 0 from corner 0 to 1 */
+            I1[0] = n - 1 - t, I1[1] = t, I1[2] = 1;   /* next row toward corner 2 */
+            /* relabelled corner c is the original corner (c + side) mod 3 */
+            int J0[3], J1[3];
+            for (int c = 0; c < 3; ++c) {
+                J0[(c + side) % 3] = I0[c];
+                J1[(c + side) % 3] = I1[c];
+            }
+            memcpy(r->row0[t], b + 3 * sk__tri_index(n, J0[1], J0[2]), 3 * sizeof(double));
+            if (t < n)
+                memcpy(r->row1[t], b + 3 * sk__tri_index(n, J1[1], J1[2]), 3 * sizeof(double));
+        }
+    } else {
+        r->n = 3;
+        for (int t = 0; t <= 3; ++t) {
+            int i0, j0, i1, j1; /* (i, j) of net index i + 4 j on the side and one row inwards */
+            switch (side) {
+            case 0: i0 = t, j0 = 0, i1 = t, j1 = 1; break;
+            case 1: i0 = 3, j0 = t, i1 = 2, j1 = t; break;
+            case 2: i0 = 3 - t, j0 = 3, i1 = 3 - t, j1 = 2; break;
+            default: i0 = 0, j0 = 3 - t, i1 = 1, j1 = 3 - t; break;
+            }
+            memcpy(r->row0[t], b + 3 * (i0 + 4 * j0), 3 * sizeof(double));
+            memcpy(r->row1[t], b + 3 * (i1 + 4 * j1), 3 * sizeof(double));
+        }
+    }
+}
+
+static void bern(int n, double t, double *B)
+{
+    double u = 1.0 - t;
+    B[0] = 1.0;
+    for (int r = 1; r <= n; ++r) {
+        double saved = 0.0;
+        for (int i = 0; i < r; ++i) {
+            double tmp = B[i];
+            B[i] = saved + u * tmp;
+            saved = t * tmp;
+        }
+        B[r] = saved;
+    }
+}
+
+/* position and unit normal (zero where du x dv vanishes) at parameter t along the side */
+static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
+{
+    int n = r->n;
+    double B[6], B1[6], T[3] = {0, 0, 0}, X[3] = {0, 0, 0};
+    bern(n, t, B);
+    bern(n - 1, t, B1);
+    x[0] = x[1] = x[2] = 0.0;
+    for (int j = 0; j <= n; ++j)
+        for (int c = 0; c < 3; ++c)
+            x[c] += B[j] * r->row0[j][c];
+    for (int j = 0; j < n; ++j)
+        for (int c = 0; c < 3; ++c)
+            T[c] += B1[j] * (r->row0[j + 1][c] - r->row0[j][c]);
+    if (r->kind == SK_SMOOTH_TRIANGLE) {
+        for (int j = 0; j < n; ++j)
+            for (int c = 0; c < 3; ++c)
+                X[c] += B1[j] * (r->row1[j][c] - r->row0[j][c]);
+    } else {
+        for (int j = 0; j <= n; ++j)
+            for (int c = 0; c < 3; ++c)
+                X[c] += B[j] * (r->row1[j][c] - r->row0[j][c]);
+    }
+    sk__cross3(nrm, T, X);
+    double len = sk__norm3(nrm);
+    if (len > 0.0)
+        sk__scale3(nrm, nrm, 1.0 / len);
+    else
+        nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
 static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_block *b)
 {
     const sk_mesh *m = s->config;
@@ -80,22 +156,21 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
         if (f == SK_INVALID || g == SK_INVALID)
             continue;
         ++b->nint;
-        int sf = side_of(m, f, h), sg = side_of(m, g, o);
-        int kf = s->patches[f].kind, kg = s->patches[g].kind;
+        side_rows rf, rg;
+        side_rows_of(s, f, side_of(m, f, h), &rf);
+        side_rows_of(s, g, side_of(m, g, o), &rg);
         double local_max = 0.0;
         for (unsigned i = 0; i <= K; ++i) {
-            double t = (double)i / K, u, v, x1[3], x2[3], n1[3], n2[3];
-            side_param(kf, sf, t, &u, &v);
-            sk_smooth_eval(s, f, u, v, x1, NULL, NULL, n1);
-            side_param(kg, sg, 1.0 - t, &u, &v);
-            sk_smooth_eval(s, g, u, v, x2, NULL, NULL, n2);
+            double t = (double)i / K, x1[3], x2[3], n1[3], n2[3];
+            side_eval(&rf, t, x1, n1);
+            side_eval(&rg, 1.0 - t, x2, n2);
             double gap = sk__dist3(x1, x2), jump = sk__angle3(n1, n2) * RAD2DEG;
             if (sk__norm3(n1) == 0.0 || sk__norm3(n2) == 0.0)
                 jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
-            b->max_gap = fmax(b->max_gap, gap);
+            b->max_gap = b->max_gap > gap ? b->max_gap : gap;
             b->sum_gap += gap;
             b->sum_jump += jump;
-            local_max = fmax(local_max, jump);
+            local_max = local_max > jump ? local_max : jump;
             ++b->nsamp;
         }
         if (local_max > b->max_jump) {

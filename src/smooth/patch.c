@@ -86,17 +86,19 @@ void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double
      * (zero generators, e.g. collapsed differences, add nothing to the cone) */
     double refn[3] = {ref[0], ref[1], ref[2]};
     bool sample = sk__normalize3(refn) != 0.0 && scale > 0.0;
-    double min_ref = 1e300, max_len = 0.0;
+    double min_ref = 1e300, max_len2 = 0.0;
     for (int k = 0; k < ng; ++k) {
-        double len = sk__norm3(g[k]);
-        max_len = fmax(max_len, len);
-        if (len == 0.0) {
+        double len2 = sk__dot3(g[k], g[k]);
+        max_len2 = max_len2 > len2 ? max_len2 : len2;
+        if (len2 == 0.0) {
             sample = false; /* a zero generator may carry all the weight at a corner */
             continue;
         }
-        if (cone && sk__dot3(g[k], axis) <= 1e-12 * len)
+        double d = sk__dot3(g[k], axis); /* d > 1e-12 |g| without the square root */
+        if (cone && !(d > 0.0 && d * d > 1e-24 * len2))
             cone = false;
-        min_ref = fmin(min_ref, sk__dot3(g[k], refn));
+        double dr = sk__dot3(g[k], refn);
+        min_ref = min_ref < dr ? min_ref : dr;
     }
     /* du x dv = W sum_k beta_k g_k with beta_k >= 0, sum beta_k = 1 (products of Bernstein
      * polynomials), W = 9 for bicubics, n^2 for triangles of degree n; so (du x dv) . ref >=
@@ -104,7 +106,7 @@ void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double
      * anywhere when that bound clears it with a margin against rounding */
     double W = pa->kind == SK_SMOOTH_QUAD ? 9.0 : (double)pa->degree * pa->degree;
     if (sample)
-        sample = min_ref > 1e-9 * max_len && W * min_ref > 2e-10 * scale;
+        sample = min_ref > 1e-9 * sqrt(max_len2) && W * min_ref > 2e-10 * scale;
     *cone_regular = cone;
     *sampling_certified = sample;
 }

@@ -383,7 +383,7 @@ static int project(const sk__vsys *s, double *p, double *w, int *iters)
     return project_n(s, p, w, iters, 4);
 }
 
-#define FINISH_DX 1e-4 /* step size (in units of the mean target length) that starts the finish */
+#define FINISH_DX 1e-3 /* step size (in units of the mean target length) that starts the finish */
 #define GN_FIRST 12 /* Gauss-Newton iterations before switching to Newton on the KKT system */
 
 static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters)

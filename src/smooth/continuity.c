@@ -180,14 +180,11 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     }
 }
 
-/* Regularity of patch p: certified by the control net (no sampling needed), else sampled on a
- * G x G grid for a vanishing normal or a normal turned away from the corner normals. */
+/* Interpolation errors at the corners of patch p and its regularity (sk__patch_regularity). */
 static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out)
 {
-    const unsigned G = 8;
     const sk_mesh *m = s->config;
     const sk_smooth_patch *pa = s->patches + p;
-    double ref[3] = {0, 0, 0};
     for (int i = 0; i < pa->kind; ++i) {
         double u, v, x[3], n[3];
         corner_param(pa->kind, i, &u, &v);
@@ -196,27 +193,10 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
         const double *N = s->normals + 3 * (size_t)pa->corners[i];
         b->max_verr = fmax(b->max_verr, sk__dist3(x, V));
         b->max_nerr = fmax(b->max_nerr, sk__norm3(n) == 0.0 ? 180.0 : sk__angle3(n, N) * RAD2DEG);
-        sk__add3(ref, ref, N);
     }
-    double scale, du[3], dv[3];
-    sk_smooth_eval(s, p, 1.0 / 3.0, 1.0 / 3.0, NULL, du, dv, NULL);
-    scale = sk__norm3(du) * sk__norm3(dv);
-    bool cone, certified;
-    sk__patch_certify(s, p, ref, scale, &cone, &certified);
+    bool cone;
+    *singular_out = sk__patch_singular(s, p, &cone);
     b->uncert += !cone;
-    bool singular = false;
-    for (unsigned i = 0; i <= G && !singular && !certified; ++i)
-        for (unsigned j = 0; j <= G && !singular; ++j) {
-            if (pa->kind == SK_SMOOTH_TRIANGLE && i + j > G)
-                continue;
-            double u = (double)i / G, v = (double)j / G, c[3];
-            sk_smooth_eval(s, p, u, v, NULL, du, dv, NULL);
-            sk__cross3(c, du, dv);
-            double len = sk__norm3(c);
-            if (!(len > 1e-10 * scale) || sk__dot3(c, ref) <= 0.0)
-                singular = true;
-        }
-    *singular_out = singular;
 }
 
 sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,

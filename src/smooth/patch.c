@@ -110,3 +110,33 @@ void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double
     *cone_regular = cone;
     *sampling_certified = sample;
 }
+
+bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular)
+{
+    const unsigned G = 8;
+    const sk_smooth_patch *pa = s->patches + p;
+    double ref[3] = {0, 0, 0};
+    for (int i = 0; i < pa->kind; ++i)
+        sk__add3(ref, ref, s->normals + 3 * (size_t)pa->corners[i]);
+    double du[3], dv[3];
+    sk_smooth_eval(s, p, 1.0 / 3.0, 1.0 / 3.0, NULL, du, dv, NULL);
+    double scale = sk__norm3(du) * sk__norm3(dv);
+    bool cone, certified;
+    sk__patch_certify(s, p, ref, scale, &cone, &certified);
+    if (cone_regular)
+        *cone_regular = cone;
+    if (certified)
+        return false;
+    for (unsigned i = 0; i <= G; ++i)
+        for (unsigned j = 0; j <= G; ++j) {
+            if (pa->kind == SK_SMOOTH_TRIANGLE && i + j > G)
+                continue;
+            double c[3];
+            sk_smooth_eval(s, p, (double)i / G, (double)j / G, NULL, du, dv, NULL);
+            sk__cross3(c, du, dv);
+            double len = sk__norm3(c);
+            if (!(len > 1e-10 * scale) || sk__dot3(c, ref) <= 0.0)
+                return true;
+        }
+    return false;
+}

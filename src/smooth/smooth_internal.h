@@ -66,6 +66,13 @@ static inline size_t sk__patch_points(int kind, int degree)
 void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double scale,
                        bool *cone_regular, bool *sampling_certified);
 
+/* The regularity test of the continuity report: true when patch p has a vanishing normal
+ * (|du x dv| <= 1e-10 |du| |dv| at the centre) or a normal turned away from the sum of its corner
+ * normals, found on a grid of 9 x 9 parameters (triangles: the 45 with u + v <= 1) unless the
+ * control net certifies it regular everywhere (sk__patch_certify). cone_regular (may be NULL):
+ * the Ginkel-Peters-Umlauf cone test. */
+bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
+
 /* PN triangles on the triangle mesh s->config with normals s->normals (fills patches/points). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);
 

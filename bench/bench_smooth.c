@@ -42,8 +42,8 @@ int main(int argc, char **argv)
            m->num_vertices, m->num_faces, t1 - t0);
     printf("| stage          | seconds |\n|----------------|---------|\n");
     printf("| normals        | %7.3f |\n| edge deletion  | %7.3f |\n| vertex systems | %7.3f |\n"
-           "| patches        | %7.3f |\n| report         | %7.3f |\n",
-           st->seconds_normals, st->seconds_deletion, st->seconds_systems, st->seconds_patches,
+           "| patches        | %7.3f |\n| repair         | %7.3f |\n| report         | %7.3f |\n",
+           st->seconds_normals, st->seconds_deletion, st->seconds_systems, st->seconds_patches, st->seconds_repair,
            t3 - t2);
     printf("| total build    | %7.3f |\n| build + report | %7.3f |\n\n", t2 - t1, t3 - t1);
     printf("| even vertices | lower bound | deleted edges | ratio | triangles | quads | forced |\n");
@@ -52,9 +52,10 @@ int main(int argc, char **argv)
            st->deletion.lower_bound, st->deletion.deleted_edges,
            st->deletion.lower_bound ? (double)st->deletion.deleted_edges / st->deletion.lower_bound : 1.0,
            st->deletion.triangles, st->deletion.quads, st->deletion.forced_edges);
-    printf("max normal jump %.3g deg, mean %.3g deg, max gap %.3g, singular patches %zu, relaxed "
+    printf("max normal jump %.3g deg, mean %.3g deg, max gap %.3g, singular patches %zu (before repair %zu, repaired vertices %zu), relaxed "
            "vertices %zu, angle violations %zu, failed vertices %zu, max iterations %zu\n",
            r.max_normal_jump_deg, r.mean_normal_jump_deg, r.max_gap, r.singular_patches,
+           st->singular_before_repair, st->repaired_vertices,
            st->relaxed_vertices, st->angle_violations, st->failed_vertices, st->max_iterations);
     sk_smooth_destroy(&s);
     sk_mesh_destroy(&m);

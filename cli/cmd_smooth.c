@@ -80,6 +80,8 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_arr_close(&j);
     json_kuint(&j, "relaxed_vertices", s->stats.relaxed_vertices);
     json_kuint(&j, "angle_violations", s->stats.angle_violations);
+    json_kuint(&j, "singular_before_repair", s->stats.singular_before_repair);
+    json_kuint(&j, "repaired_vertices", s->stats.repaired_vertices);
     json_kuint(&j, "failed_vertices", s->stats.failed_vertices);
     json_key(&j, "problem_vertices");
     json_arr_open(&j);

@@ -96,6 +96,10 @@ typedef struct sk_smooth_stats {
     double max_residual;       /* largest |residual of (8)| relative to the vertex's scale */
     double mean_target_deviation; /* mean |P - P*| / |P* - V| */
     double seconds_normals, seconds_deletion, seconds_systems, seconds_patches;
+    size_t singular_before_repair; /* patches the regularity test found singular before ... */
+    size_t repaired_vertices;  /* ... vertex systems were re-solved with varied targets to make
+                                  their patches regular (the VC1 property is kept exactly) */
+    double seconds_repair;
 } sk_smooth_stats;
 
 typedef struct sk_smooth {

@@ -38,6 +38,9 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err);
 sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err);
 void sk__atomic_abort(sk__atomic_file *af);
 
+/* Asks the kernel for transparent huge pages on a large fresh buffer (Linux; else nothing). */
+void sk__huge_hint(void *p, size_t bytes);
+
 /* Base name of a path (pointer into path), for error messages. */
 const char *sk__basename(const char *path);
 

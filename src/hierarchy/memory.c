@@ -1,35 +1,9 @@
-/* Large work arrays of the hierarchy: a transparent-huge-page hint.
- *
- * Building the hierarchy of a million-triangle mesh touches a few hundred megabytes of fresh memory
- * (the working mesh, split records, vertex maps). On virtual machines a first-touch page fault can
- * cost over 10 microseconds per 4 KiB page, which made page faults the largest single cost of the
- * build (perf: pvm_irq_enable under exc_page_fault). Asking for transparent huge pages on the big
- * arrays (madvise MADV_HUGEPAGE, Linux only; a no-op elsewhere or when THP is off) takes one fault
- * per 2 MiB instead. It changes no result. */
-#if defined(__linux__)
-#define _DEFAULT_SOURCE 1
-#include <sys/mman.h>
-#endif
-
+/* Large work arrays of the hierarchy, with the transparent-huge-page hint of src/core/huge_pages.c
+ * (page faults were the largest single cost of building a million-triangle hierarchy). */
 #include "hierarchy/hierarchy_internal.h"
 #include "core/internal.h"
 
 #include <stdint.h>
-
-void sk__huge_hint(void *p, size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (!p || bytes < ((size_t)4 << 20))
-        return;
-    uintptr_t a = ((uintptr_t)p + 4095u) & ~(uintptr_t)4095u;
-    uintptr_t b = ((uintptr_t)p + bytes) & ~(uintptr_t)4095u;
-    if (b > a)
-        (void)madvise((void *)a, b - a, MADV_HUGEPAGE);
-#else
-    (void)p;
-    (void)bytes;
-#endif
-}
 
 void *sk__alloc_huge(size_t n, size_t size)
 {

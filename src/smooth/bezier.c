@@ -26,34 +26,39 @@ static void curve_eval(const double *cp, unsigned n, double t, double pt[3], dou
 }
 
 /* de Casteljau on a triangle net of degree n at barycentric (u, v, w): reduce to degree 1, whose
- * three points give the point and the derivatives toward corners 1 and 2. */
+ * three points give the point and the derivatives toward corners 1 and 2. The first level reads
+ * the control points in place (no copy of the net). */
 static void tri_eval(const double *cp, unsigned n, double v, double w, double pt[3], double d1[3],
                      double d2[3])
 {
     double u = 1.0 - v - w;
     double net[3 * SK_PATCH_MAX_POINTS];
-    memcpy(net, cp, 3 * (n + 1) * (n + 2) / 2 * sizeof(double));
-    for (unsigned r = n; r > 1; --r) { /* degree r -> r - 1, in place (indices shrink) */
-        for (unsigned k = 0; k < r; ++k)
-            for (unsigned j = 0; j + k < r; ++j) {
-                const double *a = net + 3 * sk_tri_index(r, j, k);     /* b_{i+1,j,k} */
-                const double *b = net + 3 * sk_tri_index(r, j + 1, k); /* b_{i,j+1,k} */
-                const double *c = net + 3 * sk_tri_index(r, j, k + 1); /* b_{i,j,k+1} */
-                double *o = net + 3 * sk_tri_index(r - 1, j, k);
-                for (int x = 0; x < 3; ++x)
-                    o[x] = u * a[x] + v * b[x] + w * c[x];
-            }
-    }
     if (n == 0) {
-        memcpy(pt, net, 3 * sizeof(double));
+        memcpy(pt, cp, 3 * sizeof(double));
         if (d1)
             d1[0] = d1[1] = d1[2] = 0.0;
         if (d2)
             d2[0] = d2[1] = d2[2] = 0.0;
         return;
     }
-    const double *b100 = net, *b010 = net + 3 * sk_tri_index(1, 1, 0),
-                 *b001 = net + 3 * sk_tri_index(1, 0, 1);
+    const double *src = cp;
+    for (unsigned r = n; r > 1; --r) { /* degree r -> r - 1 (indices shrink) */
+        for (unsigned k = 0; k < r; ++k) {
+            unsigned row = sk_tri_index(r, 0, k), up = sk_tri_index(r, 0, k + 1);
+            unsigned orow = sk_tri_index(r - 1, 0, k);
+            for (unsigned j = 0; j + k < r; ++j) {
+                const double *a = src + 3 * (row + j); /* b_{i+1,j,k} */
+                const double *b = a + 3;               /* b_{i,j+1,k} */
+                const double *c = src + 3 * (up + j);  /* b_{i,j,k+1} */
+                double *o = net + 3 * (orow + j);
+                for (int x = 0; x < 3; ++x)
+                    o[x] = u * a[x] + v * b[x] + w * c[x];
+            }
+        }
+        src = net;
+    }
+    const double *b100 = src, *b010 = src + 3 * sk_tri_index(1, 1, 0),
+                 *b001 = src + 3 * sk_tri_index(1, 0, 1);
     for (int x = 0; x < 3; ++x) {
         pt[x] = u * b100[x] + v * b010[x] + w * b001[x];
         if (d1)
@@ -63,16 +68,56 @@ static void tri_eval(const double *cp, unsigned n, double v, double w, double pt
     }
 }
 
-/* Tensor patch: de Casteljau along s in every row (point and s-derivative), then along t. */
+/* Bernstein basis B_i^n(t), i = 0..n, and the derivatives dB_i^n/dt (dB may be NULL). */
+static void bernstein_d(unsigned n, double t, double *B, double *dB)
+{
+    double s = 1.0 - t;
+    B[0] = 1.0;
+    for (unsigned r = 1; r <= n; ++r) {
+        if (r == n && dB) { /* dB_i^n = n (B_{i-1}^{n-1} - B_i^{n-1}) */
+            for (unsigned i = 0; i <= n; ++i)
+                dB[i] = (double)n * ((i > 0 ? B[i - 1] : 0.0) - (i < n ? B[i] : 0.0));
+        }
+        double saved = 0.0;
+        for (unsigned i = 0; i < r; ++i) {
+            double tmp = B[i];
+            B[i] = saved + s * tmp;
+            saved = t * tmp;
+        }
+        B[r] = saved;
+    }
+    if (n == 0 && dB)
+        dB[0] = 0.0;
+}
+
+/* Tensor patch: sums over the Bernstein bases in s and t (point and both derivatives). */
 static void tensor_eval(const double *cp, unsigned du, unsigned dv, double s, double t,
                         double pt[3], double ds[3], double dt[3])
 {
-    double rows[3 * (SK_PATCH_MAX_DEGREE + 1)], drows[3 * (SK_PATCH_MAX_DEGREE + 1)];
-    for (unsigned j = 0; j <= dv; ++j)
-        curve_eval(cp + 3 * j * (du + 1), du, s, rows + 3 * j, drows + 3 * j);
-    double tmp[3];
-    curve_eval(rows, dv, t, pt, dt);
-    curve_eval(drows, dv, t, ds ? ds : tmp, NULL);
+    double Bs[SK_PATCH_MAX_DEGREE + 1], dBs[SK_PATCH_MAX_DEGREE + 1];
+    double Bt[SK_PATCH_MAX_DEGREE + 1], dBt[SK_PATCH_MAX_DEGREE + 1];
+    bernstein_d(du, s, Bs, dBs);
+    bernstein_d(dv, t, Bt, dBt);
+    double P[3] = {0, 0, 0}, S[3] = {0, 0, 0}, T[3] = {0, 0, 0};
+    for (unsigned j = 0; j <= dv; ++j) {
+        const double *row = cp + 3 * j * (du + 1);
+        double r[3] = {0, 0, 0}, dr[3] = {0, 0, 0};
+        for (unsigned i = 0; i <= du; ++i)
+            for (int x = 0; x < 3; ++x) {
+                r[x] += Bs[i] * row[3 * i + x];
+                dr[x] += dBs[i] * row[3 * i + x];
+            }
+        for (int x = 0; x < 3; ++x) {
+            P[x] += Bt[j] * r[x];
+            S[x] += Bt[j] * dr[x];
+            T[x] += dBt[j] * r[x];
+        }
+    }
+    memcpy(pt, P, sizeof P);
+    if (ds)
+        memcpy(ds, S, sizeof S);
+    if (dt)
+        memcpy(dt, T, sizeof T);
 }
 
 double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,

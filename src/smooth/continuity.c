@@ -6,26 +6,8 @@
 #include "core/internal.h"
 #include "core/vec.h"
 
+#include <stdlib.h>
 #include <string.h>
-
-/* (u, v) of the point at t along side `side` of a patch with `kind` corners */
-static void side_param(int kind, int side, double t, double *u, double *v)
-{
-    if (kind == SK_SMOOTH_TRIANGLE) {
-        switch (side) {
-        case 0: *u = t, *v = 0.0; break;
-        case 1: *u = 1.0 - t, *v = t; break;
-        default: *u = 0.0, *v = 1.0 - t; break;
-        }
-    } else {
-        switch (side) {
-        case 0: *u = t, *v = 0.0; break;
-        case 1: *u = 1.0, *v = t; break;
-        case 2: *u = 1.0 - t, *v = 1.0; break;
-        default: *u = 0.0, *v = 1.0 - t; break;
-        }
-    }
-}
 
 static int side_of(const sk_mesh *m, uint32_t f, uint32_t h)
 {
@@ -52,6 +34,171 @@ static void corner_param(int kind, int i, double *u, double *v)
 
 #define RAD2DEG (180.0 / M_PI)
 
+/* Work is split into fixed blocks whose partial results are combined in block order, so the report
+ * is the same for any number of threads. */
+#define BLOCK 4096
+
+typedef struct edge_block {
+    double max_gap, sum_gap, max_jump, sum_jump;
+    long worst;
+    size_t nint, nsamp;
+} edge_block;
+
+typedef struct patch_block {
+    double max_verr, max_nerr;
+    size_t uncert;
+} patch_block;
+
+/* The data of one side of a patch that the samples along it need: the boundary row of control
+ * points (degree n, from the side's first corner to its second) and the next row inwards (triangle:
+ * n points, b_{.,.,1} of the net relabelled so that the side is side 0; quad: 4 points). A cyclic
+ * relabelling of the corners keeps their counter-clockwise order, so du x dv of the relabelled
+ * patch has the direction of the original normal. */
+typedef struct side_rows {
+    int kind, n;
+    double row0[5][3], row1[5][3];
+} side_rows;
+
+static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
+{
+    const sk_smooth_patch *pa = s->patches + f;
+    const double *b = s->points + 3 * (size_t)pa->first;
+    r->kind = pa->kind;
+    if (pa->kind == SK_SMOOTH_TRIANGLE) {
+        int n = pa->degree;
+        r->n = n;
+        for (int t = 0; t <= n; ++t) {
+            /* barycentric multi-index (i, j, k) of the boundary point t and of the inner point */
+            int I0[3], I1[3];
+            I0[0] = n - t, I0[1] = t, I0[2] = 0;       /* relabelled: side 0 from corner 0 to 1 */
+            I1[0] = n - 1 - t, I1[1] = t, I1[2] = 1;   /* next row toward corner 2 */
+            /* relabelled corner c is the original corner (c + side) mod 3 */
+            int J0[3], J1[3];
+            for (int c = 0; c < 3; ++c) {
+                J0[(c + side) % 3] = I0[c];
+                J1[(c + side) % 3] = I1[c];
+            }
+            memcpy(r->row0[t], b + 3 * sk__tri_index(n, J0[1], J0[2]), 3 * sizeof(double));
+            if (t < n)
+                memcpy(r->row1[t], b + 3 * sk__tri_index(n, J1[1], J1[2]), 3 * sizeof(double));
+        }
+    } else {
+        r->n = 3;
+        for (int t = 0; t <= 3; ++t) {
+            int i0, j0, i1, j1; /* (i, j) of net index i + 4 j on the side and one row inwards */
+            switch (side) {
+            case 0: i0 = t, j0 = 0, i1 = t, j1 = 1; break;
+            case 1: i0 = 3, j0 = t, i1 = 2, j1 = t; break;
+            case 2: i0 = 3 - t, j0 = 3, i1 = 3 - t, j1 = 2; break;
+            default: i0 = 0, j0 = 3 - t, i1 = 1, j1 = 3 - t; break;
+            }
+            memcpy(r->row0[t], b + 3 * (i0 + 4 * j0), 3 * sizeof(double));
+            memcpy(r->row1[t], b + 3 * (i1 + 4 * j1), 3 * sizeof(double));
+        }
+    }
+}
+
+static void bern(int n, double t, double *B)
+{
+    double u = 1.0 - t;
+    B[0] = 1.0;
+    for (int r = 1; r <= n; ++r) {
+        double saved = 0.0;
+        for (int i = 0; i < r; ++i) {
+            double tmp = B[i];
+            B[i] = saved + u * tmp;
+            saved = t * tmp;
+        }
+        B[r] = saved;
+    }
+}
+
+/* position and unit normal (zero where du x dv vanishes) at parameter t along the side */
+static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
+{
+    int n = r->n;
+    double B[6], B1[6], T[3] = {0, 0, 0}, X[3] = {0, 0, 0};
+    bern(n, t, B);
+    bern(n - 1, t, B1);
+    x[0] = x[1] = x[2] = 0.0;
+    for (int j = 0; j <= n; ++j)
+        for (int c = 0; c < 3; ++c)
+            x[c] += B[j] * r->row0[j][c];
+    for (int j = 0; j < n; ++j)
+        for (int c = 0; c < 3; ++c)
+            T[c] += B1[j] * (r->row0[j + 1][c] - r->row0[j][c]);
+    if (r->kind == SK_SMOOTH_TRIANGLE) {
+        for (int j = 0; j < n; ++j)
+            for (int c = 0; c < 3; ++c)
+                X[c] += B1[j] * (r->row1[j][c] - r->row0[j][c]);
+    } else {
+        for (int j = 0; j <= n; ++j)
+            for (int c = 0; c < 3; ++c)
+                X[c] += B[j] * (r->row1[j][c] - r->row0[j][c]);
+    }
+    sk__cross3(nrm, T, X);
+    double len = sk__norm3(nrm);
+    if (len > 0.0)
+        sk__scale3(nrm, nrm, 1.0 / len);
+    else
+        nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
+static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_block *b)
+{
+    const sk_mesh *m = s->config;
+    memset(b, 0, sizeof *b);
+    b->worst = -1;
+    b->max_jump = -1.0;
+    for (long e = e0; e < e1; ++e) {
+        uint32_t h = (uint32_t)(2 * e), o = h + 1;
+        uint32_t f = m->h_face[h], g = m->h_face[o];
+        if (f == SK_INVALID || g == SK_INVALID)
+            continue;
+        ++b->nint;
+        side_rows rf, rg;
+        side_rows_of(s, f, side_of(m, f, h), &rf);
+        side_rows_of(s, g, side_of(m, g, o), &rg);
+        double local_max = 0.0;
+        for (unsigned i = 0; i <= K; ++i) {
+            double t = (double)i / K, x1[3], x2[3], n1[3], n2[3];
+            side_eval(&rf, t, x1, n1);
+            side_eval(&rg, 1.0 - t, x2, n2);
+            double gap = sk__dist3(x1, x2), jump = sk__angle3(n1, n2) * RAD2DEG;
+            if (sk__norm3(n1) == 0.0 || sk__norm3(n2) == 0.0)
+                jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
+            b->max_gap = b->max_gap > gap ? b->max_gap : gap;
+            b->sum_gap += gap;
+            b->sum_jump += jump;
+            local_max = local_max > jump ? local_max : jump;
+            ++b->nsamp;
+        }
+        if (local_max > b->max_jump) {
+            b->max_jump = local_max;
+            b->worst = e;
+        }
+    }
+}
+
+/* Interpolation errors at the corners of patch p and its regularity (sk__patch_regularity). */
+static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out)
+{
+    const sk_mesh *m = s->config;
+    const sk_smooth_patch *pa = s->patches + p;
+    for (int i = 0; i < pa->kind; ++i) {
+        double u, v, x[3], n[3];
+        corner_param(pa->kind, i, &u, &v);
+        sk_smooth_eval(s, p, u, v, x, NULL, NULL, n);
+        const double *V = m->positions + 3 * (size_t)pa->corners[i];
+        const double *N = s->normals + 3 * (size_t)pa->corners[i];
+        b->max_verr = fmax(b->max_verr, sk__dist3(x, V));
+        b->max_nerr = fmax(b->max_nerr, sk__norm3(n) == 0.0 ? 180.0 : sk__angle3(n, N) * RAD2DEG);
+    }
+    bool cone;
+    *singular_out = sk__patch_singular(s, p, &cone);
+    b->uncert += !cone;
+}
+
 sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
                                sk_continuity_report *rep, sk_error *err)
 {
@@ -62,44 +209,48 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     double tol_gap = opts && opts->max_gap > 0 ? opts->max_gap : 0.005;
     const sk_mesh *m = s->config;
     memset(rep, 0, sizeof *rep);
-    long ne = (long)sk_num_edges(m);
+    long ne = (long)sk_num_edges(m), np = (long)s->num_patches;
+    long neb = (ne + BLOCK - 1) / BLOCK, npb = (np + BLOCK - 1) / BLOCK;
+    edge_block *eb = sk__malloc_array((size_t)neb + 1, sizeof *eb);
+    patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);
+    uint8_t *singular = sk__malloc_array((size_t)np + 1, 1);
+    if (!eb || !pb || !singular) {
+        free(eb);
+        free(pb);
+        free(singular);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the continuity report");
+    }
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel
+#endif
+    {
+#ifdef SK_HAVE_OPENMP
+#pragma omp for schedule(dynamic, 1) nowait
+#endif
+        for (long k = 0; k < neb; ++k)
+            edge_range(s, K, k * BLOCK, k + 1 < neb ? (k + 1) * BLOCK : ne, eb + k);
+#ifdef SK_HAVE_OPENMP
+#pragma omp for schedule(dynamic, 1)
+#endif
+        for (long k = 0; k < npb; ++k) {
+            memset(pb + k, 0, sizeof pb[k]);
+            long p1 = k + 1 < npb ? (k + 1) * BLOCK : np;
+            for (long p = k * BLOCK; p < p1; ++p)
+                patch_check(s, (size_t)p, pb + k, singular + p);
+        }
+    }
     double max_gap = 0.0, sum_gap = 0.0, max_jump = 0.0, sum_jump = 0.0;
     size_t nint = 0, nsamp = 0;
     long worst = -1;
-#ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static) reduction(max : max_gap) \
-    reduction(+ : sum_gap, sum_jump, nint, nsamp)
-#endif
-    for (long e = 0; e < ne; ++e) {
-        uint32_t h = (uint32_t)(2 * e), o = h + 1;
-        uint32_t f = m->h_face[h], g = m->h_face[o];
-        if (f == SK_INVALID || g == SK_INVALID)
-            continue;
-        ++nint;
-        int sf = side_of(m, f, h), sg = side_of(m, g, o);
-        int kf = s->patches[f].kind, kg = s->patches[g].kind;
-        double local_max = 0.0;
-        for (unsigned i = 0; i <= K; ++i) {
-            double t = (double)i / K, u, v, x1[3], x2[3], n1[3], n2[3];
-            side_param(kf, sf, t, &u, &v);
-            sk_smooth_eval(s, f, u, v, x1, NULL, NULL, n1);
-            side_param(kg, sg, 1.0 - t, &u, &v);
-            sk_smooth_eval(s, g, u, v, x2, NULL, NULL, n2);
-            double gap = sk__dist3(x1, x2), jump = sk__angle3(n1, n2) * RAD2DEG;
-            if (sk__norm3(n1) == 0.0 || sk__norm3(n2) == 0.0)
-                jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
-            max_gap = fmax(max_gap, gap);
-            sum_gap += gap;
-            sum_jump += jump;
-            local_max = fmax(local_max, jump);
-            ++nsamp;
-        }
-#ifdef SK_HAVE_OPENMP
-#pragma omp critical(sk_cont_worst)
-#endif
-        if (local_max > max_jump) {
-            max_jump = local_max;
-            worst = e;
+    for (long k = 0; k < neb; ++k) {
+        max_gap = fmax(max_gap, eb[k].max_gap);
+        sum_gap += eb[k].sum_gap;
+        sum_jump += eb[k].sum_jump;
+        nint += eb[k].nint;
+        nsamp += eb[k].nsamp;
+        if (eb[k].worst >= 0 && eb[k].max_jump > max_jump) {
+            max_jump = eb[k].max_jump;
+            worst = eb[k].worst;
         }
     }
     rep->interior_edges = nint;
@@ -113,60 +264,23 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
         rep->worst_edge_vertices[0] = sk_from(m, (uint32_t)(2 * worst));
         rep->worst_edge_vertices[1] = sk_to(m, (uint32_t)(2 * worst));
     }
-
-    /* vertices and patch regularity */
-    long np = (long)s->num_patches;
     double max_verr = 0.0, max_nerr = 0.0;
     size_t uncert = 0;
-    unsigned G = 8; /* regularity sampling grid */
-#ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static) reduction(max : max_verr, max_nerr) reduction(+ : uncert)
-#endif
-    for (long p = 0; p < np; ++p) {
-        const sk_smooth_patch *pa = s->patches + p;
-        double ref[3] = {0, 0, 0};
-        for (int i = 0; i < pa->kind; ++i) {
-            double u, v, x[3], n[3];
-            corner_param(pa->kind, i, &u, &v);
-            sk_smooth_eval(s, (size_t)p, u, v, x, NULL, NULL, n);
-            const double *V = m->positions + 3 * (size_t)pa->corners[i];
-            const double *N = s->normals + 3 * (size_t)pa->corners[i];
-            max_verr = fmax(max_verr, sk__dist3(x, V));
-            max_nerr = fmax(max_nerr, sk__norm3(n) == 0.0 ? 180.0 : sk__angle3(n, N) * RAD2DEG);
-            sk__add3(ref, ref, N);
-        }
-        bool certified = sk__patch_cone_regular(s, (size_t)p);
-        uncert += !certified;
-        /* sampled check: vanishing normal or a normal turned away from the corner normals */
-        bool singular = false;
-        double scale = 0.0;
-        {
-            double du[3], dv[3];
-            sk_smooth_eval(s, (size_t)p, 1.0 / 3.0, 1.0 / 3.0, NULL, du, dv, NULL);
-            scale = sk__norm3(du) * sk__norm3(dv);
-        }
-        for (unsigned i = 0; i <= G && !singular; ++i)
-            for (unsigned j = 0; j <= G && !singular; ++j) {
-                if (pa->kind == SK_SMOOTH_TRIANGLE && i + j > G)
-                    continue;
-                double u = (double)i / G, v = (double)j / G, du[3], dv[3], c[3];
-                sk_smooth_eval(s, (size_t)p, u, v, NULL, du, dv, NULL);
-                sk__cross3(c, du, dv);
-                double len = sk__norm3(c);
-                if (!(len > 1e-10 * scale) || sk__dot3(c, ref) <= 0.0)
-                    singular = true;
-            }
-        if (singular) {
-#ifdef SK_HAVE_OPENMP
-#pragma omp critical(sk_cont_singular)
-#endif
-            {
-                if (rep->num_singular_examples < SK_CONTINUITY_EXAMPLES)
-                    rep->singular_examples[rep->num_singular_examples++] = (uint32_t)p;
-                rep->singular_patches++;
-            }
-        }
+    for (long k = 0; k < npb; ++k) {
+        max_verr = fmax(max_verr, pb[k].max_verr);
+        max_nerr = fmax(max_nerr, pb[k].max_nerr);
+        uncert += pb[k].uncert;
     }
+    for (long p = 0; p < np; ++p) {
+        if (!singular[p])
+            continue;
+        if (rep->num_singular_examples < SK_CONTINUITY_EXAMPLES)
+            rep->singular_examples[rep->num_singular_examples++] = (uint32_t)p;
+        rep->singular_patches++;
+    }
+    free(eb);
+    free(pb);
+    free(singular);
     rep->max_vertex_error = max_verr;
     rep->max_normal_error_deg = max_nerr;
     rep->uncertified_patches = uncert;

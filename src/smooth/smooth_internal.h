@@ -56,10 +56,22 @@ static inline size_t sk__patch_points(int kind, int degree)
     return kind == SK_SMOOTH_QUAD ? 16u : (size_t)((degree + 1) * (degree + 2) / 2);
 }
 
-/* Cone test of Ginkel, Peters, Umlauf (Lemma 3): true when the cone spanned by the cross products
- * of every u-difference with every v-difference of the control net excludes 0 (then the patch has
- * no singular point and its normals stay inside the cone). */
-bool sk__patch_cone_regular(const sk_smooth *s, size_t p);
+/* Regularity certificates of patch p from the cross products g_ij = du_i x dv_j of the u- and
+ * v-differences of its control net:
+ *  - cone_regular: the cone test of Ginkel, Peters, Umlauf (Lemma 3): the cone spanned by the g_ij
+ *    excludes 0 (then the patch has no singular point and its normals stay inside the cone);
+ *  - sampling_certified: every g_ij is non-zero with g_ij . ref > 0, with a margin that proves that
+ *    the sampled check of the continuity report (|du x dv| > 1e-10 scale and (du x dv) . ref > 0,
+ *    scale = |du| |dv| at the centre) passes at every parameter, so sampling can be skipped. */
+void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double scale,
+                       bool *cone_regular, bool *sampling_certified);
+
+/* The regularity test of the continuity report: true when patch p has a vanishing normal
+ * (|du x dv| <= 1e-10 |du| |dv| at the centre) or a normal turned away from the sum of its corner
+ * normals, found on a grid of 9 x 9 parameters (triangles: the 45 with u + v <= 1) unless the
+ * control net certifies it regular everywhere (sk__patch_certify). cone_regular (may be NULL):
+ * the Ginkel-Peters-Umlauf cone test. */
+bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
 
 /* PN triangles on the triangle mesh s->config with normals s->normals (fills patches/points). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);

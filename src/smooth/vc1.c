@@ -214,8 +214,44 @@ static double face_delta(const sk_mesh *m, uint32_t f)
     return sk__delta(sk_mesh_face_size(m, f));
 }
 
-/* Solves vertex v's system; returns 0 ok, 1 angle violation, 2 not converged, 3 too many edges. */
-static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
+/* Blends the directions of the targets orig (2D, counter-clockwise) towards an even spread by b
+ * in [0, 1], lengths kept, into out. */
+static void blend_targets(const double *orig, double *out, int n, int closed, double alpha,
+                          double b)
+{
+    double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], acc = 0.0;
+    for (int k = 0; k < n; ++k) {
+        len[k] = hypot(orig[2 * k], orig[2 * k + 1]);
+        double a = atan2(orig[2 * k + 1], orig[2 * k]);
+        if (k == 0) {
+            acc = a;
+        } else {
+            double prev = ang[k - 1], d = a - prev;
+            while (d <= 0.0)
+                d += 2.0 * M_PI;
+            while (d > 2.0 * M_PI)
+                d -= 2.0 * M_PI;
+            acc = prev + d;
+        }
+        ang[k] = acc;
+    }
+    double span = closed ? 2.0 * M_PI : ang[n - 1] - ang[0];
+    if (!closed && span >= M_PI * (n - 1) * (1.0 - 2.0 * alpha))
+        span = M_PI; /* a folded boundary fan: spread it over a half plane */
+    int steps = closed ? n : n - 1;
+    for (int k = 0; k < n; ++k) {
+        double even = ang[0] + span * k / steps;
+        double a = (1.0 - b) * ang[k] + b * even;
+        out[2 * k] = len[k] * cos(a);
+        out[2 * k + 1] = len[k] * sin(a);
+    }
+}
+
+/* Solves vertex v's system; returns 0 ok, 1 angle violation, 2 not converged, 3 too many edges.
+ * blend > 0 starts from targets blended by that much towards an even spread and lscale scales
+ * their lengths (the regularity repair's variations); 0 and 1 give the plain construction. Where
+ * the angle bounds fail, the targets are relaxed further (blend up to 1). */
+static int solve_vertex_ex(vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale)
 {
     const sk_mesh *m = W->m;
     uint32_t E[SK_VSYS_MAX];
@@ -227,12 +263,12 @@ static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
     tangent_basis(nv, e1, e2);
     sys->n_edges = n;
     sys->closed = closed;
-    sys->relaxed = 0;
+    sys->relaxed = blend > 0.0 || lscale != 1.0;
     for (int k = 0; k < n; ++k) {
         double d[3];
         sk__sub3(d, W->target + 3 * (size_t)E[k], V);
-        sys->pstar[2 * k] = sk__dot3(d, e1);
-        sys->pstar[2 * k + 1] = sk__dot3(d, e2);
+        sys->pstar[2 * k] = lscale * sk__dot3(d, e1);
+        sys->pstar[2 * k + 1] = lscale * sk__dot3(d, e2);
         uint32_t h = E[k];
         if (!sk_is_boundary_e(m, sk_edge(h))) {
             sys->du[k] = face_delta(m, m->h_face[h]);
@@ -243,50 +279,27 @@ static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
             sys->nu[k] = -1.0;
         }
     }
+    double orig[2 * SK_VSYS_MAX];
+    memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
+    if (blend > 0.0)
+        blend_targets(orig, sys->pstar, n, closed, W->alpha, blend);
     int ok = sk__vsys_solve(sys);
     double lo, hi;
     sk__vsys_angles(sys, &lo, &hi);
     int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
-    if (bad) {
-        /* relax the targets locally: blend their directions towards an even spread (lengths kept)
-         * until the solution meets the angle bounds */
-        double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], orig[2 * SK_VSYS_MAX];
-        memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
-        double acc = 0.0;
-        for (int k = 0; k < n; ++k) {
-            len[k] = hypot(orig[2 * k], orig[2 * k + 1]);
-            double a = atan2(orig[2 * k + 1], orig[2 * k]);
-            if (k == 0) {
-                acc = a;
-            } else {
-                double prev = ang[k - 1], d = a - prev;
-                while (d <= 0.0)
-                    d += 2.0 * M_PI;
-                while (d > 2.0 * M_PI)
-                    d -= 2.0 * M_PI;
-                acc = prev + d;
-            }
-            ang[k] = acc;
-        }
-        double span = closed ? 2.0 * M_PI : ang[n - 1] - ang[0];
-        if (!closed && span >= M_PI * (n - 1) * (1.0 - 2.0 * W->alpha))
-            span = M_PI; /* a folded boundary fan: spread it over a half plane */
-        int steps = closed ? n : n - 1;
-        for (int t = 1; t <= 4 && bad; ++t) {
-            double b = 0.25 * t;
-            for (int k = 0; k < n; ++k) {
-                double even = ang[0] + span * k / steps;
-                double a = (1.0 - b) * ang[k] + b * even;
-                sys->pstar[2 * k] = len[k] * cos(a);
-                sys->pstar[2 * k + 1] = len[k] * sin(a);
-            }
-            ok = sk__vsys_solve(sys);
-            sk__vsys_angles(sys, &lo, &hi);
-            bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
-        }
-        memcpy(sys->pstar, orig, sizeof(double) * (size_t)(2 * n));
+    /* relax the targets locally: blend their directions towards an even spread (lengths kept)
+     * until the solution meets the angle bounds */
+    for (int t = 1; t <= 4 && bad; ++t) {
+        double b = 0.25 * t;
+        if (b <= blend)
+            continue;
+        blend_targets(orig, sys->pstar, n, closed, W->alpha, b);
+        ok = sk__vsys_solve(sys);
+        sk__vsys_angles(sys, &lo, &hi);
+        bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
         sys->relaxed = 1;
     }
+    memcpy(sys->pstar, orig, sizeof(double) * (size_t)(2 * n));
     for (int k = 0; k < n; ++k) {
         uint32_t h = E[k];
         double *P = W->P + 3 * (size_t)h;
@@ -299,6 +312,11 @@ static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
     if (bad)
         return 1;
     return 0;
+}
+
+static int solve_vertex(vc1_work *W, uint32_t v, sk__vsys *sys)
+{
+    return solve_vertex_ex(W, v, sys, 0.0, 1.0);
 }
 
 /* "Natural" interior point of face(h) at from(h), used only to fix the free point of a boundary
@@ -443,6 +461,170 @@ static void assemble_patch(const vc1_work *W, uint32_t f, sk_smooth_patch *pa, d
     }
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Regularity repair. Every solution of the vertex systems (8) with the interior points of (4)
+ * gives a VC1 surface, so the free choices (here: the targets a vertex system is fitted to) can
+ * be spent on patch quality. For every corner vertex of a patch that the report's regularity test
+ * finds singular, the vertex system is re-solved with varied targets (directions blended towards
+ * an even spread, lengths scaled); the variant with the fewest singular patches among the faces
+ * whose control points it moves (the faces around the vertex and its neighbours) is kept if it
+ * has fewer than the plain construction. Sequential in vertex order: deterministic.
+ * ------------------------------------------------------------------------------------------- */
+
+static const double repair_variants[][2] = {
+    /* blend, length scale */
+    {0.25, 1.0}, {0.5, 1.0}, {1.0, 1.0}, {0.0, 0.75}, {0.0, 1.3}, {0.5, 0.75}, {0.5, 1.3},
+    {0.0, 0.55}, {0.0, 1.7}, {1.0, 0.7},
+};
+#define N_VARIANTS (sizeof repair_variants / sizeof repair_variants[0])
+
+/* faces around v and around its neighbours, deduplicated with the marks array (cleared after) */
+static size_t local_faces(const sk_mesh *m, uint32_t v, uint8_t *mark, uint32_t *faces,
+                          size_t cap, uint32_t *verts, size_t *nverts)
+{
+    size_t nf = 0, nvv = 0;
+    verts[nvv++] = v;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    do {
+        verts[nvv++] = sk_to(m, h);
+        h = sk_cw_out(m, h);
+    } while (h != h0 && nvv < SK_VSYS_MAX + 1);
+    for (size_t i = 0; i < nvv; ++i) {
+        uint32_t g0 = m->v_halfedge[verts[i]], g = g0;
+        do {
+            uint32_t f = m->h_face[g];
+            if (f != SK_INVALID && !mark[f] && nf < cap) {
+                mark[f] = 1;
+                faces[nf++] = f;
+            }
+            g = sk_cw_out(m, g);
+        } while (g != g0);
+    }
+    for (size_t i = 0; i < nf; ++i)
+        mark[faces[i]] = 0;
+    *nverts = nvv;
+    return nf;
+}
+
+static size_t rebuild_local(sk_smooth *s, vc1_work *W, const uint32_t *verts, size_t nverts,
+                            const uint32_t *faces, size_t nf)
+{
+    for (size_t i = 0; i < nverts; ++i)
+        interior_points(W, verts[i]);
+    size_t bad = 0;
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t f = faces[i];
+        assemble_patch(W, f, s->patches + f, s->points + 3 * (size_t)s->patches[f].first);
+        bad += sk__patch_singular(s, f, NULL);
+    }
+    return bad;
+}
+
+#define LOCAL_FACES 4096
+
+static sk_status repair_regularity(sk_smooth *s, vc1_work *W, uint8_t *status, sk_error *err)
+{
+    const sk_mesh *m = W->m;
+    size_t np = s->num_patches, nv = m->num_vertices;
+    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = calloc(nv + 1, 1), *mark = calloc(np + 1, 1);
+    uint32_t *faces = sk__malloc_array(LOCAL_FACES, sizeof *faces);
+    if (!sing || !cand || !mark || !faces) {
+        free(sing);
+        free(cand);
+        free(mark);
+        free(faces);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
+    }
+    long npl = (long)np;
+    size_t nsing = 0;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : nsing)
+#endif
+    for (long p = 0; p < npl; ++p) {
+        sing[p] = sk__patch_singular(s, (size_t)p, NULL);
+        nsing += sing[p];
+    }
+    s->stats.singular_before_repair = nsing;
+    for (size_t p = 0; p < np && nsing; ++p)
+        if (sing[p])
+            for (int i = 0; i < s->patches[p].kind; ++i)
+                cand[s->patches[p].corners[i]] = 1;
+    size_t repaired = 0;
+    for (int round = 0; round < 2 && nsing; ++round) {
+    if (round == 1) {
+        /* second round: the corners of the patches still singular and their neighbours */
+        memset(cand, 0, nv);
+        for (size_t p = 0; p < np; ++p)
+            if (sing[p])
+                for (int i = 0; i < s->patches[p].kind; ++i) {
+                    uint32_t c = s->patches[p].corners[i], h0 = m->v_halfedge[c], h = h0;
+                    cand[c] = 1;
+                    do {
+                        cand[sk_to(m, h)] = 1;
+                        h = sk_cw_out(m, h);
+                    } while (h != h0);
+                }
+    }
+    for (uint32_t v = 0; v < nv && nsing; ++v) {
+        if (!cand[v] || status[v] == 3)
+            continue;
+        uint32_t verts[SK_VSYS_MAX + 1];
+        size_t nverts;
+        size_t nf = local_faces(m, v, mark, faces, LOCAL_FACES, verts, &nverts);
+        size_t before = 0;
+        for (size_t i = 0; i < nf; ++i)
+            before += sing[faces[i]];
+        if (before == 0)
+            continue;
+        /* the plain solution of v, to restore */
+        uint32_t E[SK_VSYS_MAX];
+        int closed, n = ordered_edges(m, v, E, &closed);
+        double P0[3 * SK_VSYS_MAX], w0[SK_VSYS_MAX];
+        for (int k = 0; k < n; ++k) {
+            memcpy(P0 + 3 * k, W->P + 3 * (size_t)E[k], 3 * sizeof(double));
+            w0[k] = W->w1[E[k]];
+        }
+        size_t best = before;
+        int best_variant = -1, best_code = status[v];
+        sk__vsys sys;
+        for (int t = 0; t < (int)N_VARIANTS; ++t) {
+            int code = solve_vertex_ex(W, v, &sys, repair_variants[t][0], repair_variants[t][1]);
+            if (code > status[v] || code >= 2)
+                continue; /* never trade regularity for an angle violation or a failed system */
+            size_t after = rebuild_local(s, W, verts, nverts, faces, nf);
+            if (after < best) {
+                best = after;
+                best_variant = t;
+                best_code = code;
+            }
+        }
+        if (best_variant >= 0) {
+            solve_vertex_ex(W, v, &sys, repair_variants[best_variant][0],
+                            repair_variants[best_variant][1]);
+            status[v] = (uint8_t)best_code;
+            ++repaired;
+        } else {
+            for (int k = 0; k < n; ++k) {
+                memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
+                W->w1[E[k]] = w0[k];
+            }
+        }
+        rebuild_local(s, W, verts, nverts, faces, nf);
+        for (size_t i = 0; i < nf; ++i) {
+            uint8_t now = sk__patch_singular(s, faces[i], NULL);
+            nsing = nsing - sing[faces[i]] + now;
+            sing[faces[i]] = now;
+        }
+    }
+    }
+    s->stats.repaired_vertices = repaired;
+    free(sing);
+    free(cand);
+    free(mark);
+    free(faces);
+    return SK_OK;
+}
+
 static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
 {
     sk_mesh *m = s->config;
@@ -527,22 +709,6 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     s->stats.relaxed_vertices = relaxed;
     s->stats.max_residual = max_res;
     s->stats.mean_target_deviation = dev_n ? dev_sum / (double)dev_n : 0.0;
-    size_t nprob = 0;
-    for (size_t v = 0; v < nv; ++v) {
-        s->stats.angle_violations += status[v] == 1;
-        s->stats.failed_vertices += status[v] == 2;
-        nprob += status[v] != 0;
-    }
-    if (nprob) {
-        s->problems = sk__malloc_array(nprob, sizeof(uint32_t));
-        if (!s->problems) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
-        }
-        for (size_t v = 0; v < nv; ++v)
-            if (status[v])
-                s->problems[s->num_problems++] = (uint32_t)v;
-    }
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel for schedule(static)
 #endif
@@ -558,6 +724,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     for (uint32_t f = 0; f < nf; ++f)
         npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;
     s->points = sk__malloc_array(npts + 1, 3 * sizeof(double));
+    sk__huge_hint(s->points, (npts + 1) * 3 * sizeof(double));
     if (!s->patches || !s->points) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -575,6 +742,27 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     for (long f = 0; f < nfl; ++f)
         assemble_patch(&W, (uint32_t)f, s->patches + f, s->points + 3 * (size_t)s->patches[f].first);
     s->stats.seconds_patches = sk_seconds() - t1;
+    /* regularity repair (it re-solves vertex systems, so it counts as vertex-system time) */
+    double t2 = sk_seconds();
+    if ((st = repair_regularity(s, &W, status, err)) != SK_OK)
+        goto done;
+    s->stats.seconds_repair = sk_seconds() - t2;
+    size_t nprob = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        s->stats.angle_violations += status[v] == 1;
+        s->stats.failed_vertices += status[v] == 2;
+        nprob += status[v] != 0;
+    }
+    if (nprob) {
+        s->problems = sk__malloc_array(nprob, sizeof(uint32_t));
+        if (!s->problems) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        for (size_t v = 0; v < nv; ++v)
+            if (status[v])
+                s->problems[s->num_problems++] = (uint32_t)v;
+    }
 done:
     free(target);
     free(r);

@@ -27,7 +27,7 @@ static int cons_count(const sk__vsys *s) { return s->closed ? s->n_edges : s->n_
 static int cons_edge(const sk__vsys *s, int i) { return s->closed ? i : i + 1; }
 static int wrap(const sk__vsys *s, int j) { return (j + s->n_edges) % s->n_edges; }
 
-static double residual(const sk__vsys *s, const double *p, const double *w, double *c)
+static inline double residual(const sk__vsys *s, const double *p, const double *w, double *c)
 {
     int nc = cons_count(s);
     double mx = 0.0;
@@ -38,7 +38,7 @@ static double residual(const sk__vsys *s, const double *p, const double *w, doub
                        w[m] * p[2 * m + k];
             if (c)
                 c[2 * i + k] = v;
-            mx = fmax(mx, fabs(v));
+            mx = mx > fabs(v) ? mx : fabs(v);
         }
     }
     return mx;
@@ -46,11 +46,11 @@ static double residual(const sk__vsys *s, const double *p, const double *w, doub
 
 /* Cholesky of the n x n SPD (or semi-definite) matrix A in place (lower); pivots below
  * tol * max diagonal are dropped (their unknowns are set to 0 in the solve). */
-static void chol_skip(double *A, int n, unsigned char *drop)
+static inline void chol_skip(double *A, int n, unsigned char *drop)
 {
     double dmax = 0.0;
     for (int i = 0; i < n; ++i)
-        dmax = fmax(dmax, A[i * n + i]);
+        dmax = dmax > A[i * n + i] ? dmax : A[i * n + i];
     double tol = 1e-13 * dmax;
     for (int j = 0; j < n; ++j) {
         double d = A[j * n + j];
@@ -74,7 +74,7 @@ static void chol_skip(double *A, int n, unsigned char *drop)
     }
 }
 
-static void chol_solve(const double *L, int n, const unsigned char *drop, double *b)
+static inline void chol_solve(const double *L, int n, const unsigned char *drop, double *b)
 {
     for (int i = 0; i < n; ++i) {
         if (drop[i]) {
@@ -101,7 +101,7 @@ static void chol_solve(const double *L, int n, const unsigned char *drop, double
 /* coefficients of constraint i on the p's: p_{a} * ca + p_m * cm + p_b * cb (times I_2) */
 typedef struct { int a, m, b; double ca, cm, cb; } crow;
 
-static void rows(const sk__vsys *s, const double *w, crow *r, int nc)
+static inline void rows(const sk__vsys *s, const double *w, crow *r, int nc)
 {
     for (int i = 0; i < nc; ++i) {
         int m = cons_edge(s, i);
@@ -114,32 +114,42 @@ static void rows(const sk__vsys *s, const double *w, crow *r, int nc)
     }
 }
 
-/* One Gauss-Newton / SQP step by the Schur complement; returns the step size |dx|. */
-static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
+#define FMAX(a, b) ((a) > (b) ? (a) : (b))
+
+/* One Gauss-Newton / SQP step by the Schur complement; returns the step size |dx|. The kernel is
+ * inlined with constant sizes for the common closed stars (valence 3, 5, 7 after edge deletion),
+ * which lets the compiler unroll it; other stars use the generic instance. */
+static inline __attribute__((always_inline)) double schur_kernel(const sk__vsys *s, double *p,
+                                                                 double *w, double *mu,
+                                                                 const int n, const int nc)
 {
-    int n = s->n_edges, nc = cons_count(s), ns = 2 * nc;
+    const int ns = 2 * nc;
     double c[MAX_C], S[MAX_C * MAX_C], rhs[MAX_C], r[2 * SK_VSYS_MAX];
+    double J[SK_VSYS_MAX * SK_VSYS_MAX]; /* dense nc x n coefficients of the p's */
     unsigned char drop[MAX_C];
     crow cr[SK_VSYS_MAX];
     residual(s, p, w, c);
     rows(s, w, cr, nc);
     for (int j = 0; j < 2 * n; ++j)
         r[j] = s->pstar[j] - p[j];
-    /* S = Jp Jp^T + (1/eps) Jw Jw^T; both coordinates decouple in Jp Jp^T */
-    memset(S, 0, sizeof(double) * (size_t)(ns * ns));
     for (int i = 0; i < nc; ++i) {
-        int ii[3] = {cr[i].a, cr[i].m, cr[i].b};
-        double ci[3] = {cr[i].ca, cr[i].cm, cr[i].cb};
-        for (int k = 0; k < nc; ++k) {
-            int kk[3] = {cr[k].a, cr[k].m, cr[k].b};
-            double ck[3] = {cr[k].ca, cr[k].cm, cr[k].cb};
+        double *row = J + i * n;
+        for (int j = 0; j < n; ++j)
+            row[j] = 0.0;
+        row[cr[i].a] += cr[i].ca;
+        row[cr[i].m] += cr[i].cm;
+        row[cr[i].b] += cr[i].cb;
+    }
+    /* S = Jp Jp^T + (1/eps) Jw Jw^T; both coordinates decouple in Jp Jp^T */
+    for (int i = 0; i < nc; ++i) {
+        for (int k = 0; k <= i; ++k) {
             double v = 0.0;
-            for (int x = 0; x < 3; ++x)
-                for (int y = 0; y < 3; ++y)
-                    if (ii[x] == kk[y])
-                        v += ci[x] * ck[y];
-            S[(2 * i) * ns + 2 * k] = v;
-            S[(2 * i + 1) * ns + 2 * k + 1] = v;
+            for (int j = 0; j < n; ++j)
+                v += J[i * n + j] * J[k * n + j];
+            S[(2 * i) * ns + 2 * k] = S[(2 * k) * ns + 2 * i] = v;
+            S[(2 * i + 1) * ns + 2 * k + 1] = S[(2 * k + 1) * ns + 2 * i + 1] = v;
+            S[(2 * i) * ns + 2 * k + 1] = S[(2 * k + 1) * ns + 2 * i] = 0.0;
+            S[(2 * i + 1) * ns + 2 * k] = S[(2 * k) * ns + 2 * i + 1] = 0.0;
         }
         int m = cr[i].m;
         double px = p[2 * m], py = p[2 * m + 1];
@@ -157,7 +167,8 @@ static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
     memcpy(mu, rhs, sizeof(double) * (size_t)ns); /* the multipliers of the converged problem */
     /* dp = r - Jp^T lambda, dw_m = (1/eps) p_m . lambda_m */
     double dp[2 * SK_VSYS_MAX];
-    memcpy(dp, r, sizeof(double) * (size_t)(2 * n));
+    for (int j = 0; j < 2 * n; ++j)
+        dp[j] = r[j];
     double norm = 0.0;
     for (int i = 0; i < nc; ++i) {
         for (int k = 0; k < 2; ++k) {
@@ -169,13 +180,26 @@ static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
         int m = cr[i].m;
         double dw = (p[2 * m] * rhs[2 * i] + p[2 * m + 1] * rhs[2 * i + 1]) / EPS_W;
         w[m] += dw;
-        norm = fmax(norm, fabs(dw));
+        norm = FMAX(norm, fabs(dw));
     }
     for (int j = 0; j < 2 * n; ++j) {
         p[j] += dp[j];
-        norm = fmax(norm, fabs(dp[j]));
+        norm = FMAX(norm, fabs(dp[j]));
     }
     return norm;
+}
+
+static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
+{
+    if (s->closed) {
+        switch (s->n_edges) {
+        case 3: return schur_kernel(s, p, w, mu, 3, 3);
+        case 5: return schur_kernel(s, p, w, mu, 5, 5);
+        case 7: return schur_kernel(s, p, w, mu, 7, 7);
+        default: break;
+        }
+    }
+    return schur_kernel(s, p, w, mu, s->n_edges, cons_count(s));
 }
 
 /* The same step with LAPACKE_dgglse: minimise |A x - c| subject to B x = d, x = (dp, dw). */
@@ -324,13 +348,49 @@ static void initial_w(const sk__vsys *s, const double *p, double *w)
     }
 }
 
+/* Minimum-norm Gauss-Newton steps on c(p, w) = 0 alone (the targets moved onto the iterate each
+ * step), at most `max` of them; 0 when the constraints hold to rounding. On failure p, w are left
+ * at their values on entry. */
+static int project_n(const sk__vsys *s, double *p, double *w, int *iters, int max)
+{
+    int n = s->n_edges;
+    sk__vsys f;
+    f.n_edges = n;
+    f.closed = s->closed;
+    memcpy(f.du, s->du, sizeof(double) * (size_t)n);
+    memcpy(f.dd, s->dd, sizeof(double) * (size_t)n);
+    memcpy(f.nu, s->nu, sizeof(double) * (size_t)n);
+    double p0[2 * SK_VSYS_MAX], w0[SK_VSYS_MAX], mu[MAX_C];
+    memcpy(p0, p, sizeof(double) * (size_t)(2 * n));
+    memcpy(w0, w, sizeof(double) * (size_t)n);
+    for (int it = 0; it < max; ++it) {
+        memcpy(f.pstar, p, sizeof(double) * (size_t)(2 * n));
+        step_schur(&f, p, w, mu);
+        ++*iters;
+        double r2 = residual(s, p, w, NULL);
+        if (!isfinite(r2))
+            break;
+        if (r2 <= 1e-15)
+            return 0;
+    }
+    memcpy(p, p0, sizeof(double) * (size_t)(2 * n));
+    memcpy(w, w0, sizeof(double) * (size_t)n);
+    return -1;
+}
+
+static int project(const sk__vsys *s, double *p, double *w, int *iters)
+{
+    return project_n(s, p, w, iters, 4);
+}
+
+#define FINISH_DX 1e-3 /* step size (in units of the mean target length) that starts the finish */
 #define GN_FIRST 12 /* Gauss-Newton iterations before switching to Newton on the KKT system */
 
 static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters)
 {
     int n = s->n_edges, nc = cons_count(s);
     double mu[MAX_C];
-    int newton = 0;
+    int newton = 0, finish_tries = 0;
     for (int it = 0; it < MAX_ITER; ++it) {
         double dx;
         if (use_lapack) {
@@ -359,13 +419,19 @@ static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters
         }
         ++*iters;
         double r2 = residual(s, p, w, NULL);
-        if (getenv("SK_VSYS_DEBUG"))
-            fprintf(stderr, "it %d lapack %d newton %d res %.3e dx %.3e\n", it, use_lapack, newton, r2, dx);
         if (!isfinite(r2) || !isfinite(dx))
             return -1;
         /* converged: constraints exact and the step has settled (use_lapack: no step size) */
         if (r2 <= 1e-15 && (dx < 1e-8 || (use_lapack && it >= 3)))
             return 0;
+        /* near the optimum (steps below FINISH_DX of the target scale, so P is within about that
+         * of the least-squares optimum): finish with minimum-norm steps onto c = 0, which converge
+         * quadratically where the linear rate of Gauss-Newton would need many more iterations */
+        if (!use_lapack && dx < FINISH_DX && finish_tries < 2) {
+            ++finish_tries;
+            if (project(s, p, w, iters) == 0)
+                return 0;
+        }
     }
     return residual(s, p, w, NULL) <= RESIDUAL_OK ? 0 : -1;
 }

@@ -14,6 +14,7 @@
 #include <BRepCheck_Analyzer.hxx>
 #include <BRep_Tool.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -28,6 +29,7 @@
 #include <TopoDS_Face.hxx>
 #include <XSControl_WorkSession.hxx>
 #include <gp_Pnt.hxx>
+#include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
 
 #include <algorithm>
@@ -50,6 +52,7 @@ namespace {
 struct result {
     size_t faces = 0;
     double max_dev = 0.0, max_jump = 0.0;
+    size_t measured = 0, unmeasured = 0; /* normal-jump samples */
     size_t shared_edges = 0, components = 0, free_edges = 0;
     bool valid = false, load_ok = false;
 };
@@ -142,22 +145,48 @@ result check(const std::string &path, bool step, const std::vector<sk_patch> &te
         res.shared_edges++;
         TopoDS_Face f1 = TopoDS::Face(fl.First()), f2 = TopoDS::Face(fl.Last());
         parent[find(face_index[f1.TShape().get()])] = find(face_index[f2.TShape().get()]);
+        const TopoDS_Edge &edge = TopoDS::Edge(ef.FindKey(e));
         double first, last;
-        Handle(Geom_Curve) c = BRep_Tool::Curve(TopoDS::Edge(ef.FindKey(e)), first, last);
+        Handle(Geom_Curve) c = BRep_Tool::Curve(edge, first, last);
         if (c.IsNull())
             continue;
         Handle(Geom_Surface) s1 = BRep_Tool::Surface(f1), s2 = BRep_Tool::Surface(f2);
         for (int k = 1; k < 8; ++k) {
-            gp_Pnt p = c->Value(first + (last - first) * k / 8.0);
-            GeomAPI_ProjectPointOnSurf p1(p, s1), p2(p, s2);
-            if (!p1.NbPoints() || !p2.NbPoints())
+            double t = first + (last - first) * k / 8.0;
+            gp_Pnt p = c->Value(t);
+            /* (u, v) on each face: its pcurve of the edge, or else a projection; either must give
+             * the edge point back, or the sample is not measured (and counted) */
+            double uv[2][2];
+            bool ok = true;
+            const TopoDS_Face *fs[2] = {&f1, &f2};
+            Handle(Geom_Surface) ss[2] = {s1, s2};
+            for (int q = 0; q < 2 && ok; ++q) {
+                double a, b;
+                Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, *fs[q], a, b);
+                bool found = false;
+                if (!pc.IsNull()) {
+                    gp_Pnt2d w = pc->Value(BRep_Tool::SameParameter(edge) ? t : a + (b - a) * k / 8.0);
+                    uv[q][0] = w.X();
+                    uv[q][1] = w.Y();
+                    found = ss[q]->Value(uv[q][0], uv[q][1]).Distance(p) <= 1e-7 * size;
+                }
+                if (!found) {
+                    GeomAPI_ProjectPointOnSurf pr(p, ss[q]);
+                    if (pr.NbPoints() && pr.LowerDistance() <= 1e-7 * size) {
+                        pr.LowerDistanceParameters(uv[q][0], uv[q][1]);
+                        found = true;
+                    }
+                }
+                ok = found;
+            }
+            if (!ok) {
+                res.unmeasured++;
                 continue;
-            double u1, v1, u2, v2;
-            p1.LowerDistanceParameters(u1, v1);
-            p2.LowerDistanceParameters(u2, v2);
-            gp_Vec n1 = face_normal(f1, s1, u1, v1), n2 = face_normal(f2, s2, u2, v2);
+            }
+            gp_Vec n1 = face_normal(f1, s1, uv[0][0], uv[0][1]), n2 = face_normal(f2, s2, uv[1][0], uv[1][1]);
             double ang = std::atan2(n1.Crossed(n2).Magnitude(), n1.Dot(n2)) * 180.0 / M_PI;
             res.max_jump = std::max(res.max_jump, ang);
+            res.measured++;
         }
     }
     for (size_t i = 0; i < faces.size(); ++i)
@@ -233,6 +262,10 @@ int main(int argc, char **argv)
         if (!(r.max_dev <= 1e-9))
             bad.push_back("deviation " + std::to_string(r.max_dev));
         if (vr.step) {
+            if (r.unmeasured * 100 > r.measured + r.unmeasured) /* over 1%: no real measurement */
+                bad.push_back(std::to_string(r.unmeasured) + " of " +
+                              std::to_string(r.measured + r.unmeasured) +
+                              " edge samples could not be located on both faces");
             if (r.components != 1)
                 bad.push_back(std::to_string(r.components) + " connected pieces");
             if (closed && r.free_edges)

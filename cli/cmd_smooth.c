@@ -209,6 +209,9 @@ int cmd_smooth(int argc, char **argv)
     bool quiet = false, json = false, freeform = false;
     sk_smooth_opts so = {0};
     sk_export_opts eo = {0};
+    const cli_path_opt paths[] = {{"-o", &out}, {"--patches", &patches}, {"--layout", &layout},
+                                  {"--render", &render}, {"--report", &report}};
+    int took;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -224,6 +227,9 @@ int cmd_smooth(int argc, char **argv)
             so.estimate_normals = true;
         } else if (!strcmp(a, "--obj-freeform")) {
             freeform = true;
+        } else if ((took = cli_take_path(argc, argv, &i, "smooth", paths, 5)) != 0) {
+            if (took < 0)
+                return EXIT_USAGE;
         } else if (cli_opt_value(argc, argv, &i, "--units", &val)) {
             if (!val || !sk_export_units_known(val))
                 return cli_usage("smooth", "--units takes mm, cm, m, um, in or ft");
@@ -235,29 +241,9 @@ int cmd_smooth(int argc, char **argv)
                 eo.degenerate_triangles = true;
             else
                 return cli_usage("smooth", "--iges-triangles takes split or degenerate");
-        } else if (cli_opt_value(argc, argv, &i, "-o", &val)) {
-            if (!val)
-                return cli_usage("smooth", "-o needs a file name");
-            out = val;
         } else if (cli_opt_value(argc, argv, &i, "--tess", &val)) {
             if (!cli_parse_uint(val, &tess) || tess < 1 || tess > 64)
                 return cli_usage("smooth", "--tess takes a whole number from 1 to 64");
-        } else if (cli_opt_value(argc, argv, &i, "--patches", &val)) {
-            if (!val)
-                return cli_usage("smooth", "--patches needs a file name");
-            patches = val;
-        } else if (cli_opt_value(argc, argv, &i, "--layout", &val)) {
-            if (!val)
-                return cli_usage("smooth", "--layout needs a file name");
-            layout = val;
-        } else if (cli_opt_value(argc, argv, &i, "--render", &val)) {
-            if (!val)
-                return cli_usage("smooth", "--render needs a file name");
-            render = val;
-        } else if (cli_opt_value(argc, argv, &i, "--report", &val)) {
-            if (!val)
-                return cli_usage("smooth", "--report needs a file name");
-            report = val;
         } else if (cli_opt_value(argc, argv, &i, "--normals", &val)) {
             int mth = sk_normal_method_from_name(val);
             if (mth < 0)

@@ -3,6 +3,7 @@
 #include "surfkit/bezier.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "smooth/smooth_internal.h"
 
 #include <lapacke.h>
 #include <string.h>
@@ -69,7 +70,7 @@ static void tri_eval(const double *cp, unsigned n, double v, double w, double pt
 }
 
 /* Bernstein basis B_i^n(t), i = 0..n, and the derivatives dB_i^n/dt (dB may be NULL). */
-static void bernstein_d(unsigned n, double t, double *B, double *dB)
+void sk__bernstein(unsigned n, double t, double *B, double *dB)
 {
     double s = 1.0 - t;
     B[0] = 1.0;
@@ -96,8 +97,8 @@ static void tensor_eval(const double *cp, unsigned du, unsigned dv, double s, do
 {
     double Bs[SK_PATCH_MAX_DEGREE + 1], dBs[SK_PATCH_MAX_DEGREE + 1];
     double Bt[SK_PATCH_MAX_DEGREE + 1], dBt[SK_PATCH_MAX_DEGREE + 1];
-    bernstein_d(du, s, Bs, dBs);
-    bernstein_d(dv, t, Bt, dBt);
+    sk__bernstein(du, s, Bs, dBs);
+    sk__bernstein(dv, t, Bt, dBt);
     double P[3] = {0, 0, 0}, S[3] = {0, 0, 0}, T[3] = {0, 0, 0};
     for (unsigned j = 0; j <= dv; ++j) {
         const double *row = cp + 3 * j * (du + 1);
@@ -185,21 +186,6 @@ void sk_patch_edge_point(const sk_patch *p, unsigned c, double t, double pt[3])
     curve_eval(cp, n, t, pt, NULL);
 }
 
-/* Bernstein basis B_i^n(t), i = 0..n. */
-static void bernstein(unsigned n, double t, double *B)
-{
-    B[0] = 1.0;
-    for (unsigned r = 1; r <= n; ++r) {
-        double saved = 0.0;
-        for (unsigned i = 0; i < r; ++i) {
-            double tmp = B[i];
-            B[i] = saved + (1.0 - t) * tmp;
-            saved = t * tmp;
-        }
-        B[r] = saved;
-    }
-}
-
 /* Tensor patch of degree n x n equal to tri o X, where X maps (s, t) bilinearly onto the domain
  * quadrilateral with barycentric corners q[0..3] (order (0,0), (1,0), (1,1), (0,1)). The
  * composition has degree n in s and in t, so interpolating it at (n+1)^2 grid points is exact. */
@@ -212,7 +198,7 @@ static sk_status compose_bilinear(const sk_patch *tri, double q[4][3], sk_patch 
     lapack_int ipiv[SK_PATCH_MAX_DEGREE + 1];
     for (unsigned a = 0; a < m; ++a) { /* M[a][i] = B_i(a / n), row-major */
         double B[SK_PATCH_MAX_DEGREE + 1];
-        bernstein(n, n ? (double)a / n : 0.0, B);
+        sk__bernstein(n, n ? (double)a / n : 0.0, B, NULL);
         for (unsigned i = 0; i < m; ++i)
             M[a * m + i] = B[i];
     }

@@ -98,28 +98,13 @@ static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
     }
 }
 
-static void bern(int n, double t, double *B)
-{
-    double u = 1.0 - t;
-    B[0] = 1.0;
-    for (int r = 1; r <= n; ++r) {
-        double saved = 0.0;
-        for (int i = 0; i < r; ++i) {
-            double tmp = B[i];
-            B[i] = saved + u * tmp;
-            saved = t * tmp;
-        }
-        B[r] = saved;
-    }
-}
-
 /* position and unit normal (zero where du x dv vanishes) at parameter t along the side */
 static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
 {
     int n = r->n;
     double B[6], B1[6], T[3] = {0, 0, 0}, X[3] = {0, 0, 0};
-    bern(n, t, B);
-    bern(n - 1, t, B1);
+    sk__bernstein((unsigned)n, t, B, NULL);
+    sk__bernstein((unsigned)(n - 1), t, B1, NULL);
     x[0] = x[1] = x[2] = 0.0;
     for (int j = 0; j <= n; ++j)
         for (int c = 0; c < 3; ++c)

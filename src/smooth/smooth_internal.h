@@ -50,6 +50,10 @@ int sk__vsys_solve(sk__vsys *s);
 void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
 
 /* Control point storage of one patch. */
+/* Bernstein basis B_i^n(t), i = 0..n, into B, and dB_i^n/dt into dB unless it is NULL
+ * (bezier.c). */
+void sk__bernstein(unsigned n, double t, double *B, double *dB);
+
 static inline size_t sk__tri_index(int n, int j, int k) { return (size_t)(k * (n + 1) - k * (k - 1) / 2 + j); }
 static inline size_t sk__patch_points(int kind, int degree)
 {

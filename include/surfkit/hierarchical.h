@@ -36,6 +36,13 @@ typedef struct sk_hparam_opts {
     sk_hierarchy_opts hierarchy; /* seed is taken from above; zero = defaults */
     sk_progress_fn progress;
     void *progress_user;
+    /* Global steps (sk_mips_opts.global_steps): a level with at most global_max_vertices
+     * vertices starts with global_steps global steps, each followed by sweeps_per_global local
+     * sweeps, before the schedule's sweeps; the coarse levels then carry the low frequencies
+     * that local steps are slow to move. */
+    size_t global_steps;        /* per level; 0 = 4; (size_t)-1 = none (the paper's method) */
+    size_t global_max_vertices; /* 0 = 150000 */
+    size_t sweeps_per_global;   /* 0 = 2 */
 } sk_hparam_opts;
 
 typedef struct sk_hparam_level {
@@ -44,6 +51,8 @@ typedef struct sk_hparam_level {
     size_t repaired;       /* inserted vertices moved into the kernel of their one ring */
     double energy;         /* MIPS sum after optimization on this level */
     double seconds;
+    size_t global_steps;   /* global steps on this level */
+    double global_seconds;
 } sk_hparam_level;
 
 typedef struct sk_hparam_stats {

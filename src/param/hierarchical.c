@@ -111,11 +111,23 @@ static long repair(const sk_mesh *m, double *uv)
     long moved = 0;
     for (int round = 0; round < 8; ++round) {
         size_t bad = 0;
-        for (uint32_t v = 0; v < m->num_vertices; ++v) {
-            if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || ring_ok(m, uv, v, uv + 2 * (size_t)v))
+        /* a scan over the faces (sequential memory); only the vertices of a face that fails the
+         * margin somewhere get the one-ring test and, if needed, the move */
+        for (uint32_t f = 0; f < m->num_faces; ++f) {
+            if (m->f_deleted[f])
                 continue;
-            bad++;
-            moved += move_into_kernel(m, uv, v);
+            uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];
+            uint32_t w[3] = {sk_from(m, h), sk_from(m, hb), sk_from(m, hc)};
+            const double *q[3] = {uv + 2 * (size_t)w[0], uv + 2 * (size_t)w[1], uv + 2 * (size_t)w[2]};
+            if (sk__mips_corner_ok(q[0], q[1], q[2]) && sk__mips_corner_ok(q[1], q[2], q[0]) &&
+                sk__mips_corner_ok(q[2], q[0], q[1]))
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))
+                    continue;
+                bad++;
+                moved += move_into_kernel(m, uv, w[k]);
+            }
         }
         if (!bad)
             return moved;
@@ -164,6 +176,9 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     double work = o.level_work > 0.0 ? o.level_work : 5.0;
     double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
     bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
+    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 4;
+    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 150000;
+    size_t gsweeps = o.sweeps_per_global ? o.sweeps_per_global : 2;
     double t0 = now();
     sk_hparam_stats s;
     memset(&s, 0, sizeof s);
@@ -275,6 +290,12 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             mo.max_sweeps = o.finest_sweeps;
         mo.tolerance = tol;
         mo.seed = o.seed + l;
+        if (gsteps && nv <= gmax) {
+            mo.global_steps = gsteps;
+            mo.sweeps_per_global = gsweeps;
+            if (mo.max_sweeps < gsteps * gsweeps)
+                mo.max_sweeps = gsteps * gsweeps;
+        }
         sk_mips_stats ms = {0};
         if (o.max_steps && s.steps >= o.max_steps) { /* budget spent: only measure */
             size_t inv = 0;
@@ -290,6 +311,8 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         lv->steps = ms.steps;
         lv->sweeps = ms.sweeps;
         lv->energy = ms.energy;
+        lv->global_steps = ms.global_steps;
+        lv->global_seconds = ms.global_seconds;
         s.steps += ms.steps;
         lv->seconds = now() - tl;
         if ((st = sk__progress(o.progress, o.progress_user, (double)(l + 1) / (double)L, err)))

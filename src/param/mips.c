@@ -19,6 +19,7 @@
 #define SK__MIPS_MAX_COLORS 64
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -80,16 +81,19 @@ static sk_status ctx_init(mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk
         const double *p[3];
         for (int k = 0; k < 3; ++k)
             p[k] = m->positions + 3 * (size_t)c->tri[3 * t + k];
-        for (int k = 0; k < 3; ++k) {
-            double e1[3], e2[3], x[3];
-            sk__sub3(e1, p[(k + 1) % 3], p[k]);
-            sk__sub3(e2, p[(k + 2) % 3], p[k]);
-            sk__cross3(x, e1, e2);
-            double s = sk__norm3(x);
-            if (!(s > 1e-14 * sk__dot3(e1, e1) + 1e-300) || !(s > 1e-14 * sk__dot3(e2, e2)))
-                goto degenerate;
-            c->cot[3 * t + k] = sk__dot3(e1, e2) / s;
-        }
+        /* one normal per triangle: cot at corner k = (e1 . e2) / |e1 x e2| with the same
+         * |e1 x e2| = 2A at every corner */
+        double e[3][3], x[3]; /* e[k] = p[k+1] - p[k] */
+        for (int k = 0; k < 3; ++k)
+            sk__sub3(e[k], p[(k + 1) % 3], p[k]);
+        sk__cross3(x, e[0], e[2]);
+        double s = sk__norm3(x), lmax = 0.0;
+        for (int k = 0; k < 3; ++k)
+            lmax = fmax(lmax, sk__dot3(e[k], e[k]));
+        if (!(s > 1e-14 * lmax + 1e-300))
+            goto degenerate;
+        for (int k = 0; k < 3; ++k) /* corner k: edges e[k] and -e[k+2] */
+            c->cot[3 * t + k] = -sk__dot3(e[k], e[(k + 2) % 3]) / s;
         for (int k = 0; k < 3; ++k)
             c->vt_start[c->tri[3 * t + k] + 1]++;
         ++t;
@@ -242,10 +246,13 @@ static double total_energy(const mips_ctx *c, const double *uv, size_t *inverted
 #define SK__MIPS_GLOBAL_MU 0.02
 
 typedef struct mips_global {
+    bool scalar;  /* the n x n model without the area coupling, same matrix for u and v */
+    bool frozen;  /* factorize once, at the first step (the model at the start of the level) */
+    bool factored;
     sk_sparse *P;
     sk_solver *solver;
     uint32_t *nb_start, *nb; /* per vertex: sorted movable neighbours w > v */
-    double *g, *d, *x0;
+    double *g, *d, *x0, *tmp;
 } mips_global;
 
 static void global_free(mips_global *G)
@@ -257,6 +264,7 @@ static void global_free(mips_global *G)
     free(G->g);
     free(G->d);
     free(G->x0);
+    free(G->tmp);
     memset(G, 0, sizeof *G);
 }
 
@@ -269,17 +277,21 @@ static int cmp_u32(const void *a, const void *b)
 /* Pattern of the lower triangle: column 2v has rows 2v, 2v+1, then 2w, 2w+1 for each movable
  * neighbour w > v; column 2v+1 has rows 2v+1, then 2w, 2w+1. Non-movable vertices get identity
  * columns (their direction is zero). */
-static sk_status global_init(mips_global *G, const mips_ctx *c, sk_error *err)
+static sk_status global_init(mips_global *G, const mips_ctx *c, bool scalar, bool frozen,
+                             sk_error *err)
 {
     memset(G, 0, sizeof *G);
+    G->scalar = scalar;
+    G->frozen = frozen;
     size_t nv = c->nv, n2 = 2 * nv;
     G->nb_start = sk__calloc_array(nv + 1, sizeof(uint32_t));
     G->nb = sk__malloc_array(c->vt_start[nv] * 2 + 1, sizeof(uint32_t));
     G->g = sk__malloc_array(n2 + 1, sizeof(double));
     G->d = sk__malloc_array(n2 + 1, sizeof(double));
     G->x0 = sk__malloc_array(n2 + 1, sizeof(double));
+    G->tmp = sk__malloc_array(2 * n2 + 1, sizeof(double));
     G->P = calloc(1, sizeof *G->P);
-    if (!G->nb_start || !G->nb || !G->g || !G->d || !G->x0 || !G->P)
+    if (!G->nb_start || !G->nb || !G->g || !G->d || !G->x0 || !G->tmp || !G->P)
         goto nomem;
     size_t fill = 0;
     for (size_t v = 0; v < nv; ++v) {
@@ -300,8 +312,26 @@ static sk_status global_init(mips_global *G, const mips_ctx *c, sk_error *err)
         G->nb_start[v + 1] = (uint32_t)fill;
     }
     sk_sparse *P = G->P;
-    P->n = n2;
     P->storage = SK_SPARSE_LOWER;
+    if (scalar) {
+        P->n = nv;
+        P->nnz = nv + (size_t)fill;
+        P->colptr = sk__malloc_array(nv + 1, sizeof(int));
+        P->rowind = sk__malloc_array(P->nnz, sizeof(int));
+        P->values = sk__calloc_array(P->nnz, sizeof(double));
+        if (!P->colptr || !P->rowind || !P->values)
+            goto nomem;
+        size_t k = 0;
+        for (size_t v = 0; v < nv; ++v) {
+            P->colptr[v] = (int)k;
+            P->rowind[k++] = (int)v;
+            for (uint32_t i = G->nb_start[v]; i < G->nb_start[v + 1]; ++i)
+                P->rowind[k++] = (int)G->nb[i];
+        }
+        P->colptr[nv] = (int)k;
+        return sk_solver_create(P, SK_SOLVER_CHOLESKY, &G->solver, err);
+    }
+    P->n = n2;
     P->nnz = 3 * nv + 4 * (size_t)fill;
     P->colptr = sk__malloc_array(n2 + 1, sizeof(int));
     P->rowind = sk__malloc_array(P->nnz, sizeof(int));
@@ -343,10 +373,13 @@ static void global_assemble(mips_global *G, const mips_ctx *c, const double *uv)
 #endif
     for (long vl = 0; vl < nv; ++vl) {
         uint32_t v = (uint32_t)vl;
-        double *cu = P->values + P->colptr[2 * v], *cv = P->values + P->colptr[2 * v + 1];
         uint32_t a = G->nb_start[v], b = G->nb_start[v + 1], m = b - a;
-        memset(cu, 0, (2 + 2 * m) * sizeof(double));
-        memset(cv, 0, (1 + 2 * m) * sizeof(double));
+        bool sc = G->scalar;
+        double *cu = P->values + P->colptr[sc ? v : 2 * v];
+        double *cv = sc ? cu : P->values + P->colptr[2 * v + 1];
+        memset(cu, 0, (sc ? 1 + m : 2 + 2 * m) * sizeof(double));
+        if (!sc)
+            memset(cv, 0, (1 + 2 * m) * sizeof(double));
         double *g = G->g + 2 * v;
         if (!c->movable[v]) {
             cu[0] = cv[0] = 1.0;
@@ -363,7 +396,8 @@ static void global_assemble(mips_global *G, const mips_ctx *c, const double *uv)
             double w = 1.0 / bt, s = 2.0 * (1.0 + mu) * w;
             /* diagonal block: 2(1+mu) w K[0][0] I */
             cu[0] += s * (r->cj + r->ck);
-            cv[0] += s * (r->cj + r->ck);
+            if (!sc)
+                cv[0] += s * (r->cj + r->ck);
             uint32_t nbr[2] = {r->j, r->k};
             double kk[2] = {-r->ck, -r->cj};   /* K[j][v], K[k][v] */
             double hb[2] = {2.0 * w, -2.0 * w}; /* P[u_r][v_v] for r = j, k; P[v_r][u_v] = -that */
@@ -380,6 +414,10 @@ static void global_assemble(mips_global *G, const mips_ctx *c, const double *uv)
                         hi = mid;
                 }
                 uint32_t p = lo - a;
+                if (sc) {
+                    cu[1 + p] += s * kk[q];
+                    continue;
+                }
                 cu[2 + 2 * p] += s * kk[q];     /* P[u_w][u_v] */
                 cu[2 + 2 * p + 1] -= hb[q];     /* P[v_w][u_v] */
                 cv[1 + 2 * p] += hb[q];         /* P[u_w][v_v] */
@@ -389,7 +427,8 @@ static void global_assemble(mips_global *G, const mips_ctx *c, const double *uv)
         /* translations are P's null space (free boundary): a tiny ridge keeps it definite; the
          * gradient has no component there */
         cu[0] *= 1.0 + 1e-10;
-        cv[0] *= 1.0 + 1e-10;
+        if (!sc)
+            cv[0] *= 1.0 + 1e-10;
     }
 }
 
@@ -462,13 +501,33 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
                           sk_status *st, sk_error *err)
 {
     size_t n2 = 2 * c->nv;
-    global_assemble(G, c, uv);
-    if ((*st = sk_solver_factorize(G->solver, G->P, err)))
-        return e0;
+    double T0 = sk_seconds();
+    global_assemble(G, c, uv); /* (the values are only used when factorizing) */
+    double T1 = sk_seconds();
+    if (!G->frozen || !G->factored) {
+        if ((*st = sk_solver_factorize(G->solver, G->P, err)))
+            return e0;
+        G->factored = true;
+    }
+    double T2 = sk_seconds();
+    if (getenv("SKDBG")) fprintf(stderr, "asm %.3f fac %.3f\n", T1 - T0, T2 - T1);
     for (size_t i = 0; i < n2; ++i)
         G->g[i] = -G->g[i];
-    if ((*st = sk_solver_solve(G->solver, 1, G->g, G->d, err)))
+    if (G->scalar) { /* two right-hand sides: u then v */
+        size_t nv = c->nv;
+        for (size_t v = 0; v < nv; ++v) {
+            G->tmp[v] = G->g[2 * v];
+            G->tmp[nv + v] = G->g[2 * v + 1];
+        }
+        if ((*st = sk_solver_solve(G->solver, 2, G->tmp, G->tmp + n2, err)))
+            return e0;
+        for (size_t v = 0; v < nv; ++v) {
+            G->d[2 * v] = G->tmp[n2 + v];
+            G->d[2 * v + 1] = G->tmp[n2 + nv + v];
+        }
+    } else if ((*st = sk_solver_solve(G->solver, 1, G->g, G->d, err))) {
         return e0;
+    }
     double slope = 0.0;
     for (size_t i = 0; i < n2; ++i)
         slope -= G->g[i] * G->d[i]; /* g holds -grad */
@@ -480,8 +539,10 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
         for (size_t i = 0; i < n2; ++i)
             uv[i] = G->x0[i] + t * G->d[i];
         double e = total_energy_strict(c, uv);
-        if (e <= e0 + 1e-4 * t * slope)
+        if (e <= e0 + 1e-4 * t * slope) {
+            if (getenv("SKDBG")) fprintf(stderr, "rest %.3f t %g it %d\n", sk_seconds() - T2, t, it);
             return e;
+        }
     }
     memcpy(uv, G->x0, n2 * sizeof(double));
     return e0;
@@ -574,7 +635,9 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     bool use_global = o.global_steps > 0 && n > 0;
     if (use_global) {
         double tg = sk_seconds();
-        if ((st = global_init(&G, &c, err))) {
+        st = global_init(&G, &c, getenv("SKSCALAR") != NULL, getenv("SKUNFROZEN") == NULL, err);
+        if (getenv("SKDBG")) fprintf(stderr, "init %.3f\n", sk_seconds() - tg);
+        if (st) {
             free(color);
             free(order);
             ctx_free(&c);

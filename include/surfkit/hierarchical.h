@@ -40,16 +40,20 @@ typedef struct sk_hparam_opts {
      * vertices starts with global_steps global steps, each followed by sweeps_per_global local
      * sweeps, before the schedule's sweeps; the coarse levels then carry the low frequencies
      * that local steps are slow to move. */
-    size_t global_steps;        /* per level; 0 = 4; (size_t)-1 = none (the paper's method) */
-    size_t global_max_vertices; /* 0 = 150000 */
+    size_t global_steps;        /* per level; 0 = 6; (size_t)-1 = none (the paper's method) */
+    size_t global_max_vertices; /* 0 = 40000 (a factorization there takes ~0.1 s) */
     size_t sweeps_per_global;   /* 0 = 2 */
+    /* A level above global_max_vertices (and not the input) is optimized only when it has at
+     * least min_growth times the vertices of the last optimized level; the others only get the
+     * insertion and the repair (their energy is reported as NaN). 0 = 2; 1 = every level. */
+    double min_growth;
 } sk_hparam_opts;
 
 typedef struct sk_hparam_level {
     size_t vertices, faces;
     size_t steps, sweeps;
     size_t repaired;       /* inserted vertices moved into the kernel of their one ring */
-    double energy;         /* MIPS sum after optimization on this level */
+    double energy;         /* MIPS sum after optimization on this level (NaN: not optimized) */
     double seconds;
     size_t global_steps;   /* global steps on this level */
     double global_seconds;

@@ -176,9 +176,11 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     double work = o.level_work > 0.0 ? o.level_work : 5.0;
     double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
     bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
-    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 4;
-    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 150000;
+    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 6;
+    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 40000;
     size_t gsweeps = o.sweeps_per_global ? o.sweeps_per_global : 2;
+    double growth = o.min_growth > 0.0 ? o.min_growth : 2.0;
+    size_t last_opt = 0;
     double t0 = now();
     sk_hparam_stats s;
     memset(&s, 0, sizeof s);
@@ -297,7 +299,10 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
                 mo.max_sweeps = gsteps * gsweeps;
         }
         sk_mips_stats ms = {0};
-        if (o.max_steps && s.steps >= o.max_steps) { /* budget spent: only measure */
+        bool skip = l + 1 < L && nv > gmax && last_opt && (double)nv < growth * (double)last_opt;
+        if (skip) { /* insertion and repair only: optimized with the next levels */
+            ms.energy = NAN;
+        } else if (o.max_steps && s.steps >= o.max_steps) { /* budget spent: only measure */
             size_t inv = 0;
             if ((st = sk_mips_energy(m, cur, &ms.energy, &inv, err)))
                 goto done;
@@ -306,6 +311,8 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             if ((st = sk_param_mips(m, &mo, cur, &ms, err)))
                 goto done;
         }
+        if (!skip)
+            last_opt = nv;
         lv->vertices = nv;
         lv->faces = m->num_faces;
         lv->steps = ms.steps;

@@ -671,7 +671,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
                 budget_left = false;
             }
             double d = 0.0;
-            bool par = !(serial_last && col == SK__MIPS_MAX_COLORS - 1) && hi - lo > 2048;
+            bool par = !(serial_last && col == SK__MIPS_MAX_COLORS - 1) && hi - lo > 32768;
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(static) reduction(+ : d) if (par)
 #endif

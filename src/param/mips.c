@@ -19,7 +19,6 @@
 #define SK__MIPS_MAX_COLORS 64
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -501,16 +500,12 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
                           sk_status *st, sk_error *err)
 {
     size_t n2 = 2 * c->nv;
-    double T0 = sk_seconds();
     global_assemble(G, c, uv); /* (the values are only used when factorizing) */
-    double T1 = sk_seconds();
     if (!G->frozen || !G->factored) {
         if ((*st = sk_solver_factorize(G->solver, G->P, err)))
             return e0;
         G->factored = true;
     }
-    double T2 = sk_seconds();
-    if (getenv("SKDBG")) fprintf(stderr, "asm %.3f fac %.3f\n", T1 - T0, T2 - T1);
     for (size_t i = 0; i < n2; ++i)
         G->g[i] = -G->g[i];
     if (G->scalar) { /* two right-hand sides: u then v */
@@ -539,10 +534,8 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
         for (size_t i = 0; i < n2; ++i)
             uv[i] = G->x0[i] + t * G->d[i];
         double e = total_energy_strict(c, uv);
-        if (e <= e0 + 1e-4 * t * slope) {
-            if (getenv("SKDBG")) fprintf(stderr, "rest %.3f t %g it %d\n", sk_seconds() - T2, t, it);
+        if (e <= e0 + 1e-4 * t * slope)
             return e;
-        }
     }
     memcpy(uv, G->x0, n2 * sizeof(double));
     return e0;
@@ -635,8 +628,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     bool use_global = o.global_steps > 0 && n > 0;
     if (use_global) {
         double tg = sk_seconds();
-        st = global_init(&G, &c, getenv("SKSCALAR") != NULL, getenv("SKUNFROZEN") == NULL, err);
-        if (getenv("SKDBG")) fprintf(stderr, "init %.3f\n", sk_seconds() - tg);
+        st = global_init(&G, &c, false, true, err);
         if (st) {
             free(color);
             free(order);

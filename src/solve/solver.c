@@ -6,7 +6,6 @@
 #include "core/internal.h"
 
 #include <cholmod.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <umfpack.h>
@@ -103,8 +102,6 @@ sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **
         s->cc_started = true;
         s->cc.print = 0;
         s->cc.error_handler = NULL;
-        if (getenv("SKSIMP")) s->cc.supernodal = CHOLMOD_SIMPLICIAL;
-        if (getenv("SKAMD")) { s->cc.nmethods = 1; s->cc.method[0].ordering = CHOLMOD_AMD; s->cc.postorder = 1; }
         cholmod_sparse A = cholmod_view(a);
         s->L = cholmod_analyze(&A, &s->cc);
         if (!s->L || s->cc.status < 0) {
@@ -114,7 +111,6 @@ sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **
             goto done;
         }
         s->stats.factor_nnz = (size_t)s->cc.lnz;
-        if (getenv("SKDBG")) fprintf(stderr, "n %zu nnz %zu lnz %.0f fl %.3g\n", a->n, a->nnz, s->cc.lnz, s->cc.fl);
     } else {
         size_t nnz = a->nnz;
         s->ap = sk__malloc_array(a->n + 1, sizeof(int));

@@ -637,6 +637,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         }
         s.global_seconds += sk_seconds() - tg;
     }
+    double block_start = s.energy;
     for (size_t sweep = 0; sweep < max_sweeps && n && budget_left; ++sweep) {
         double gdrop = 0.0;
         if (use_global && s.global_steps < o.global_steps && sweep % per_global == 0) {
@@ -674,12 +675,18 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
             s.steps += (size_t)(hi - lo);
         }
         s.sweeps++;
-        double before = s.energy + gdrop;
+        if (sweep % per_global == 0)
+            block_start = s.energy + gdrop;
         s.energy -= drop;
-        drop += gdrop;
         if ((st = sk__progress(o.progress, o.progress_user, (double)(sweep + 1) / max_sweeps, err)))
             break;
-        if (tol > 0.0 && drop < tol * before)
+        /* stopping rule over a block (a global step and its sweeps while global steps remain,
+         * else one sweep) */
+        bool block_end = !(use_global && s.global_steps < o.global_steps) ||
+                         (sweep + 1) % per_global == 0;
+        if (!(use_global && s.global_steps < o.global_steps))
+            block_start = s.energy + drop;
+        if (tol > 0.0 && block_end && block_start - s.energy < tol * block_start)
             break;
     }
     free(color);

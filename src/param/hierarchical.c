@@ -173,11 +173,12 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     if (opts)
         o = *opts;
     size_t sweeps_cap = o.sweeps_per_level ? o.sweeps_per_level : 400;
-    double work = o.level_work > 0.0 ? o.level_work : 5.0;
+
     double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
     bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
-    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 6;
-    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 40000;
+    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 3;
+    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 25000;
+    double work = o.level_work > 0.0 ? o.level_work : gsteps ? 2.0 : 5.0;
     size_t gsweeps = o.sweeps_per_global ? o.sweeps_per_global : 2;
     double growth = o.min_growth > 0.0 ? o.min_growth : 2.0;
     size_t last_opt = 0;

@@ -296,6 +296,7 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         if (gsteps && nv <= gmax) {
             mo.global_steps = gsteps;
             mo.sweeps_per_global = gsweeps;
+            mo.frozen_model = true;
             if (mo.max_sweeps < gsteps * gsweeps)
                 mo.max_sweeps = gsteps * gsweeps;
         }

@@ -234,7 +234,7 @@ static double total_energy(const mips_ctx *c, const double *uv, size_t *inverted
  * conformal (LSCM) energy of the triangle, zero exactly for similarities), E_t = 2 + f_t / b_t and
  * its Hessian is H(f_t) / b_t plus terms that vanish with f_t. The model
  *
- *     P = sum_t (H(f_t) + mu H(a_t)) / b_t        (H(a_t) = 2 K_t (x) I, K_t the cotangent matrix)
+ *     P = sum_t (H(f_t) + mu H(a_t)) / b_t   (mu = 1e-3; H(a_t) = 2 K_t (x) I, K_t the cotangent matrix)
  *
  * is positive semidefinite (f_t >= 0 for every uv), its null space is the translations only
  * (mu > 0), and it is the Gauss-Newton matrix of the energy near a conformal map. The direction
@@ -242,12 +242,13 @@ static double total_energy(const mips_ctx *c, const double *uv, size_t *inverted
  * (column gather, no atomics), factorized by CHOLMOD (pattern analysed once per mesh).
  * ------------------------------------------------------------------------------------------- */
 
-#define SK__MIPS_GLOBAL_MU 0.02
+#define SK__MIPS_GLOBAL_MU 0.001
 
 typedef struct mips_global {
     bool scalar;  /* the n x n model without the area coupling, same matrix for u and v */
     bool frozen;  /* factorize once, at the first step (the model at the start of the level) */
     bool factored;
+    bool refactor; /* the frozen model did poorly (line search cut the step): factorize again */
     sk_sparse *P;
     sk_solver *solver;
     uint32_t *nb_start, *nb; /* per vertex: sorted movable neighbours w > v */
@@ -501,10 +502,11 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
 {
     size_t n2 = 2 * c->nv;
     global_assemble(G, c, uv); /* (the values are only used when factorizing) */
-    if (!G->frozen || !G->factored) {
+    if (!G->frozen || !G->factored || G->refactor) {
         if ((*st = sk_solver_factorize(G->solver, G->P, err)))
             return e0;
         G->factored = true;
+        G->refactor = false;
     }
     for (size_t i = 0; i < n2; ++i)
         G->g[i] = -G->g[i];
@@ -534,10 +536,13 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
         for (size_t i = 0; i < n2; ++i)
             uv[i] = G->x0[i] + t * G->d[i];
         double e = total_energy_strict(c, uv);
-        if (e <= e0 + 1e-4 * t * slope)
+        if (e <= e0 + 1e-4 * t * slope) {
+            G->refactor = it > 0 || t < 0.5;
             return e;
+        }
     }
     memcpy(uv, G->x0, n2 * sizeof(double));
+    G->refactor = true;
     return e0;
 }
 
@@ -628,7 +633,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     bool use_global = o.global_steps > 0 && n > 0;
     if (use_global) {
         double tg = sk_seconds();
-        st = global_init(&G, &c, false, true, err);
+        st = global_init(&G, &c, false, o.frozen_model, err);
         if (st) {
             free(color);
             free(order);

@@ -33,8 +33,8 @@ typedef struct sk_mips_opts {
      * is followed by sweeps_per_global local sweeps. 0 = none (local steps only). */
     size_t global_steps;
     size_t sweeps_per_global; /* 0 = 1 */
-    bool frozen_model;        /* factorize the model once per call, at the first global step, and
-                                 again only when a line search had to cut the step: cheap, and
+    bool frozen_model;        /* factorize the model at the first global step and reuse it for
+                                 up to 3 steps (sooner when a line search had to cut one): cheap, and
                                  good when the start is close to the optimum (after an insertion);
                                  default: a new factorization every global step */
 } sk_mips_opts;

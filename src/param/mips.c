@@ -249,6 +249,7 @@ typedef struct mips_global {
     bool frozen;  /* factorize once, at the first step (the model at the start of the level) */
     bool factored;
     bool refactor; /* the frozen model did poorly (line search cut the step): factorize again */
+    int since_factor; /* steps on the current factorization (a frozen model serves at most 3) */
     sk_sparse *P;
     sk_solver *solver;
     uint32_t *nb_start, *nb; /* per vertex: sorted movable neighbours w > v */
@@ -502,12 +503,14 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
 {
     size_t n2 = 2 * c->nv;
     global_assemble(G, c, uv); /* (the values are only used when factorizing) */
-    if (!G->frozen || !G->factored || G->refactor) {
+    if (!G->frozen || !G->factored || G->refactor || G->since_factor >= 3) {
         if ((*st = sk_solver_factorize(G->solver, G->P, err)))
             return e0;
         G->factored = true;
         G->refactor = false;
+        G->since_factor = 0;
     }
+    G->since_factor++;
     for (size_t i = 0; i < n2; ++i)
         G->g[i] = -G->g[i];
     if (G->scalar) { /* two right-hand sides: u then v */

@@ -129,6 +129,7 @@ int main(int argc, char **argv)
                         "MESH.off...\n");
         return 2;
     }
+    setvbuf(stdout, NULL, _IOLBF, 0); /* tables appear as they are measured */
     int rc = 0;
     for (int i = first; i < argc; ++i) {
         sk_error err;
@@ -163,7 +164,8 @@ int main(int argc, char **argv)
          * many solves) and local sweeps until the energy stops moving */
         memcpy(ref, uv, 2 * nv * sizeof(double));
         sk_mips_opts co = {.global_steps = nv > 100000 ? 6 : 40, .sweeps_per_global = 4,
-                           .max_sweeps = nv > 100000 ? 40 : 400, .tolerance = 1e-12, .seed = 3};
+                           .max_sweeps = nv > 100000 ? 40 : 400, .tolerance = 1e-12, .seed = 3,
+                           .frozen_model = nv > 100000}; /* (a 1M factorization takes ~40 s) */
         sk_mips_stats cs;
         t0 = sk_seconds();
         sk_status st = sk_param_mips(m, &co, ref, &cs, &err);

@@ -7,14 +7,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    timespec_get(&ts, TIME_UTC);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -38,29 +30,29 @@ int main(int argc, char **argv)
     }
     sk_error err;
     sk_mesh *mesh = NULL;
-    double t0 = now();
+    double t0 = sk_seconds();
     if (sk_mesh_read(path, NULL, &mesh, &err)) {
         fprintf(stderr, "bench_hierarchy: %s\n", err.message);
         return 1;
     }
-    double t_read = now() - t0;
+    double t_read = sk_seconds() - t0;
     double best = 1e30;
     sk_hierarchy *h = NULL;
     for (int r = 0; r < repeat; ++r) {
         sk_hierarchy_destroy(&h);
         sk_hierarchy_opts o = {0};
         o.seed = seed;
-        t0 = now();
+        t0 = sk_seconds();
         if (sk_hierarchy_build(mesh, &o, &h, &err)) {
             fprintf(stderr, "bench_hierarchy: %s\n", err.message);
             return 1;
         }
-        double t = now() - t0;
+        double t = sk_seconds() - t0;
         best = t < best ? t : best;
     }
     size_t L = sk_hierarchy_num_levels(h);
     /* walk back up with the splits (what the parametrization does) */
-    t0 = now();
+    t0 = sk_seconds();
     sk_mesh *m = NULL;
     sk_mesh_copy(sk_hierarchy_coarsest(h), &m, &err);
     for (size_t i = 0; i + 1 < L; ++i)
@@ -68,7 +60,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_hierarchy: %s\n", err.message);
             return 1;
         }
-    double t_up = now() - t0;
+    double t_up = sk_seconds() - t0;
     printf("mesh %s: %zu vertices, %zu faces, read %.3f s\n", path, mesh->num_vertices,
            mesh->num_faces, t_read);
     printf("surfkit hierarchy: %zu levels, %zu -> %zu faces, build %.3f s (best of %d), "

@@ -9,14 +9,6 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
-#include <time.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static double file_mb(const char *path)
 {
@@ -41,22 +33,22 @@ int main(int argc, char **argv)
     sk_error err;
     sk_soup *soup = NULL;
     bool reading = !strcmp(argv[1], "read");
-    double t0 = now();
+    double t0 = sk_seconds();
     if (sk_soup_read(argv[2], NULL, &soup, &err) != SK_OK) {
         fprintf(stderr, "bench_io: %s\n", err.message);
         return 1;
     }
-    double t = now() - t0;
+    double t = sk_seconds() - t0;
     const char *path = argv[2];
     sk_write_opts wo = {0};
     if (!reading) {
         wo.ascii = argc > 4 && !strcmp(argv[4], "ascii");
-        t0 = now();
+        t0 = sk_seconds();
         if (sk_soup_write(argv[3], soup, &wo, &err) != SK_OK) {
             fprintf(stderr, "bench_io: %s\n", err.message);
             return 1;
         }
-        t = now() - t0;
+        t = sk_seconds() - t0;
         path = argv[3];
     }
     double mb = file_mb(path);

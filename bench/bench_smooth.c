@@ -3,14 +3,6 @@
 #include "surfkit/surfkit.h"
 
 #include <stdio.h>
-#include <time.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -20,23 +12,23 @@ int main(int argc, char **argv)
     }
     sk_mesh *m = NULL;
     sk_error err = {0};
-    double t0 = now();
+    double t0 = sk_seconds();
     if (sk_mesh_read(argv[1], NULL, &m, &err) != SK_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    double t1 = now();
+    double t1 = sk_seconds();
     sk_smooth *s = NULL;
     if (sk_smooth_build(m, NULL, &s, &err) != SK_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    double t2 = now();
+    double t2 = sk_seconds();
     sk_continuity_report r;
     sk_continuity_opts co = {0};
     co.samples = 4;
     sk_smooth_continuity(s, &co, &r, &err);
-    double t3 = now();
+    double t3 = sk_seconds();
     const sk_smooth_stats *st = &s->stats;
     printf("mesh: %s, %zu vertices, %zu triangles (read %.2f s, not counted)\n\n", argv[1],
            m->num_vertices, m->num_faces, t1 - t0);

@@ -26,7 +26,7 @@ typedef struct sk_hparam_opts {
     /* Sweep schedule: level l (V_l vertices) gets min(sweeps_per_level, ceil(level_work * V / V_l))
      * sweeps, V the input's vertex count: about the same work on every level, many sweeps on the
      * cheap coarse levels where the low frequencies converge, few on the fine ones. */
-    double level_work;        /* 0 = 5 */
+    double level_work;        /* 0 = 2 with global steps, 5 without */
     size_t sweeps_per_level;  /* cap; 0 = 400 */
     size_t finest_sweeps;     /* sweeps on the input level; 0 = from the schedule */
     size_t max_steps;         /* budget of local steps over all levels; 0 = no budget */
@@ -36,14 +36,27 @@ typedef struct sk_hparam_opts {
     sk_hierarchy_opts hierarchy; /* seed is taken from above; zero = defaults */
     sk_progress_fn progress;
     void *progress_user;
+    /* Global steps (sk_mips_opts.global_steps): a level with at most global_max_vertices
+     * vertices starts with global_steps global steps, each followed by sweeps_per_global local
+     * sweeps, before the schedule's sweeps; the coarse levels then carry the low frequencies
+     * that local steps are slow to move. */
+    size_t global_steps;        /* per level; 0 = 3; (size_t)-1 = none (the paper's method) */
+    size_t global_max_vertices; /* 0 = 25000 (a factorization there takes ~0.1 s) */
+    size_t sweeps_per_global;   /* 0 = 2 */
+    /* A level above global_max_vertices (and not the input) is optimized only when it has at
+     * least min_growth times the vertices of the last optimized level; the others only get the
+     * insertion and the repair (their energy is reported as NaN). 0 = 2; 1 = every level. */
+    double min_growth;
 } sk_hparam_opts;
 
 typedef struct sk_hparam_level {
     size_t vertices, faces;
     size_t steps, sweeps;
     size_t repaired;       /* inserted vertices moved into the kernel of their one ring */
-    double energy;         /* MIPS sum after optimization on this level */
+    double energy;         /* MIPS sum after optimization on this level (NaN: not optimized) */
     double seconds;
+    size_t global_steps;   /* global steps on this level */
+    double global_seconds;
 } sk_hparam_level;
 
 typedef struct sk_hparam_stats {

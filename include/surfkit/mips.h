@@ -25,6 +25,18 @@ typedef struct sk_mips_opts {
     uint64_t seed;        /* random sweep order */
     sk_progress_fn progress;
     void *progress_user;
+    /* Global steps (added after the paper, for large meshes): a descent direction for all vertices
+     * at once from the Gauss-Newton-like model sum_t (H(a_t - 2 b_t) + mu H(a_t)) / b_t of the
+     * energy (*) in mips.c (a_t the cotangent numerator, b_t twice the parameter area), solved
+     * with CHOLMOD; step length at most 0.9 of the largest flip-free step (roots of each
+     * triangle's signed-area quadratic), then backtracking on the total energy. Each global step
+     * is followed by sweeps_per_global local sweeps. 0 = none (local steps only). */
+    size_t global_steps;
+    size_t sweeps_per_global; /* 0 = 1 */
+    bool frozen_model;        /* factorize the model at the first global step and reuse it for
+                                 up to 3 steps (sooner when a line search had to cut one): cheap, and
+                                 good when the start is close to the optimum (after an insertion);
+                                 default: a new factorization every global step */
 } sk_mips_opts;
 
 typedef struct sk_mips_stats {
@@ -33,6 +45,8 @@ typedef struct sk_mips_stats {
     double energy_start;
     double energy;         /* plain sum over triangles */
     size_t triangles;
+    size_t global_steps;   /* global steps taken (accepted or not) */
+    double global_seconds; /* time in global steps (assembly, factorization, line search) */
 } sk_mips_stats;
 
 /* MIPS energy of uv (2 per vertex) over the alive triangles of mesh; *inverted counts triangles

@@ -8,7 +8,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 
 /* True when every triangle around v is counter-clockwise with the MIPS margin at v. */
@@ -104,11 +103,23 @@ static long repair(const sk_mesh *m, double *uv)
     long moved = 0;
     for (int round = 0; round < 8; ++round) {
         size_t bad = 0;
-        for (uint32_t v = 0; v < m->num_vertices; ++v) {
-            if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || ring_ok(m, uv, v, uv + 2 * (size_t)v))
+        /* a scan over the faces (sequential memory); only the vertices of a face that fails the
+         * margin somewhere get the one-ring test and, if needed, the move */
+        for (uint32_t f = 0; f < m->num_faces; ++f) {
+            if (m->f_deleted[f])
                 continue;
-            bad++;
-            moved += move_into_kernel(m, uv, v);
+            uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];
+            uint32_t w[3] = {sk_from(m, h), sk_from(m, hb), sk_from(m, hc)};
+            const double *q[3] = {uv + 2 * (size_t)w[0], uv + 2 * (size_t)w[1], uv + 2 * (size_t)w[2]};
+            if (sk__mips_corner_ok(q[0], q[1], q[2]) && sk__mips_corner_ok(q[1], q[2], q[0]) &&
+                sk__mips_corner_ok(q[2], q[0], q[1]))
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))
+                    continue;
+                bad++;
+                moved += move_into_kernel(m, uv, w[k]);
+            }
         }
         if (!bad)
             return moved;
@@ -154,9 +165,15 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     if (opts)
         o = *opts;
     size_t sweeps_cap = o.sweeps_per_level ? o.sweeps_per_level : 400;
-    double work = o.level_work > 0.0 ? o.level_work : 5.0;
+
     double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
     bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
+    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 3;
+    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 25000;
+    double work = o.level_work > 0.0 ? o.level_work : gsteps ? 2.0 : 5.0;
+    size_t gsweeps = o.sweeps_per_global ? o.sweeps_per_global : 2;
+    double growth = o.min_growth > 0.0 ? o.min_growth : 2.0;
+    size_t last_opt = 0;
     double t0 = sk_seconds();
     sk_hparam_stats s;
     memset(&s, 0, sizeof s);
@@ -268,8 +285,18 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             mo.max_sweeps = o.finest_sweeps;
         mo.tolerance = tol;
         mo.seed = o.seed + l;
+        if (gsteps && nv <= gmax) {
+            mo.global_steps = gsteps;
+            mo.sweeps_per_global = gsweeps;
+            mo.frozen_model = true;
+            if (mo.max_sweeps < gsteps * gsweeps)
+                mo.max_sweeps = gsteps * gsweeps;
+        }
         sk_mips_stats ms = {0};
-        if (o.max_steps && s.steps >= o.max_steps) { /* budget spent: only measure */
+        bool skip = l + 1 < L && nv > gmax && last_opt && (double)nv < growth * (double)last_opt;
+        if (skip) { /* insertion and repair only: optimized with the next levels */
+            ms.energy = NAN;
+        } else if (o.max_steps && s.steps >= o.max_steps) { /* budget spent: only measure */
             size_t inv = 0;
             if ((st = sk_mips_energy(m, cur, &ms.energy, &inv, err)))
                 goto done;
@@ -278,11 +305,15 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             if ((st = sk_param_mips(m, &mo, cur, &ms, err)))
                 goto done;
         }
+        if (!skip)
+            last_opt = nv;
         lv->vertices = nv;
         lv->faces = m->num_faces;
         lv->steps = ms.steps;
         lv->sweeps = ms.sweeps;
         lv->energy = ms.energy;
+        lv->global_steps = ms.global_steps;
+        lv->global_seconds = ms.global_seconds;
         s.steps += ms.steps;
         lv->seconds = sk_seconds() - tl;
         if ((st = sk__progress(o.progress, o.progress_user, (double)(l + 1) / (double)L, err)))

@@ -1,0 +1,213 @@
+/* Global steps of the MIPS optimizer and the hierarchical driver: monotone energy, no flips after
+ * any step, the planar optimum, and the paper's comparison (hierarchical vs conventional at equal
+ * budgets). SK_TEST_QUICK=1 (the ASan run) uses fewer meshes and seeds. */
+#include "testutil.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static bool quick(void)
+{
+    const char *q = getenv("SK_TEST_QUICK");
+    return q && *q && strcmp(q, "0") != 0;
+}
+
+/* the disk meshes of the shared data (data/README.md: one boundary loop, Euler characteristic 1,
+ * non-degenerate) */
+static const char *const disks[] = {"nefertiti.off", "patch-01.off", "paraboloid-patch.off",
+                                    "three_peaks.off", "mushroom.off", "lion-head.off",
+                                    "in.off", "triangle.off", "fold.off"};
+static const size_t num_disks = sizeof disks / sizeof disks[0];
+
+static double *floater_start(const sk_mesh *m)
+{
+    double *uv = malloc(2 * m->num_vertices * sizeof(double));
+    sk_param_opts po = {0};
+    po.method = SK_PARAM_FLOATER;
+    po.boundary.shape = SK_BOUNDARY_CIRCLE;
+    assert_int_equal(sk_param_linear(m, &po, uv, NULL, NULL), SK_OK);
+    return uv;
+}
+
+static size_t flips(const sk_mesh *m, const double *uv)
+{
+    sk_param_metrics pm;
+    assert_int_equal(sk_param_metrics_compute(m, uv, &pm, NULL), SK_OK);
+    return pm.flipped;
+}
+
+/* One global step and one sweep at a time, free and fixed boundary: the energy never rises and
+ * no triangle is ever inverted (exact orientation test of the metrics). */
+static void given_disk_meshes_when_global_blocks_then_energy_never_rises_and_no_flip(void **state)
+{
+    (void)state;
+    size_t count = quick() ? 2 : 6;
+    for (size_t i = 0; i < count; ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(disks[i]));
+        for (int fixed = 0; fixed < 2; ++fixed) {
+            double *uv = floater_start(m);
+            double prev = INFINITY;
+            for (int round = 0; round < 6; ++round) {
+                sk_mips_opts o = {.fixed_boundary = fixed, .global_steps = 1,
+                                  .sweeps_per_global = 1, .max_sweeps = 1, .tolerance = -1,
+                                  .seed = (uint64_t)round};
+                sk_mips_stats s;
+                assert_int_equal(sk_param_mips(m, &o, uv, &s, NULL), SK_OK);
+                assert_int_equal(s.global_steps, 1);
+                if (!(s.energy <= s.energy_start * (1 + 1e-14)) || !(s.energy <= prev * (1 + 1e-14)))
+                    fail_msg("%s round %d: energy %.17g after %.17g (previous %.17g)", disks[i],
+                             round, s.energy, s.energy_start, prev);
+                prev = s.energy;
+                if (flips(m, uv))
+                    fail_msg("%s round %d: %zu flips", disks[i], round, flips(m, uv));
+            }
+            free(uv);
+        }
+        sk_mesh_destroy(&m);
+    }
+}
+
+/* The hierarchical driver on every disk mesh over a few seeds, with and without global steps,
+ * free and circle boundary: no flipped triangle, finite energy, and every optimized level's
+ * energy is the MIPS sum of a flip-free map (>= 2 per triangle). */
+static void given_every_disk_mesh_and_seeds_when_hierarchical_then_no_flip(void **state)
+{
+    (void)state;
+    size_t seeds = quick() ? 1 : 3;
+    for (size_t i = 0; i < num_disks; ++i) {
+        if (quick() && !strcmp(disks[i], "lion-head.off"))
+            continue;
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(disks[i]));
+        double *uv = malloc(2 * m->num_vertices * sizeof(double));
+        for (uint64_t seed = 1; seed <= seeds; ++seed)
+            for (int mode = 0; mode < 3; ++mode) {
+                sk_hparam_opts o = {.seed = seed};
+                if (mode == 1)
+                    o.global_steps = (size_t)-1; /* the paper's method */
+                if (mode == 2)
+                    o.boundary = SK_MIPS_BOUNDARY_CIRCLE;
+                sk_hparam_stats s;
+                sk_error err;
+                if (sk_param_hierarchical(m, &o, uv, &s, &err))
+                    fail_msg("%s seed %llu mode %d: %s", disks[i], (unsigned long long)seed, mode,
+                             err.message);
+                size_t f = flips(m, uv);
+                if (f)
+                    fail_msg("%s seed %llu mode %d: %zu flips", disks[i],
+                             (unsigned long long)seed, mode, f);
+                assert_true(isfinite(s.energy));
+                assert_true(s.energy >= 2.0 * (double)m->num_faces * (1 - 1e-12));
+                for (size_t l = 0; l < s.num_levels; ++l)
+                    if (!isnan(s.levels[l].energy))
+                        assert_true(s.levels[l].energy >= 2.0 * (double)s.levels[l].faces * (1 - 1e-12));
+            }
+        free(uv);
+        sk_mesh_destroy(&m);
+    }
+}
+
+/* An irregular planar grid (points jittered in z = 0): its optimum is the identity up to a
+ * similarity, 2 per triangle. */
+static sk_mesh *planar_disk(int n, unsigned seed)
+{
+    size_t nv = (size_t)n * n, nf = 2 * (size_t)(n - 1) * (n - 1);
+    double *p = malloc(3 * nv * sizeof(double));
+    uint32_t *idx = malloc(3 * nf * sizeof(uint32_t)), *off = malloc((nf + 1) * sizeof(uint32_t));
+    srand(seed);
+    for (int j = 0, k = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i, ++k) {
+            bool edge = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+            p[3 * k] = i + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
+            p[3 * k + 1] = j + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
+            p[3 * k + 2] = 0;
+        }
+    size_t t = 0;
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            uint32_t a = (uint32_t)(j * n + i), b = a + 1, c = a + (uint32_t)n, d = c + 1;
+            uint32_t q[6] = {a, b, d, a, d, c};
+            memcpy(idx + 3 * t, q, sizeof q);
+            t += 2;
+        }
+    for (size_t f = 0; f <= nf; ++f)
+        off[f] = (uint32_t)(3 * f);
+    sk_mesh *m = NULL;
+    assert_int_equal(sk_mesh_from_faces(nv, p, nf, off, idx, &m, NULL), SK_OK);
+    free(p);
+    free(idx);
+    free(off);
+    return m;
+}
+
+static void given_planar_disk_when_global_steps_free_boundary_then_2_per_triangle(void **state)
+{
+    (void)state;
+    sk_mesh *m = planar_disk(40, 9);
+    double *uv = floater_start(m); /* circle boundary: far from the optimum */
+    double opt = 2.0 * (double)m->num_faces;
+    sk_mips_opts o = {.global_steps = 40, .sweeps_per_global = 1, .max_sweeps = 40,
+                      .tolerance = 1e-15, .seed = 2};
+    sk_mips_stats s;
+    assert_int_equal(sk_param_mips(m, &o, uv, &s, NULL), SK_OK);
+    assert_true(s.energy_start > 1.05 * opt);
+    if (fabs(s.energy - opt) > 1e-9 * opt)
+        fail_msg("flat: energy %.15g, optimum %.15g (%zu global steps)", s.energy, opt,
+                 s.global_steps);
+    assert_int_equal(flips(m, uv), 0);
+    /* the hierarchical driver with a long budget gets there too */
+    sk_hparam_opts ho = {.seed = 4, .global_steps = 30, .tolerance = 1e-15};
+    sk_hparam_stats hs;
+    assert_int_equal(sk_param_hierarchical(m, &ho, uv, &hs, NULL), SK_OK);
+    if (fabs(hs.energy - opt) > 1e-9 * opt)
+        fail_msg("hierarchical: energy %.15g, optimum %.15g", hs.energy, opt);
+    assert_int_equal(flips(m, uv), 0);
+    free(uv);
+    sk_mesh_destroy(&m);
+}
+
+/* Table 1's comparison: the paper's hierarchical method (local steps only) against the
+ * conventional flat optimization from Floater's map with the same number of local steps. */
+static void given_three_meshes_when_equal_budget_then_hierarchical_beats_conventional(void **state)
+{
+    (void)state;
+    /* (on the two smallest disks, nefertiti and patch-01, 700 steps per vertex let the flat
+     * method converge: bench/bench_table1 shows both within 0.01%) */
+    const char *names[] = {"mushroom.off", "three_peaks.off", "paraboloid-patch.off"};
+    double per_vertex = quick() ? 100 : 300;
+    for (int i = 0; i < 3; ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(names[i]));
+        size_t nv = m->num_vertices, budget = (size_t)(per_vertex * (double)nv);
+        double *uv = malloc(2 * nv * sizeof(double));
+        sk_hparam_opts ho = {.seed = 1, .finest_sweeps = (size_t)-1, .max_steps = budget,
+                             .tolerance = -1, .global_steps = (size_t)-1};
+        sk_hparam_stats hs;
+        assert_int_equal(sk_param_hierarchical(m, &ho, uv, &hs, NULL), SK_OK);
+        assert_int_equal(hs.steps, budget);
+        assert_int_equal(flips(m, uv), 0);
+        sk_mips_stats cs;
+        sk_status st = sk_param_mips_flat(m, SK_MIPS_BOUNDARY_FREE, hs.steps, -1.0, 1, uv, &cs, NULL);
+        assert_int_equal(st, SK_OK);
+        assert_int_equal(cs.steps, hs.steps);
+        if (!(hs.energy < cs.energy))
+            fail_msg("%s: hierarchical %.6f, conventional %.6f at %zu steps", names[i], hs.energy,
+                     cs.energy, budget);
+        /* and the default (with global steps) is better still */
+        sk_hparam_opts d = {.seed = 1};
+        assert_int_equal(sk_param_hierarchical(m, &d, uv, &hs, NULL), SK_OK);
+        assert_true(hs.energy < cs.energy);
+        free(uv);
+        sk_mesh_destroy(&m);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(given_disk_meshes_when_global_blocks_then_energy_never_rises_and_no_flip),
+        cmocka_unit_test(given_every_disk_mesh_and_seeds_when_hierarchical_then_no_flip),
+        cmocka_unit_test(given_planar_disk_when_global_steps_free_boundary_then_2_per_triangle),
+        cmocka_unit_test(given_three_meshes_when_equal_budget_then_hierarchical_beats_conventional),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,7 +1,9 @@
 #include "testutil.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static char path_buf[4][1024];
 static int path_slot;
@@ -52,4 +54,36 @@ void *skt_read_file(const char *path, size_t *size)
     ((char *)buf)[n] = 0;
     *size = (size_t)n;
     return buf;
+}
+
+/* An irregular planar grid: n x n points jittered in the plane z = 0. */
+sk_mesh *skt_planar_disk(int n, unsigned seed)
+{
+    size_t nv = (size_t)n * n, nf = 2 * (size_t)(n - 1) * (n - 1);
+    double *p = malloc(3 * nv * sizeof(double));
+    uint32_t *idx = malloc(3 * nf * sizeof(uint32_t)), *off = malloc((nf + 1) * sizeof(uint32_t));
+    srand(seed);
+    for (int j = 0, k = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i, ++k) {
+            bool edge = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+            p[3 * k] = i + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
+            p[3 * k + 1] = j + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
+            p[3 * k + 2] = 0;
+        }
+    size_t t = 0;
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            uint32_t a = (uint32_t)(j * n + i), b = a + 1, c = a + (uint32_t)n, d = c + 1;
+            uint32_t q[6] = {a, b, d, a, d, c};
+            memcpy(idx + 3 * t, q, sizeof q);
+            t += 2;
+        }
+    for (size_t f = 0; f <= nf; ++f)
+        off[f] = (uint32_t)(3 * f);
+    sk_mesh *m = NULL;
+    assert_int_equal(sk_mesh_from_faces(nv, p, nf, off, idx, &m, NULL), SK_OK);
+    free(p);
+    free(idx);
+    free(off);
+    return m;
 }

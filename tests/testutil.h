@@ -23,6 +23,9 @@ const char *skt_tmp_path(const char *name);
 /* Reads a mesh file into a soup / a half-edge mesh; fails the test with the error message. */
 sk_soup *skt_read_soup(const char *path);
 sk_mesh *skt_read_mesh(const char *path);
+/* An irregular planar disk: an n x n grid in z = 0, interior points jittered by up to 0.15,
+ * two triangles per cell (srand(seed)). */
+sk_mesh *skt_planar_disk(int n, unsigned seed);
 /* Reads a whole file into memory (fails the test if it cannot). */
 void *skt_read_file(const char *path, size_t *size);
 

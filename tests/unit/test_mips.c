@@ -70,42 +70,10 @@ static void given_random_triangles_then_energy_matches_singular_values(void **st
     }
 }
 
-/* An irregular planar grid: n x n points jittered in the plane z = 0. */
-static sk_mesh *planar_disk(int n, unsigned seed)
-{
-    size_t nv = (size_t)n * n, nf = 2 * (size_t)(n - 1) * (n - 1);
-    double *p = malloc(3 * nv * sizeof(double));
-    uint32_t *idx = malloc(3 * nf * sizeof(uint32_t)), *off = malloc((nf + 1) * sizeof(uint32_t));
-    srand(seed);
-    for (int j = 0, k = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i, ++k) {
-            bool edge = i == 0 || j == 0 || i == n - 1 || j == n - 1;
-            p[3 * k] = i + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
-            p[3 * k + 1] = j + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
-            p[3 * k + 2] = 0;
-        }
-    size_t t = 0;
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            uint32_t a = (uint32_t)(j * n + i), b = a + 1, c = a + (uint32_t)n, d = c + 1;
-            uint32_t q[6] = {a, b, d, a, d, c};
-            memcpy(idx + 3 * t, q, sizeof q);
-            t += 2;
-        }
-    for (size_t f = 0; f <= nf; ++f)
-        off[f] = (uint32_t)(3 * f);
-    sk_mesh *m = NULL;
-    assert_int_equal(sk_mesh_from_faces(nv, p, nf, off, idx, &m, NULL), SK_OK);
-    free(p);
-    free(idx);
-    free(off);
-    return m;
-}
-
 static void given_planar_disk_with_distorted_start_then_free_mips_reaches_2_per_triangle(void **state)
 {
     (void)state;
-    sk_mesh *m = planar_disk(12, 3);
+    sk_mesh *m = skt_planar_disk(12, 3);
     size_t nv = m->num_vertices;
     double *uv = malloc(2 * nv * sizeof(double));
     /* start: a smooth non-conformal warp of the plane (x, y) -> (x + 0.02 y^2, 0.7 y) */
@@ -133,7 +101,7 @@ static void given_planar_disk_with_distorted_start_then_free_mips_reaches_2_per_
 static void given_fixed_boundary_then_boundary_stays_and_energy_never_rises(void **state)
 {
     (void)state;
-    sk_mesh *m = planar_disk(10, 5);
+    sk_mesh *m = skt_planar_disk(10, 5);
     size_t nv = m->num_vertices;
     double *uv = malloc(2 * nv * sizeof(double)), *uv0 = malloc(2 * nv * sizeof(double));
     for (size_t v = 0; v < nv; ++v) {
@@ -162,7 +130,7 @@ static void given_fixed_boundary_then_boundary_stays_and_energy_never_rises(void
 static void given_flipped_start_then_mips_refuses(void **state)
 {
     (void)state;
-    sk_mesh *m = planar_disk(4, 1);
+    sk_mesh *m = skt_planar_disk(4, 1);
     double uv[32];
     for (size_t v = 0; v < 16; ++v) {
         uv[2 * v] = m->positions[3 * v];

@@ -109,41 +109,10 @@ static void given_every_disk_mesh_and_seeds_when_hierarchical_then_no_flip(void 
 
 /* An irregular planar grid (points jittered in z = 0): its optimum is the identity up to a
  * similarity, 2 per triangle. */
-static sk_mesh *planar_disk(int n, unsigned seed)
-{
-    size_t nv = (size_t)n * n, nf = 2 * (size_t)(n - 1) * (n - 1);
-    double *p = malloc(3 * nv * sizeof(double));
-    uint32_t *idx = malloc(3 * nf * sizeof(uint32_t)), *off = malloc((nf + 1) * sizeof(uint32_t));
-    srand(seed);
-    for (int j = 0, k = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i, ++k) {
-            bool edge = i == 0 || j == 0 || i == n - 1 || j == n - 1;
-            p[3 * k] = i + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
-            p[3 * k + 1] = j + (edge ? 0 : 0.3 * ((double)rand() / RAND_MAX - 0.5));
-            p[3 * k + 2] = 0;
-        }
-    size_t t = 0;
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            uint32_t a = (uint32_t)(j * n + i), b = a + 1, c = a + (uint32_t)n, d = c + 1;
-            uint32_t q[6] = {a, b, d, a, d, c};
-            memcpy(idx + 3 * t, q, sizeof q);
-            t += 2;
-        }
-    for (size_t f = 0; f <= nf; ++f)
-        off[f] = (uint32_t)(3 * f);
-    sk_mesh *m = NULL;
-    assert_int_equal(sk_mesh_from_faces(nv, p, nf, off, idx, &m, NULL), SK_OK);
-    free(p);
-    free(idx);
-    free(off);
-    return m;
-}
-
 static void given_planar_disk_when_global_steps_free_boundary_then_2_per_triangle(void **state)
 {
     (void)state;
-    sk_mesh *m = planar_disk(40, 9);
+    sk_mesh *m = skt_planar_disk(40, 9);
     double *uv = floater_start(m); /* circle boundary: far from the optimum */
     double opt = 2.0 * (double)m->num_faces;
     sk_mips_opts o = {.global_steps = 40, .sweeps_per_global = 1, .max_sweeps = 40,

@@ -13,8 +13,8 @@ static const command commands[] = {
     {"info", cmd_info, "topology, defects, geometry and Gauss-Bonnet report of a mesh"},
     {"convert", cmd_convert, "convert between OFF, OBJ, PLY and STL"},
     {"subdivide", cmd_subdivide, "Loop or midpoint subdivision"},
-    {"smooth", cmd_smooth, "VC1 smooth surface (quartic/bicubic patches) or PN triangles, with a continuity report"},
-    {"param", cmd_param, "linear parametrization of a disk (Tutte, Floater, mean value, harmonic, LSCM)"},
+    {"smooth", cmd_smooth, "VC1 smooth surface with continuity report; tessellation, IGES, STEP, OBJ free-form"},
+    {"param", cmd_param, "parametrization of a disk: hierarchical MIPS, Tutte, Floater, mean value, harmonic, LSCM"},
     {"simplify", cmd_simplify, "progressive-mesh hierarchy by random independent half-edge collapses"},
 };
 

@@ -222,7 +222,7 @@ void sk__out_char(sk__out *o, char c)
 
 void sk__out_double(sk__out *o, double v)
 {
-    if (!sk__out_room(o, 32))
+    if (!sk__out_room(o, 32) || !o->buf) /* (the NULL test is for the compiler's benefit) */
         return;
     char *b = o->buf + o->len;
     int n = 0;

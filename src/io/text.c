@@ -222,7 +222,7 @@ void sk__out_char(sk__out *o, char c)
 
 void sk__out_double(sk__out *o, double v)
 {
-    if (!sk__out_room(o, 32) || !o->buf) /* (the NULL test is for the compiler's benefit) */
+    if (!sk__out_room(o, 32))
         return;
     char *b = o->buf + o->len;
     int n = 0;
@@ -235,11 +235,16 @@ void sk__out_double(sk__out *o, double v)
     } else if (fabs(v) < 1e15 && v == (double)(int64_t)v) { /* range first: the cast */
         n = snprintf(b, 32, "%lld", (long long)v);
     } else {
+        char t[32]; /* formatted locally: gcc -O3 -fsanitize warns about b otherwise */
         for (int prec = 15; prec <= 17; ++prec) {
-            n = snprintf(b, 32, "%.*g", prec, v);
-            if (prec == 17 || strtod(b, NULL) == v)
+            n = snprintf(t, sizeof t, "%.*g", prec, v);
+            if (prec == 17 || strtod(t, NULL) == v)
                 break;
         }
+        if (n > 0 && n < 32)
+            memcpy(b, t, (size_t)n);
+        else
+            n = 0;
     }
     if (n > 0)
         o->len += (size_t)n;

@@ -215,13 +215,15 @@ static double face_delta(const sk_mesh *m, uint32_t f)
 }
 
 /* Blends the directions of the targets orig (2D, counter-clockwise) towards an even spread by b
- * in [0, 1], lengths kept, into out. */
+ * in [0, 1] and their lengths towards their mean by lb in [0, 1], into out. */
 static void blend_targets(const double *orig, double *out, int n, int closed, double alpha,
-                          double b)
+                          double b, double lb)
 {
-    double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], acc = 0.0;
+    double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], acc = 0.0, mean = 0.0;
+    for (int k = 0; k < n; ++k)
+        mean += hypot(orig[2 * k], orig[2 * k + 1]) / n;
     for (int k = 0; k < n; ++k) {
-        len[k] = hypot(orig[2 * k], orig[2 * k + 1]);
+        len[k] = (1.0 - lb) * hypot(orig[2 * k], orig[2 * k + 1]) + lb * mean;
         double a = atan2(orig[2 * k + 1], orig[2 * k]);
         if (k == 0) {
             acc = a;
@@ -282,18 +284,22 @@ static int solve_vertex_ex(vc1_work *W, uint32_t v, sk__vsys *sys, double blend,
     double orig[2 * SK_VSYS_MAX];
     memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
     if (blend > 0.0)
-        blend_targets(orig, sys->pstar, n, closed, W->alpha, blend);
+        blend_targets(orig, sys->pstar, n, closed, W->alpha, blend, 0.0);
     int ok = sk__vsys_solve(sys);
     double lo, hi;
     sk__vsys_angles(sys, &lo, &hi);
     int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
     /* relax the targets locally: blend their directions towards an even spread (lengths kept)
      * until the solution meets the angle bounds */
-    for (int t = 1; t <= 4 && bad; ++t) {
-        double b = 0.25 * t;
-        if (b <= blend)
+    for (int t = 1; t <= 8 && bad; ++t) {
+        /* t = 1..4: directions only; t = 5..8: directions evenly spread and the lengths blended
+         * towards their mean as well (with very unequal target lengths the least-squares fit of
+         * (8) can fold two tangents onto one line whatever their directions, e.g. at valence 3
+         * where the solutions are one fixed configuration up to a linear map) */
+        double b = t <= 4 ? 0.25 * t : 1.0, lb = t <= 4 ? 0.0 : 0.25 * (t - 4);
+        if (b <= blend && lb == 0.0)
             continue;
-        blend_targets(orig, sys->pstar, n, closed, W->alpha, b);
+        blend_targets(orig, sys->pstar, n, closed, W->alpha, b, lb);
         ok = sk__vsys_solve(sys);
         sk__vsys_angles(sys, &lo, &hi);
         bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);

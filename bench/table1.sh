@@ -9,6 +9,8 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target bench_table1 >/dev/null
 m=../shared/data/meshes
 for steps in 700 50; do
-  "$build/bench/bench_table1" --steps $steps $m/nefertiti.off $m/mushroom.off $m/lion-head.off
+  # exit 1 means hierarchical did not beat conventional on every mesh: a result, not an error
+  "$build/bench/bench_table1" --steps $steps $m/nefertiti.off $m/mushroom.off $m/lion-head.off ||
+    echo "(hierarchical is not below conventional on every mesh at this budget)"
   echo
 done

@@ -5,6 +5,8 @@
 #include "core/internal.h"
 #include "core/vec.h"
 
+#include <lapacke.h>
+#include <math.h>
 #include <string.h>
 
 int sk_normal_method_from_name(const char *name)
@@ -55,45 +57,19 @@ static void average_normal(const sk_mesh *m, uint32_t v, sk_normal_method method
     } while (h != h0);
 }
 
-/* Solves the small dense system A x = b (n <= 8) by Gaussian elimination with partial pivoting;
- * returns 0 when singular relative to scale. */
+/* Solves the small dense system A x = b (n <= 8, row-major) with LAPACK's LU with partial
+ * pivoting; returns 0 when singular relative to the largest entry (a pivot below 1e-13 of it). */
 static int solve_small(int n, double *A, double *b)
 {
     double scale = 0.0;
     for (int i = 0; i < n * n; ++i)
         scale = fmax(scale, fabs(A[i]));
-    if (scale == 0.0)
+    lapack_int ipiv[8];
+    if (scale == 0.0 || n > 8 || LAPACKE_dgesv(LAPACK_ROW_MAJOR, n, 1, A, n, ipiv, b, 1) != 0)
         return 0;
-    for (int k = 0; k < n; ++k) {
-        int piv = k;
-        for (int i = k + 1; i < n; ++i)
-            if (fabs(A[i * n + k]) > fabs(A[piv * n + k]))
-                piv = i;
-        if (fabs(A[piv * n + k]) < 1e-13 * scale)
+    for (int k = 0; k < n; ++k) /* A now holds L\U: the pivots are U's diagonal */
+        if (fabs(A[k * n + k]) < 1e-13 * scale)
             return 0;
-        if (piv != k) {
-            for (int j = 0; j < n; ++j) {
-                double t = A[k * n + j];
-                A[k * n + j] = A[piv * n + j];
-                A[piv * n + j] = t;
-            }
-            double t = b[k];
-            b[k] = b[piv];
-            b[piv] = t;
-        }
-        for (int i = k + 1; i < n; ++i) {
-            double f = A[i * n + k] / A[k * n + k];
-            for (int j = k; j < n; ++j)
-                A[i * n + j] -= f * A[k * n + j];
-            b[i] -= f * b[k];
-        }
-    }
-    for (int k = n - 1; k >= 0; --k) {
-        double s = b[k];
-        for (int j = k + 1; j < n; ++j)
-            s -= A[k * n + j] * b[j];
-        b[k] = s / A[k * n + k];
-    }
     return 1;
 }
 

@@ -29,7 +29,8 @@ typedef struct sk_hparam_opts {
     double level_work;        /* 0 = 2 with global steps, 5 without */
     size_t sweeps_per_level;  /* cap; 0 = 400 */
     size_t finest_sweeps;     /* sweeps on the input level; 0 = from the schedule */
-    size_t max_steps;         /* budget of local steps over all levels; 0 = no budget */
+    size_t max_steps;         /* budget of local steps over all levels (the coarser levels together use
+                                 at most half); 0 = no budget */
     double tolerance;         /* per level: stop when a sweep lowers the energy by less than this
                                  fraction; 0 = 1e-5 */
     uint64_t seed;            /* hierarchy and sweep order */

@@ -294,14 +294,17 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         }
         sk_mips_stats ms = {0};
         bool skip = l + 1 < L && nv > gmax && last_opt && (double)nv < growth * (double)last_opt;
+        /* with a step budget the coarser levels together use at most half of it, so that the
+         * input level is always optimized however small the budget */
+        size_t limit = o.max_steps && l + 1 < L ? o.max_steps / 2 : o.max_steps;
         if (skip) { /* insertion and repair only: optimized with the next levels */
             ms.energy = NAN;
-        } else if (o.max_steps && s.steps >= o.max_steps) { /* budget spent: only measure */
+        } else if (limit && s.steps >= limit) { /* budget spent: only measure */
             size_t inv = 0;
             if ((st = sk_mips_energy(m, cur, &ms.energy, &inv, err)))
                 goto done;
         } else {
-            mo.max_steps = o.max_steps ? o.max_steps - s.steps : 0;
+            mo.max_steps = limit ? limit - s.steps : 0;
             if ((st = sk_param_mips(m, &mo, cur, &ms, err)))
                 goto done;
         }

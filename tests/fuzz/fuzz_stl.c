@@ -1,21 +1,4 @@
-/* libFuzzer target: the STL reader on arbitrary bytes, then the STL writer on what it accepted. */
-#include "surfkit/io.h"
-
-#include <stdlib.h>
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
-{
-    sk_read_opts ro = {SK_FORMAT_STL};
-    sk_soup *s = NULL;
-    if (sk_soup_read_memory(data, size, "fuzz.stl", &ro, &s, NULL) == SK_OK) {
-        sk_write_opts wo = {.format = SK_FORMAT_STL, .ascii = (size & 1) != 0};
-        void *out = NULL;
-        size_t n = 0;
-        if (sk_soup_write_memory(s, &wo, &out, &n, NULL) == SK_OK)
-            free(out);
-        sk_soup_destroy(&s);
-    }
-    return 0;
-}
+/* libFuzzer target: the STL reader and writer (body in fuzz_reader.h). */
+#define SK_FUZZ_FORMAT SK_FORMAT_STL
+#define SK_FUZZ_NAME "fuzz.stl"
+#include "fuzz_reader.h"

@@ -17,5 +17,6 @@
 #include "surfkit/hierarchical.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
+#include "surfkit/deviation.h"
 
 #endif

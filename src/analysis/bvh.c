@@ -32,6 +32,11 @@ struct sk_bvh {
     size_t num_nodes;
 };
 
+/* min / max without fmin's NaN rules (a libm call without -ffinite-math-only); inputs are
+ * finite (checked when building) */
+static inline double lo2(double a, double b) { return a < b ? a : b; }
+static inline double hi2(double a, double b) { return a > b ? a : b; }
+
 typedef struct box {
     double lo[3], hi[3];
 } box;
@@ -47,16 +52,16 @@ static void box_empty(box *b)
 static void box_add(box *b, const double p[3])
 {
     for (int k = 0; k < 3; ++k) {
-        b->lo[k] = fmin(b->lo[k], p[k]);
-        b->hi[k] = fmax(b->hi[k], p[k]);
+        b->lo[k] = lo2(b->lo[k], p[k]);
+        b->hi[k] = hi2(b->hi[k], p[k]);
     }
 }
 
 static void box_merge(box *b, const box *c)
 {
     for (int k = 0; k < 3; ++k) {
-        b->lo[k] = fmin(b->lo[k], c->lo[k]);
-        b->hi[k] = fmax(b->hi[k], c->hi[k]);
+        b->lo[k] = lo2(b->lo[k], c->lo[k]);
+        b->hi[k] = hi2(b->hi[k], c->hi[k]);
     }
 }
 
@@ -64,7 +69,7 @@ static double box_area(const box *b)
 {
     double d[3];
     for (int k = 0; k < 3; ++k)
-        d[k] = fmax(0.0, b->hi[k] - b->lo[k]);
+        d[k] = hi2(0.0, b->hi[k] - b->lo[k]);
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 

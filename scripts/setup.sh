@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 pkgs=(build-essential cmake ninja-build pkg-config clang
       libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev
-      g++ libocct-data-exchange-dev chromium)
+      g++ libocct-data-exchange-dev chromium parallel)
 if [ "${1:-}" = "--peers" ]; then
   pkgs+=(g++ libcgal-dev libopenmesh-dev)
 fi

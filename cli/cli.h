@@ -19,6 +19,8 @@ void cli_error(const char *fmt, ...)
     ;
 /* Prints err's message and returns the exit code for the status. */
 int cli_fail(sk_status st, const sk_error *err);
+/* The exit code for a status. */
+int cli_exit_code(sk_status st);
 /* Usage error: prints "surfkit CMD: message" and a hint, returns EXIT_USAGE. */
 int cli_usage(const char *cmd, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -87,5 +89,7 @@ int cmd_subdivide(int argc, char **argv);
 int cmd_smooth(int argc, char **argv);
 int cmd_param(int argc, char **argv);
 int cmd_simplify(int argc, char **argv);
+int cmd_deviation(int argc, char **argv);
+int cmd_view(int argc, char **argv);
 
 #endif

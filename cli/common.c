@@ -22,6 +22,11 @@ void cli_error(const char *fmt, ...)
 int cli_fail(sk_status st, const sk_error *err)
 {
     cli_error("%s", err && err->message[0] ? err->message : sk_status_string(st));
+    return cli_exit_code(st);
+}
+
+int cli_exit_code(sk_status st)
+{
     switch (st) {
     case SK_OK:
     case SK_WARN_FLIPS:

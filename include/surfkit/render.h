@@ -46,6 +46,18 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
 sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
                            sk_error *err);
 
+/* A scalar field over a surface (e.g. the distance to another surface, sk_bvh_distance). */
+typedef double (*sk_field_fn)(void *user, const double p[3]);
+
+/* The field map: soup seen along opts->view (zero: (0, 0, -1)), shaded by its interpolated vertex
+ * normals, each pixel coloured by field at the surface point it shows, from blue at 0 to red at
+ * scale, magenta beyond it; scale <= 0 uses the largest value drawn. A legend shows the scale
+ * under `label` (e.g. "distance to the surface"). PNG, written atomically. SK_ERR_TOPOLOGY when a
+ * face index is out of range. */
+sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, double scale,
+                          const char *label, const sk_render_opts *opts, const char *path,
+                          sk_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -17,5 +17,7 @@
 #include "surfkit/hierarchical.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
+#include "surfkit/deviation.h"
+#include "surfkit/view.h"
 
 #endif

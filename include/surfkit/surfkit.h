@@ -18,5 +18,6 @@
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
 #include "surfkit/deviation.h"
+#include "surfkit/intersect.h"
 
 #endif

@@ -11,8 +11,9 @@ static const char help[] =
     "Reads a mesh (OFF, OBJ, PLY, STL) and reports vertices, faces by size, edges, boundary loops\n"
     "(count and lengths), components, Euler characteristic, genus, every defect class (non-manifold\n"
     "edges and vertices, orientation conflicts, degenerate, duplicate and repeated-vertex faces,\n"
-    "unreferenced vertices) with the first offending elements, bounding box, edge lengths, angles\n"
-    "and the Gauss-Bonnet check (sum of angle deficits against 2 pi chi).\n"
+    "unreferenced vertices) with the first offending elements, self-intersections (pairs of faces\n"
+    "that cross without sharing a vertex), bounding box, edge lengths, angles and the Gauss-Bonnet\n"
+    "check (sum of angle deficits against 2 pi chi).\n"
     "\n"
     "  --json   machine-readable report on stdout\n"
     "  -q       no progress output\n";
@@ -110,7 +111,45 @@ static void print_text(const char *path, sk_format fmt, const sk_validation *r, 
     }
 }
 
-static void print_json(const char *path, sk_format fmt, const sk_validation *r, const sk_loops *lp)
+/* Self-intersections: NULL when they could not be checked (faces out of range, NaN...). */
+static void print_crossings_text(const sk_intersection_report *x)
+{
+    if (!x) {
+        printf("  self-intersections    not checked (defective faces or coordinates)\n");
+        return;
+    }
+    printf("  self-intersections    ");
+    if (!x->pairs) {
+        printf("none\n");
+        return;
+    }
+    printf("%zu face pairs:", x->pairs);
+    for (size_t i = 0; i < x->num_examples && i < 8; ++i)
+        printf(" %u-%u", x->examples[2 * i], x->examples[2 * i + 1]);
+    printf("%s\n", x->pairs > 8 ? " ..." : "");
+}
+
+static void print_crossings_json(cli_json *j, const sk_intersection_report *x)
+{
+    json_key(j, "self_intersections");
+    if (!x) {
+        json_str(j, "not checked");
+        return;
+    }
+    json_uint(j, x->pairs);
+    json_key(j, "self_intersection_examples");
+    json_arr_open(j);
+    for (size_t i = 0; i < x->num_examples; ++i) {
+        json_arr_open(j);
+        json_uint(j, x->examples[2 * i]);
+        json_uint(j, x->examples[2 * i + 1]);
+        json_arr_close(j);
+    }
+    json_arr_close(j);
+}
+
+static void print_json(const char *path, sk_format fmt, const sk_validation *r, const sk_loops *lp,
+                       const sk_intersection_report *x)
 {
     cli_json j;
     json_begin(&j, stdout);
@@ -162,6 +201,7 @@ static void print_json(const char *path, sk_format fmt, const sk_validation *r, 
         json_arr_close(&j);
     }
     json_obj_close(&j);
+    print_crossings_json(&j, x);
     json_key(&j, "bbox_min");
     json_arr_open(&j);
     for (int k = 0; k < 3; ++k)
@@ -226,10 +266,15 @@ int cmd_info(int argc, char **argv)
         sk_mesh_boundary_loops(mesh, &loops, &err) == SK_OK)
         have_loops = true;
     sk_format fmt = sk_format_from_path(path);
-    if (as_json)
-        print_json(path, fmt, &rep, have_loops ? &loops : NULL);
-    else
+    sk_intersection_report crossings;
+    sk_error xerr;
+    bool have_crossings = sk_self_intersections(soup, NULL, NULL, &crossings, &xerr) == SK_OK;
+    if (as_json) {
+        print_json(path, fmt, &rep, have_loops ? &loops : NULL, have_crossings ? &crossings : NULL);
+    } else {
         print_text(path, fmt, &rep, have_loops ? &loops : NULL);
+        print_crossings_text(have_crossings ? &crossings : NULL);
+    }
     if (have_loops)
         sk_loops_free(&loops);
     sk_mesh_destroy(&mesh);

@@ -19,5 +19,6 @@
 #include "surfkit/export.h"
 #include "surfkit/deviation.h"
 #include "surfkit/view.h"
+#include "surfkit/intersect.h"
 
 #endif

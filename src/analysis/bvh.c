@@ -6,7 +6,7 @@
  * each other, triangles reordered so that a leaf owns a contiguous range.
  * Query: depth-first, nearer child first, a subtree skipped when its box is farther than the best
  * distance so far. */
-#include "surfkit/deviation.h"
+#include "analysis/bvh_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -431,4 +431,33 @@ double sk_bvh_distance(void *bvh, const double p[3])
     sk_closest c;
     sk_bvh_closest(bvh, p, &c);
     return c.distance;
+}
+
+int sk__bvh_overlaps(const sk_bvh *t, const double lo[3], const double hi[3], sk__bvh_visit fn,
+                     void *user)
+{
+    uint32_t stack[2 * MAX_DEPTH + 8];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const node *n = &t->nodes[stack[--top]];
+        if (n->lo[0] > hi[0] || n->lo[1] > hi[1] || n->lo[2] > hi[2] || n->hi[0] < lo[0] ||
+            n->hi[1] < lo[1] || n->hi[2] < lo[2])
+            continue;
+        if (!n->count) {
+            stack[top++] = n->first + 1;
+            stack[top++] = n->first;
+            continue;
+        }
+        for (uint32_t i = n->first; i < n->first + n->count; ++i) {
+            const double *c = t->corners + 9 * (size_t)i;
+            bool apart = false;
+            for (int k = 0; k < 3 && !apart; ++k)
+                apart = lo2(c[k], lo2(c[3 + k], c[6 + k])) > hi[k] ||
+                        hi2(c[k], hi2(c[3 + k], c[6 + k])) < lo[k];
+            if (!apart && fn(user, c, t->face[i]))
+                return 1;
+        }
+    }
+    return 0;
 }

@@ -42,4 +42,10 @@ done
 [ "$(val euler_characteristic "$tmp/s.json")" = 2 ] || fail "subdivided chi"
 "$bin" subdivide "$shared/data/meshes/sphere.off" -o "$tmp/s.xyz" >/dev/null 2>&1
 [ $? -eq 2 ] || fail "unknown output extension should exit 2"
+# self-intersections: the intruding triangle of the CGAL test mesh crosses face 2 only (CGAL's
+# PMP::self_intersections finds the same single pair); a clean sphere has none
+"$bin" info "$shared/data/meshes/tetra_intersected_by_triangle.off" --json > "$tmp/x.json" || fail "info tetra"
+[ "$(val self_intersections "$tmp/x.json")" = 1 ] || fail "tetra self-intersections"
+grep -q '"self_intersection_examples": \[\[2,4\]\]' "$tmp/x.json" || fail "tetra crossing pair"
+"$bin" info "$shared/data/meshes/sphere.off" | grep -q "self-intersections    none" || fail "sphere crossings"
 echo "info/convert/subdivide CLI: ok"

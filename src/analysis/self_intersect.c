@@ -1,0 +1,227 @@
+/* Self-intersections (intersect.h): every fan triangle is tested against the triangles of the
+ * BVH whose boxes overlap its box, unless they belong to the same or to neighbouring groups; the
+ * exact test is by signed volumes: an edge pq of one triangle crosses triangle abc when p and q
+ * lie strictly on opposite sides of abc's plane and the line pq passes strictly inside abc (the
+ * three volumes (p, q, a, b), (p, q, b, c), (p, q, c, a) have one sign). Two triangles in general
+ * position cross exactly when an edge of one crosses the other: each end of their common segment
+ * lies on an edge of one of them. */
+#include "surfkit/intersect.h"
+#include "analysis/bvh_internal.h"
+#include "core/internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static double orient3d(const double a[3], const double b[3], const double c[3], const double d[3])
+{
+    double u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+        w[k] = d[k] - a[k];
+    }
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+           u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+static bool edge_crosses(const double *p, const double *q, const double *t)
+{
+    const double *a = t, *b = t + 3, *c = t + 6;
+    double s1 = orient3d(a, b, c, p), s2 = orient3d(a, b, c, q);
+    if (!((s1 < 0 && s2 > 0) || (s1 > 0 && s2 < 0)))
+        return false;
+    double v1 = orient3d(p, q, a, b), v2 = orient3d(p, q, b, c), v3 = orient3d(p, q, c, a);
+    return (v1 > 0 && v2 > 0 && v3 > 0) || (v1 < 0 && v2 < 0 && v3 < 0);
+}
+
+static bool triangles_cross(const double *s, const double *t)
+{
+    for (int e = 0; e < 3; ++e) {
+        int f = (e + 1) % 3;
+        if (edge_crosses(s + 3 * e, s + 3 * f, t) || edge_crosses(t + 3 * e, t + 3 * f, s))
+            return true;
+    }
+    return false;
+}
+
+/* Pairs found by one thread */
+typedef struct pairs {
+    uint64_t *key; /* (smaller group << 32) | larger group */
+    size_t n, cap;
+    bool nomem;
+} pairs;
+
+static void pairs_push(pairs *p, uint64_t key)
+{
+    if (p->n && p->key[p->n - 1] == key) /* consecutive repeats are common: skip them */
+        return;
+    if (p->n == p->cap) {
+        size_t cap = p->cap ? 2 * p->cap : 256;
+        uint64_t *k = sk__realloc_array(p->key, cap, sizeof *k);
+        if (!k) {
+            p->nomem = true;
+            return;
+        }
+        p->key = k;
+        p->cap = cap;
+    }
+    p->key[p->n++] = key;
+}
+
+typedef struct visit_ctx {
+    const sk_soup *surface, *groups;
+    const uint32_t *face_group;
+    uint32_t face, group;
+    const double *tri; /* 9 corners of the query triangle */
+    pairs *out;
+    size_t tests;
+} visit_ctx;
+
+static uint32_t group_of(const visit_ctx *c, uint32_t f)
+{
+    return c->face_group ? c->face_group[f] : f;
+}
+
+static bool neighbours(const sk_soup *g, uint32_t a, uint32_t b)
+{
+    const uint32_t *ia = g->face_indices + g->face_offsets[a], *ib = g->face_indices + g->face_offsets[b];
+    size_t na = sk_soup_face_size(g, a), nb = sk_soup_face_size(g, b);
+    for (size_t i = 0; i < na; ++i)
+        for (size_t j = 0; j < nb; ++j)
+            if (ia[i] == ib[j])
+                return true;
+    return false;
+}
+
+static int visit(void *user, const double corners[9], uint32_t face)
+{
+    visit_ctx *c = user;
+    if (face <= c->face) /* each face pair once; never a face with itself */
+        return 0;
+    uint32_t g = group_of(c, face);
+    if (g == c->group || neighbours(c->groups, c->group, g))
+        return 0;
+    ++c->tests;
+    if (triangles_cross(c->tri, corners)) {
+        uint32_t lo = g < c->group ? g : c->group, hi = g < c->group ? c->group : g;
+        pairs_push(c->out, ((uint64_t)lo << 32) | hi);
+    }
+    return 0;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static sk_status check_groups(const sk_soup *surface, const uint32_t *face_group,
+                              const sk_soup *groups, sk_error *err)
+{
+    for (size_t f = 0; face_group && f < surface->num_faces; ++f)
+        if (face_group[f] >= groups->num_faces)
+            return sk__fail(err, SK_ERR_TOPOLOGY,
+                            "face %zu is in group %u but there are %zu groups", f, face_group[f],
+                            groups->num_faces);
+    if (!face_group && groups->num_faces < surface->num_faces)
+        return sk__fail(err, SK_ERR_TOPOLOGY, "%zu groups for %zu faces", groups->num_faces,
+                        surface->num_faces);
+    return SK_OK;
+}
+
+/* Sorts and de-duplicates the pairs, fills the report. */
+static void summarize(pairs *all, size_t num_groups, sk_intersection_report *rep, sk_error *err,
+                      sk_status *st)
+{
+    qsort(all->key, all->n, sizeof *all->key, cmp_u64);
+    size_t m = 0;
+    for (size_t i = 0; i < all->n; ++i)
+        if (m == 0 || all->key[i] != all->key[m - 1])
+            all->key[m++] = all->key[i];
+    rep->pairs = m;
+    for (size_t i = 0; i < m && rep->num_examples < SK_INTERSECT_EXAMPLES; ++i, ++rep->num_examples) {
+        rep->examples[2 * i] = (uint32_t)(all->key[i] >> 32);
+        rep->examples[2 * i + 1] = (uint32_t)all->key[i];
+    }
+    uint8_t *seen = sk__calloc_array(num_groups + 1, 1);
+    if (!seen) {
+        *st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        return;
+    }
+    for (size_t i = 0; i < m; ++i) {
+        uint32_t a = (uint32_t)(all->key[i] >> 32), b = (uint32_t)all->key[i];
+        rep->groups += !seen[a] + (a != b && !seen[b]);
+        seen[a] = seen[b] = 1;
+    }
+    free(seen);
+}
+
+sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_group,
+                                const sk_soup *groups, sk_intersection_report *rep,
+                                sk_error *err)
+{
+    double t0 = sk_seconds();
+    memset(rep, 0, sizeof *rep);
+    if (!groups)
+        groups = surface;
+    sk_bvh *bvh = NULL;
+    sk_status st = sk_bvh_build(surface, &bvh, err);
+    if (!st)
+        st = check_groups(surface, face_group, groups, err);
+    if (st) {
+        sk_bvh_destroy(&bvh);
+        return st;
+    }
+    pairs all = {0};
+    bool nomem = false;
+    size_t tests = 0;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel reduction(+ : tests) reduction(|| : nomem)
+#endif
+    {
+        pairs mine = {0};
+        visit_ctx c = {surface, groups, face_group, 0, 0, NULL, &mine, 0};
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 256)
+#endif
+        for (ptrdiff_t f = 0; f < (ptrdiff_t)surface->num_faces; ++f) {
+            const uint32_t *idx = surface->face_indices + surface->face_offsets[f];
+            c.face = (uint32_t)f;
+            c.group = group_of(&c, (uint32_t)f);
+            for (size_t k = 1; k + 1 < sk_soup_face_size(surface, (size_t)f); ++k) {
+                double tri[9], lo[3], hi[3];
+                const uint32_t v[3] = {idx[0], idx[k], idx[k + 1]};
+                for (int q = 0; q < 3; ++q)
+                    memcpy(tri + 3 * q, surface->positions + 3 * (size_t)v[q], 3 * sizeof *tri);
+                for (int d = 0; d < 3; ++d) {
+                    lo[d] = tri[d] < tri[3 + d] ? tri[d] : tri[3 + d];
+                    lo[d] = lo[d] < tri[6 + d] ? lo[d] : tri[6 + d];
+                    hi[d] = tri[d] > tri[3 + d] ? tri[d] : tri[3 + d];
+                    hi[d] = hi[d] > tri[6 + d] ? hi[d] : tri[6 + d];
+                }
+                c.tri = tri;
+                sk__bvh_overlaps(bvh, lo, hi, visit, &c);
+            }
+        }
+        tests += c.tests;
+        nomem = nomem || mine.nomem;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical
+#endif
+        {
+            for (size_t i = 0; i < mine.n && !nomem; ++i)
+                pairs_push(&all, mine.key[i]);
+        }
+        free(mine.key);
+    }
+    sk_bvh_destroy(&bvh);
+    if (nomem || all.nomem) {
+        free(all.key);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    rep->triangle_tests = tests;
+    summarize(&all, groups->num_faces, rep, err, &st);
+    free(all.key);
+    rep->seconds = sk_seconds() - t0;
+    return st;
+}

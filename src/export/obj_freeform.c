@@ -5,26 +5,29 @@
 
 #include <stdlib.h>
 
-sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size_t count,
+sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
                                  const sk_export_opts *opts, sk_export_stats *stats,
                                  sk_error *err)
 {
-    sk_patch *t = NULL;
-    size_t nt = 0;
-    sk_status st = sk_export_tensor_patches(patches, count, opts, &t, &nt, err);
-    if (st)
+    sk_patch_set ts = {0};
+    sk_status st = sk_export_tensor_patches(patches, opts, &ts, err);
+    if (st) {
+        sk_patch_set_free(&ts);
         return st;
+    }
+    size_t nt = ts.count;
     sk__buf out = {0};
     sk__buf_printf(&out, "# surfkit %s: %zu Bezier patches (OBJ free-form geometry)\n",
                    opts && opts->name ? opts->name : "surface", nt);
     size_t base = 1;
     for (size_t i = 0; i < nt; ++i) {
-        const sk_patch *p = &t[i];
+        const sk_patch *p = &ts.patches[i];
+        const double *cp = sk_patch_cp(&ts, i);
         unsigned du = p->degree, dv = p->degree_v, n = (du + 1) * (dv + 1);
         char x[32], y[32], z[32];
         for (unsigned k = 0; k < n; ++k)
-            sk__buf_printf(&out, "v %s %s %s\n", sk__fmt_real(x, p->cp[3 * k]),
-                           sk__fmt_real(y, p->cp[3 * k + 1]), sk__fmt_real(z, p->cp[3 * k + 2]));
+            sk__buf_printf(&out, "v %s %s %s\n", sk__fmt_real(x, cp[3 * k]),
+                           sk__fmt_real(y, cp[3 * k + 1]), sk__fmt_real(z, cp[3 * k + 2]));
         sk__buf_printf(&out, "cstype bezier\ndeg %u %u\nsurf 0.0 1.0 0.0 1.0", du, dv);
         for (unsigned k = 0; k < n; ++k)
             sk__buf_printf(&out, " %zu", base + k);
@@ -38,6 +41,6 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size
         stats->bytes = out.n;
     }
     sk__buf_free(&out);
-    free(t);
+    sk_patch_set_free(&ts);
     return st;
 }

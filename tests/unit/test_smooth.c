@@ -123,7 +123,7 @@ static void side_param(int kind, int side, double t, double *u, double *v)
 {
     static const double tri[3][4] = {{0, 1, 0, 0}, {1, -1, 0, 1}, {0, 0, 1, -1}};
     static const double quad[4][4] = {{0, 1, 0, 0}, {1, 0, 0, 1}, {1, -1, 1, 0}, {0, 0, 1, -1}};
-    const double *c = kind == SK_SMOOTH_TRIANGLE ? tri[side] : quad[side];
+    const double *c = kind == SK_PATCH_TRIANGLE ? tri[side] : quad[side];
     *u = c[0] + c[1] * t;
     *v = c[2] + c[3] * t;
 }
@@ -137,7 +137,7 @@ static int side_of(const sk_mesh *m, uint32_t f, uint32_t h)
 }
 
 /* The report samples edges from the boundary rows of the control nets; the same samples through
- * the general evaluator sk_smooth_eval give the same largest normal jump. */
+ * the general evaluator sk_patch_eval give the same largest normal jump. */
 static void test_report_sampling(void **state)
 {
     (void)state;
@@ -154,10 +154,10 @@ static void test_report_sampling(void **state)
                     continue;
                 for (int k = 0; k <= 16; ++k) {
                     double t = k / 16.0, u, v, x1[3], x2[3], n1[3], n2[3];
-                    side_param(s->patches[f].kind, side_of(m, f, h), t, &u, &v);
-                    sk_smooth_eval(s, f, u, v, x1, NULL, NULL, n1);
-                    side_param(s->patches[g].kind, side_of(m, g, o), 1.0 - t, &u, &v);
-                    sk_smooth_eval(s, g, u, v, x2, NULL, NULL, n2);
+                    side_param(s->surface.patches[f].kind, side_of(m, f, h), t, &u, &v);
+                    sk_patch_eval(&s->surface, f, u, v, x1, NULL, NULL, n1);
+                    side_param(s->surface.patches[g].kind, side_of(m, g, o), 1.0 - t, &u, &v);
+                    sk_patch_eval(&s->surface, g, u, v, x2, NULL, NULL, n2);
                     double d = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
                     double cx = n1[1] * n2[2] - n1[2] * n2[1], cy = n1[2] * n2[0] - n1[0] * n2[2],
                            cz = n1[0] * n2[1] - n1[1] * n2[0];

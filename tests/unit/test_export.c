@@ -122,6 +122,11 @@ static void given_patches_when_obj_freeform_written_then_one_surf_per_tensor_pat
     assert_int_equal(count(text, "deg 3 3"), 1);
     assert_int_equal(count(text, "deg 4 4"), 6);
     assert_int_equal(count(text, "\nv "), 16 + 6 * 25);
+    /* B-splines with clamped knots (one span), not Bezier: degree + 1 zeros, degree + 1 ones */
+    assert_int_equal(count(text, "cstype bspline\n"), 7);
+    assert_int_equal(count(text, "cstype bezier"), 0);
+    assert_int_equal(count(text, "\nparm u 0.0 0.0 0.0 0.0 1.0 1.0 1.0 1.0\n"), 1);
+    assert_int_equal(count(text, "\nparm v 0.0 0.0 0.0 0.0 0.0 1.0 1.0 1.0 1.0 1.0\nend\n"), 6);
     free(text);
     sk_patch_set_free(&p);
 }

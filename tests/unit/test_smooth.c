@@ -194,6 +194,51 @@ static void test_pn_baseline(void **state)
     }
 }
 
+/* The tessellation of a closed surface is closed: every patch side is tessellated once and its
+ * vertices are shared by both neighbours, so the soup builds a manifold mesh with one component,
+ * no boundary and the genus of the input; a disk keeps exactly its boundary loop. Positions of a
+ * shared side come from one patch, so they lie on the other one to rounding (the report's gap). */
+static void test_watertight_tessellation(void **state)
+{
+    (void)state;
+    const struct {
+        const char *name;
+        sk_smooth_scheme scheme;
+        long genus;
+        size_t loops;
+    } cases[] = {{"sphere.off", SK_SMOOTH_VC1, 0, 0}, {"cow.off", SK_SMOOTH_VC1, 0, 0},
+                 {"sphere.off", SK_SMOOTH_PN, 0, 0}, {"nefertiti.off", SK_SMOOTH_VC1, 0, 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        sk_continuity_report r;
+        sk_smooth *s = build(cases[i].name, cases[i].scheme, &r);
+        const unsigned n = 4;
+        sk_soup *soup = NULL;
+        sk_mesh *t = NULL;
+        sk_error err = {0};
+        assert_int_equal(sk_patch_set_tessellate(&s->surface, n, &soup, &err), SK_OK);
+        if (sk_mesh_from_soup(soup, &t, &err) != SK_OK)
+            fail_msg("%s: tessellation is not a manifold: %s", cases[i].name, err.message);
+        sk_topology top;
+        assert_int_equal(sk_mesh_topology(t, &top, NULL, &err), SK_OK);
+        assert_int_equal(top.components, 1);
+        assert_int_equal(top.boundary_loops, cases[i].loops);
+        assert_int_equal(top.genus, cases[i].genus);
+        /* vertices: one per config vertex, n - 1 per config edge, the patch interiors */
+        const sk_mesh *c = s->config;
+        size_t inner = 0, tri = 0;
+        for (size_t p = 0; p < s->surface.count; ++p) {
+            bool quad = s->surface.patches[p].kind == SK_PATCH_TENSOR;
+            inner += quad ? (n - 1) * (n - 1) : (n - 1) * (n - 2) / 2;
+            tri += quad ? 2 * n * n : n * n;
+        }
+        assert_int_equal(soup->num_vertices, c->num_vertices + (n - 1) * sk_num_edges(c) + inner);
+        assert_int_equal(soup->num_faces, tri);
+        sk_mesh_destroy(&t);
+        sk_soup_destroy(&soup);
+        sk_smooth_destroy(&s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -203,6 +248,7 @@ int main(void)
         cmocka_unit_test(test_former_violations),
         cmocka_unit_test(test_pn_baseline),
         cmocka_unit_test(test_report_sampling),
+        cmocka_unit_test(test_watertight_tessellation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

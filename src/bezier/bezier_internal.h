@@ -19,6 +19,11 @@ void sk__curve_eval(const double *cp, unsigned n, double t, double pt[3], double
 void sk__tri_eval(const double *cp, unsigned n, double v, double w, double pt[3], double d1[3],
                   double d2[3]);
 
+/* sk_patch_set_add with a tag. */
+sk_status sk__patch_set_add_tagged(sk_patch_set *set, sk_patch_kind kind, unsigned degree,
+                                   unsigned degree_v, const double *cp, const uint32_t *corner_ids,
+                                   uint32_t tag, sk_error *err);
+
 /* Regularity certificates of patch i of set from the cross products g_ij = du_i x dv_j of the
  * differences of its control net along the two parameter directions (corner 0 -> 1 and
  * corner 0 -> 2 (triangle) or 0 -> 3 (tensor)):

@@ -92,11 +92,9 @@ sk_status sk_patch_split_triangle(const sk_patch_set *src, size_t i, sk_patch_se
             dom[3][x] = 0.5 * (E[q][x] + E[qp][x]);
         }
         uint32_t corners[4] = {ids[q], SK_INVALID, SK_INVALID, SK_INVALID};
-        size_t k;
         if ((st = compose_bilinear(net, n, dom, sub, err)) != SK_OK ||
-            (st = sk_patch_set_add(dst, SK_PATCH_TENSOR, n, n, sub, corners, &k, err)) != SK_OK)
+            (st = sk__patch_set_add_tagged(dst, SK_PATCH_TENSOR, n, n, sub, corners, tag, err)))
             return st;
-        dst->patches[k].tag = tag;
     }
     return SK_OK;
 }
@@ -113,12 +111,9 @@ sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch_set *src, size_t
     uint32_t tag = p->tag;
     uint32_t corners[4] = {p->corner_ids[0], p->corner_ids[1], p->corner_ids[2], p->corner_ids[0]};
     double dom[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}};
-    size_t k;
-    if ((st = compose_bilinear(net, n, dom, out, err)) != SK_OK ||
-        (st = sk_patch_set_add(dst, SK_PATCH_TENSOR, n, n, out, corners, &k, err)) != SK_OK)
+    if ((st = compose_bilinear(net, n, dom, out, err)) != SK_OK)
         return st;
-    dst->patches[k].tag = tag;
-    return SK_OK;
+    return sk__patch_set_add_tagged(dst, SK_PATCH_TENSOR, n, n, out, corners, tag, err);
 }
 
 /* One degree elevation of a triangle net of degree n:
@@ -188,11 +183,7 @@ sk_status sk_patch_elevate(const sk_patch_set *src, size_t i, unsigned degree, u
         elevate_tensor(buf[cur], du, dv, 0, buf[cur ^ 1]);
     for (; !tri && dv < degree_v; ++dv, cur ^= 1)
         elevate_tensor(buf[cur], du, dv, 1, buf[cur ^ 1]);
-    size_t k;
-    sk_status st = sk_patch_set_add(dst, kind, du, dv, buf[cur], corners, &k, err);
-    if (st == SK_OK)
-        dst->patches[k].tag = tag;
-    return st;
+    return sk__patch_set_add_tagged(dst, kind, du, dv, buf[cur], corners, tag, err);
 }
 
 sk_status sk_patch_set_to_tensor(const sk_patch_set *src, bool degenerate, sk_patch_set *dst,
@@ -211,17 +202,13 @@ sk_status sk_patch_set_to_tensor(const sk_patch_set *src, bool degenerate, sk_pa
     sk_status st = sk_patch_set_reserve(dst, n, points, err);
     for (size_t i = 0; i < src->count && st == SK_OK; ++i) {
         const sk_patch *p = &src->patches[i];
-        size_t k;
-        if (p->kind == SK_PATCH_TENSOR) {
-            st = sk_patch_set_add(dst, SK_PATCH_TENSOR, p->degree, p->degree_v,
-                                  sk_patch_cp(src, i), p->corner_ids, &k, err);
-            if (st == SK_OK)
-                dst->patches[k].tag = p->tag;
-        } else if (degenerate) {
+        if (p->kind == SK_PATCH_TENSOR)
+            st = sk__patch_set_add_tagged(dst, SK_PATCH_TENSOR, p->degree, p->degree_v,
+                                          sk_patch_cp(src, i), p->corner_ids, p->tag, err);
+        else if (degenerate)
             st = sk_patch_triangle_to_degenerate_tensor(src, i, dst, err);
-        } else {
+        else
             st = sk_patch_split_triangle(src, i, dst, err);
-        }
     }
     return st;
 }

@@ -78,6 +78,17 @@ sk_status sk_patch_set_add(sk_patch_set *set, sk_patch_kind kind, unsigned degre
     return SK_OK;
 }
 
+sk_status sk__patch_set_add_tagged(sk_patch_set *set, sk_patch_kind kind, unsigned degree,
+                                   unsigned degree_v, const double *cp, const uint32_t *corner_ids,
+                                   uint32_t tag, sk_error *err)
+{
+    size_t k;
+    sk_status st = sk_patch_set_add(set, kind, degree, degree_v, cp, corner_ids, &k, err);
+    if (st == SK_OK)
+        set->patches[k].tag = tag;
+    return st;
+}
+
 void sk_patch_set_clear(sk_patch_set *set)
 {
     if (set)

@@ -58,11 +58,10 @@ sk_status sk__pn_build(sk_smooth *s, sk_error *err)
     for (uint32_t f = 0; f < nf && st == SK_OK; ++f) {
         uint32_t h = m->f_halfedge[f];
         uint32_t c[3] = {sk_from(m, h), sk_to(m, h), sk_to(m, m->h_next[h])};
-        size_t k;
-        if ((st = sk_patch_set_add(&s->surface, SK_PATCH_TRIANGLE, 3, 0, NULL, c, &k, err)) != SK_OK)
+        if ((st = sk__patch_set_add_tagged(&s->surface, SK_PATCH_TRIANGLE, 3, 0, NULL, c, f,
+                                           err)) != SK_OK)
             break;
-        s->surface.patches[k].tag = f;
-        pn_patch(s, c, sk_patch_cp(&s->surface, k));
+        pn_patch(s, c, sk_patch_cp(&s->surface, f));
     }
     if (st == SK_OK)
         sk__ok(err);

@@ -37,11 +37,8 @@ static sk_status add_patches(sk_smooth *s, sk_error *err)
     for (uint32_t f = 0; f < nf && st == SK_OK; ++f) {
         sk_patch h;
         sk__vc1_patch_header(m, f, &h);
-        size_t k;
-        st = sk_patch_set_add(&s->surface, (sk_patch_kind)h.kind, h.degree, h.degree_v, NULL,
-                              h.corner_ids, &k, err);
-        if (st == SK_OK)
-            s->surface.patches[k].tag = h.tag;
+        st = sk__patch_set_add_tagged(&s->surface, (sk_patch_kind)h.kind, h.degree, h.degree_v,
+                                      NULL, h.corner_ids, h.tag, err);
     }
     return st;
 }

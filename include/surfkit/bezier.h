@@ -98,7 +98,8 @@ sk_status sk_patch_set_reserve(sk_patch_set *set, size_t patches, size_t points,
 /* Appends a patch of the given kind and degree(s) (at most SK_PATCH_MAX_DEGREE; degree_v is
  * ignored for triangles). cp (sk_patch_num_points * 3 doubles) may be NULL: the points are then
  * zero. corner_ids (3 for a triangle, 4 for a tensor patch) may be NULL: SK_INVALID. The tag is
- * SK_INVALID. *index (may be NULL) receives the patch's index. cp may point into the set. */
+ * SK_INVALID. *index (may be NULL) receives the patch's index. cp and corner_ids may point into
+ * the set. */
 sk_status sk_patch_set_add(sk_patch_set *set, sk_patch_kind kind, unsigned degree,
                            unsigned degree_v, const double *cp, const uint32_t *corner_ids,
                            size_t *index, sk_error *err);

@@ -51,8 +51,13 @@ sk_status sk_patch_set_add(sk_patch_set *set, sk_patch_kind kind, unsigned degre
         degree_v = 0;
     unsigned np = sk_bezier_num_points(kind, degree, degree_v);
     double local[3 * SK__PATCH_MAX_POINTS];
-    if (cp) /* cp may point into set->points, which the reserve may move */
+    uint32_t ids[4];
+    unsigned nc = kind == SK_PATCH_TRIANGLE ? 3 : 4;
+    /* cp and corner_ids may point into the set, whose arrays the reserve may move */
+    if (cp)
         memcpy(local, cp, 3 * np * sizeof(double));
+    for (unsigned c = 0; c < 4; ++c)
+        ids[c] = corner_ids && c < nc ? corner_ids[c] : SK_INVALID;
     sk_status st = sk_patch_set_reserve(set, 1, np, err);
     if (st)
         return st;
@@ -63,9 +68,7 @@ sk_status sk_patch_set_add(sk_patch_set *set, sk_patch_kind kind, unsigned degre
     p->degree_v = (uint8_t)degree_v;
     p->tag = SK_INVALID;
     p->first = set->num_points;
-    unsigned nc = kind == SK_PATCH_TRIANGLE ? 3 : 4;
-    for (unsigned c = 0; c < 4; ++c)
-        p->corner_ids[c] = corner_ids && c < nc ? corner_ids[c] : SK_INVALID;
+    memcpy(p->corner_ids, ids, sizeof ids);
     double *dst = set->points + 3 * p->first;
     if (cp)
         memcpy(dst, local, 3 * np * sizeof(double));

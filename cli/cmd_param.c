@@ -10,7 +10,8 @@ static const char help[] =
     "                     [--boundary circle|square|free] [--spacing chord|uniform]\n"
     "                     [--hierarchical | --flat] [--steps N] [--seed S]\n"
     "                     [--png LAYOUT.png] [--svg LAYOUT.svg] [--checker VIEW.png]\n"
-    "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii] [-q]\n"
+    "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii]\n"
+    "                     [--no-normalize] [-q]\n"
     "\n"
     "Maps a triangulated disk (one boundary loop, Euler characteristic 1) to the plane.\n"
     "Fixed boundary (circle by default, or the unit square with corners at quarter arc length;\n"
@@ -27,7 +28,10 @@ static const char help[] =
     "the full mesh then local steps in random order. --boundary free (default for mips) lets\n"
     "the boundary move; circle/square keep it fixed. --steps N bounds the local steps.\n"
     "\n"
-    "OUT: .obj (v + vt, faces v/vt) or .ply (with u v), also .off (positions only).\n"
+    "OUT: .obj (v + vt, faces v/vt) or .ply (with s t); formats without texture coordinates\n"
+    "(.off, .stl) are refused. The uv are normalized to the unit square (one uniform scale and\n"
+    "a translation, aspect kept: the larger side spans [0, 1]); --no-normalize writes each\n"
+    "method's own scale (unit circle, unit square, LSCM's pins, MIPS's drifting scale).\n"
     "--png/--svg draw the uv layout coloured by conformal distortion sigma1/sigma2, flipped\n"
     "triangles in magenta; --checker draws the 3D mesh with a checkerboard texture seen along\n"
     "--view (default 0,0,-1). --report writes the metrics as JSON; --json prints them.\n";
@@ -139,6 +143,7 @@ int cmd_param(int argc, char **argv)
     const char *in = NULL, *out = NULL, *png = NULL, *svg = NULL, *checker = NULL, *report = NULL;
     const char *val, *boundary = NULL;
     bool quiet = false, json = false, mips = false, flat = false, hier_flag = false;
+    bool normalize = true;
     unsigned long steps = 0, seed = 1;
     sk_param_opts po = {0};
     sk_write_opts wo = {0};
@@ -158,6 +163,8 @@ int cmd_param(int argc, char **argv)
             json = true;
         } else if (!strcmp(a, "--ascii")) {
             wo.ascii = true;
+        } else if (!strcmp(a, "--no-normalize")) {
+            normalize = false;
         } else if (!strcmp(a, "--flat")) {
             flat = true;
         } else if (!strcmp(a, "--hierarchical")) {
@@ -201,8 +208,12 @@ int cmd_param(int argc, char **argv)
     }
     if (!in || !out)
         return cli_usage("param", "needs an input file and -o OUT");
-    if (sk_format_from_path(out) == SK_FORMAT_UNKNOWN)
+    sk_format ofmt = sk_format_from_path(out);
+    if (ofmt == SK_FORMAT_UNKNOWN)
         return cli_usage("param", "cannot tell the output format of '%s'", out);
+    if (ofmt != SK_FORMAT_OBJ && ofmt != SK_FORMAT_PLY)
+        return cli_usage("param", "%s cannot hold texture coordinates ('%s'): write .obj or .ply",
+                         sk_format_name(ofmt), out);
     if ((flat || hier_flag || steps) && !mips)
         return cli_usage("param", "--flat, --hierarchical and --steps go with --method mips");
     if (flat && hier_flag)
@@ -252,6 +263,8 @@ int cmd_param(int argc, char **argv)
     } else if (st == SK_OK) {
         st = sk_param_mips_flat(mesh, mb, steps, 0.0, seed, uv, &r.ms, &err);
     }
+    if (st == SK_OK && normalize)
+        st = sk_param_normalize(mesh, uv, &err);
     r.seconds = sk_seconds() - t0;
     cli_progress_done(&bar);
     if (st == SK_OK)

@@ -56,7 +56,10 @@ sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, 
                          sk_error *err);
 
 /* Lowers the MIPS energy of uv (2 per vertex, a flip-free start) by local steps in random order.
- * Fails with SK_ERR_ARG if the start has an inverted triangle. */
+ * Fails with SK_ERR_ARG if the start has an inverted triangle. With a free boundary the energy
+ * is invariant under similarities and the scale of uv would drift: uv is rescaled by powers of
+ * two during the optimization (exact, so the result is the same) and comes back with the larger
+ * side of its bounding box in [1, 2), translated to the origin if it had drifted far from it. */
 sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
                         sk_mips_stats *stats, sk_error *err);
 

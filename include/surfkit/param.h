@@ -2,7 +2,8 @@
  *
  * A parametrization is a per-vertex array uv of 2 * mesh->num_vertices doubles (u, v of vertex i
  * at uv[2i], uv[2i+1]); deleted and isolated vertices get (0, 0). Copy it into mesh->uvs to write
- * an OBJ with vt or a PLY with u v.
+ * an OBJ with vt or a PLY with s t. Each method leaves uv at its own scale (the unit circle, the
+ * unit square, LSCM's pins); sk_param_normalize maps it into the unit square.
  *
  * Fixed-boundary methods (the boundary is mapped to a convex polygon, then every interior vertex
  * is an affine combination of its neighbours: sum_j w_ij (u_i - u_j) = 0, eq. (1) of Hormann,
@@ -127,6 +128,14 @@ sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double
 /* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM). */
 sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
                         sk_param_stats *stats, sk_error *err);
+
+/* Maps uv (2 * mesh->num_vertices doubles, changed in place) into the unit square by one
+ * uniform scale and a translation (the aspect ratio is kept): the bounding box of the vertices
+ * of the alive faces gets its lower-left corner at (0, 0) and its larger side 1, so every such
+ * uv lies in [0, 1]^2 (exactly: no rounding outside). Deleted and isolated vertices keep their
+ * value. Every metric below is invariant under this map. SK_ERR_NUMERIC when a uv is not
+ * finite or all of them are one point; a mesh without faces is left as it is. */
+sk_status sk_param_normalize(const sk_mesh *mesh, double *uv, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Metrics

@@ -252,6 +252,8 @@ typedef struct mips_global {
     bool factored;
     bool refactor; /* the frozen model did poorly (line search cut the step): factorize again */
     int since_factor; /* steps on the current factorization (a frozen model serves at most 3) */
+    int scale_exp;    /* uv was scaled by 2^scale_exp since the factorization (renormalize): the
+                         model then scales by 2^-2scale_exp, its direction is corrected */
     sk_sparse *P;
     sk_solver *solver;
     uint32_t *nb_start, *nb; /* per vertex: sorted movable neighbours w > v */
@@ -511,6 +513,7 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
         G->factored = true;
         G->refactor = false;
         G->since_factor = 0;
+        G->scale_exp = 0;
     }
     G->since_factor++;
     for (size_t i = 0; i < n2; ++i)
@@ -530,6 +533,9 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
     } else if ((*st = sk_solver_solve(G->solver, 1, G->g, G->d, err))) {
         return e0;
     }
+    if (G->scale_exp != 0) /* P was factorized at 2^-scale_exp times the present scale */
+        for (size_t i = 0; i < n2; ++i)
+            G->d[i] = ldexp(G->d[i], 2 * G->scale_exp);
     double slope = 0.0;
     for (size_t i = 0; i < n2; ++i)
         slope -= G->g[i] * G->d[i]; /* g holds -grad */
@@ -549,6 +555,44 @@ static double global_step(mips_global *G, const mips_ctx *c, double *uv, double 
     memcpy(uv, G->x0, n2 * sizeof(double));
     G->refactor = true;
     return e0;
+}
+
+/* The free-boundary energy is invariant under similarities, so nothing holds the scale of uv:
+ * over many steps it drifts (to 1e9 on nefertiti). Rescales the vertices of the triangles by a
+ * power of two so that the larger side of their bounding box lies in [1, 2): exact in floating
+ * point, so the optimization computes the same mantissas as without it. A box whose centre is
+ * farther than SK__MIPS_FAR_CENTRE extents from the origin is also moved to the origin (which
+ * rounds). Returns the exponent e of the factor 2^e applied (0: unchanged). */
+#define SK__MIPS_FAR_CENTRE 4.0
+
+static int renormalize(const mips_ctx *c, double *uv)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t v = 0; v < c->nv; ++v) {
+        if (c->vt_start[v] == c->vt_start[v + 1])
+            continue;
+        for (int k = 0; k < 2; ++k) {
+            lo[k] = fmin(lo[k], uv[2 * v + (size_t)k]);
+            hi[k] = fmax(hi[k], uv[2 * v + (size_t)k]);
+        }
+    }
+    double ext = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (!(ext > 0.0) || !isfinite(ext))
+        return 0;
+    int e = -ilogb(ext);
+    double mid[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])};
+    bool far = fmax(fabs(mid[0]), fabs(mid[1])) > SK__MIPS_FAR_CENTRE * ext;
+    if (e == 0 && !far)
+        return 0;
+    for (size_t v = 0; v < c->nv; ++v) {
+        if (c->vt_start[v] == c->vt_start[v + 1])
+            continue;
+        for (int k = 0; k < 2; ++k) {
+            double x = uv[2 * v + (size_t)k];
+            uv[2 * v + (size_t)k] = ldexp(far ? x - mid[k] : x, e);
+        }
+    }
+    return e;
 }
 
 sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
@@ -647,6 +691,9 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         }
         s.global_seconds += sk_seconds() - tg;
     }
+    bool free_scale = !o.fixed_boundary;
+    if (free_scale)
+        renormalize(&c, uv);
     double block_start = s.energy;
     for (size_t sweep = 0; sweep < max_sweeps && n && budget_left; ++sweep) {
         double gdrop = 0.0;
@@ -685,6 +732,11 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
             s.steps += (size_t)(hi - lo);
         }
         s.sweeps++;
+        if (free_scale) {
+            int e = renormalize(&c, uv);
+            if (use_global)
+                G.scale_exp += e;
+        }
         if (sweep % per_global == 0)
             block_start = s.energy + gdrop;
         s.energy -= drop;

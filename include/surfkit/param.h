@@ -33,22 +33,37 @@ extern "C" {
 #endif
 
 typedef enum {
-    SK_PARAM_TUTTE = 0,
+    SK_PARAM_DEFAULT = 0, /* Floater (sk_param_linear, sk_param_weights, sk_parametrize) */
+    SK_PARAM_TUTTE,
     SK_PARAM_FLOATER,
     SK_PARAM_MEAN_VALUE,
     SK_PARAM_HARMONIC,
-    SK_PARAM_LSCM
+    SK_PARAM_LSCM,
+    SK_PARAM_MIPS         /* hierarchical (or flat) MIPS: sk_parametrize only (parametrize.h) */
 } sk_param_method;
 
-const char *sk_param_method_name(sk_param_method m); /* "tutte", "floater", "mvc", ... */
-/* Parses those names (and "mean-value", "cotangent"); returns false when unknown. */
+/* "tutte", "floater", "mvc", "harmonic", "lscm", "mips" ("floater" for SK_PARAM_DEFAULT,
+ * "unknown" else); static storage, never NULL. */
+const char *sk_param_method_name(sk_param_method m);
+/* Parses those names (and "barycentric", "shape-preserving", "mean-value", "cotangent"); name
+ * may be NULL; returns false (and leaves *m) when unknown. */
 bool sk_param_method_parse(const char *name, sk_param_method *m);
 
+/* One boundary vocabulary for every parametrizer. Which shapes a call accepts is said at the
+ * call; SK_ERR_ARG for the others. */
 typedef enum {
-    SK_BOUNDARY_CIRCLE = 0, /* unit circle, counter-clockwise */
-    SK_BOUNDARY_SQUARE,     /* unit square [0,1]^2, corners on four boundary vertices */
-    SK_BOUNDARY_GIVEN       /* keep the boundary uv already in the uv array */
+    SK_BOUNDARY_DEFAULT = 0, /* the method's own: the circle for the fixed-boundary methods
+                                (Tutte, Floater, mean value, harmonic), free for LSCM and MIPS */
+    SK_BOUNDARY_CIRCLE,      /* fixed on the unit circle, counter-clockwise */
+    SK_BOUNDARY_SQUARE,      /* fixed on the unit square [0,1]^2, corners on four boundary vertices */
+    SK_BOUNDARY_FREE,        /* natural boundary (LSCM, MIPS) */
+    SK_BOUNDARY_GIVEN        /* fixed where the uv array already has it */
 } sk_boundary_shape;
+
+/* "default", "circle", "square", "free", "given" ("unknown" else); static storage. */
+const char *sk_boundary_shape_name(sk_boundary_shape shape);
+/* Parses "circle", "square", "free", "given"; name may be NULL; false when unknown. */
+bool sk_boundary_shape_parse(const char *name, sk_boundary_shape *shape);
 
 typedef enum {
     SK_SPACING_CHORD = 0, /* by chord length along the boundary loop */
@@ -56,7 +71,7 @@ typedef enum {
 } sk_boundary_spacing;
 
 typedef struct sk_boundary_opts {
-    sk_boundary_shape shape;
+    sk_boundary_shape shape;     /* 0 = the method's default (above) */
     sk_boundary_spacing spacing;
     /* Square: the four corner vertices in boundary order (counter-clockwise in uv); when
      * has_corners is false they are the boundary vertices closest to quarter arc length. */
@@ -75,8 +90,8 @@ typedef enum {
 } sk_linear_solver;
 
 typedef struct sk_param_opts {
-    sk_param_method method;
-    sk_boundary_opts boundary; /* ignored by LSCM */
+    sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
+    sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
     sk_linear_solver solver;   /* LSCM is always direct */
     double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10 */
     size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000 */
@@ -102,7 +117,9 @@ typedef struct sk_param_stats {
  * message saying what the mesh is ("closed surface of genus 2: cut it to a disk first"). */
 sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
 
-/* Writes uv of the boundary vertices (only) for the circle or square map. */
+/* Writes uv of the boundary vertices (only) for the circle (also SK_BOUNDARY_DEFAULT) or square
+ * map; SK_BOUNDARY_GIVEN leaves uv as it is; SK_BOUNDARY_FREE is SK_ERR_ARG (no map). opts may be
+ * NULL (circle, chord spacing). */
 sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
                             sk_error *err);
 

@@ -23,8 +23,8 @@ static schedule schedule_from(const sk_hparam_opts *o)
     schedule c;
     c.sweeps_cap = o->sweeps_per_level ? o->sweeps_per_level : 400;
     c.tol = o->tolerance == 0.0 ? 1e-5 : o->tolerance;
-    c.fixed = o->boundary != SK_MIPS_BOUNDARY_FREE;
-    c.gsteps = o->global_steps == (size_t)-1 ? 0 : o->global_steps ? o->global_steps : 3;
+    c.fixed = o->boundary.shape != SK_BOUNDARY_DEFAULT && o->boundary.shape != SK_BOUNDARY_FREE;
+    c.gsteps = o->global_steps == SK_MIPS_NONE ? 0 : o->global_steps ? o->global_steps : 3;
     c.gmax = o->global_max_vertices ? o->global_max_vertices : 25000;
     c.work = o->level_work > 0.0 ? o->level_work : c.gsteps ? 2.0 : 5.0;
     c.gsweeps = o->sweeps_per_global ? o->sweeps_per_global : 2;
@@ -67,7 +67,7 @@ static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, s
 {
     size_t nv = m->num_vertices;
     sk_mips_opts mo = {0};
-    mo.fixed_boundary = c->fixed;
+    mo.boundary = c->fixed ? SK_BOUNDARY_GIVEN : SK_BOUNDARY_FREE;
     double want = ceil(c->work * (double)nfine / (double)(nv ? nv : 1));
     mo.max_sweeps = want < (double)c->sweeps_cap ? (size_t)want : c->sweeps_cap;
     if (l + 1 == L && c->finest_sweeps)
@@ -131,8 +131,12 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     if (opts)
         o = *opts;
     schedule c = schedule_from(&o);
-    sk_boundary_opts bo = {0};
-    bo.shape = o.boundary == SK_MIPS_BOUNDARY_SQUARE ? SK_BOUNDARY_SQUARE : SK_BOUNDARY_CIRCLE;
+    sk_boundary_opts bo = o.boundary; /* the fixed boundary's map, or the coarsest level's start */
+    if (!c.fixed)
+        bo.shape = SK_BOUNDARY_CIRCLE;
+    if (bo.shape == SK_BOUNDARY_GIVEN)
+        return sk__fail(err, SK_ERR_ARG, "hierarchical MIPS maps the boundary itself: circle, "
+                        "square or free, not given");
     size_t last_opt = 0;
     double t0 = sk_seconds();
     sk_hparam_stats s;
@@ -151,8 +155,9 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         goto done;
     s.hierarchy_seconds = sk_seconds() - t0;
     size_t L = sk_hierarchy_num_levels(hier);
-    if (L > SK_HPARAM_MAX_LEVELS) {
-        st = sk__fail(err, SK_ERR_ARG, "%zu hierarchy levels (at most %d)", L, SK_HPARAM_MAX_LEVELS);
+    s.levels = sk__calloc_array(L ? L : 1, sizeof *s.levels);
+    if (!s.levels) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
     s.num_levels = L;
@@ -238,5 +243,15 @@ done:
     sk_hierarchy_destroy(&hier);
     if (stats)
         *stats = s;
+    else
+        sk_hparam_stats_release(&s);
     return st;
+}
+
+void sk_hparam_stats_release(sk_hparam_stats *stats)
+{
+    if (!stats)
+        return;
+    free(stats->levels);
+    memset(stats, 0, sizeof *stats);
 }

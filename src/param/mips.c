@@ -108,14 +108,18 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     size_t max_sweeps = o.max_sweeps ? o.max_sweeps : 200;
     double tol = o.tolerance == 0.0 ? 1e-7 : o.tolerance;
     size_t per_global = o.sweeps_per_global ? o.sweeps_per_global : 1;
-    bool free_scale = !o.fixed_boundary;
+    if (o.boundary != SK_BOUNDARY_DEFAULT && o.boundary != SK_BOUNDARY_FREE &&
+        o.boundary != SK_BOUNDARY_GIVEN)
+        return sk__fail(err, SK_ERR_ARG, "MIPS steps keep a %s boundary where the start has it: "
+                        "pass SK_BOUNDARY_GIVEN", sk_boundary_shape_name(o.boundary));
+    bool free_scale = o.boundary != SK_BOUNDARY_GIVEN;
     sk_mips_stats s = {0};
     sk__mips_ctx c;
     colouring cl = {0};
     sk__mips_global G;
     bool use_global = false, ran = false;
     size_t inverted = 0;
-    sk_status st = sk__mips_ctx_init(&c, mesh, o.fixed_boundary, err);
+    sk_status st = sk__mips_ctx_init(&c, mesh, !free_scale, err);
     if (st)
         return st;
     s.triangles = c.nt;

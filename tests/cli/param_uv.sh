@@ -43,4 +43,18 @@ for ext in stl off; do
     grep -qi "${ext^^} cannot hold texture coordinates" "$tmp/err" || fail ".$ext message: $(cat "$tmp/err")"
     [ -e "$tmp/x.$ext" ] && fail ".$ext file written"
 done
+# flipped triangles (harmonic on three_peaks flips 33): the output is written, a warning on
+# stderr, exit 0 (the policy --help states)
+"$bin" param "$m/three_peaks.off" -o "$tmp/t.obj" --method harmonic --report "$tmp/t.json" -q 2> "$tmp/err"; rc=$?
+[ $rc = 0 ] || fail "flips: exit code $rc"
+[ -s "$tmp/t.obj" ] || fail "flips: no output written"
+[ "$(grep -c '^vt ' "$tmp/t.obj")" = "$(grep -c '^v ' "$tmp/t.obj")" ] || fail "flips: vt count"
+grep -q 'warning: .*three_peaks.off: 33 of 3671 triangles flipped (harmonic)' "$tmp/err" || fail "flips warning: $(cat "$tmp/err")"
+[ "$(val flipped "$tmp/t.json")" = 33 ] || fail "flips: report says $(val flipped "$tmp/t.json")"
+"$bin" param --help | grep -q 'Flipped triangles.*OUT and the pictures' || fail "--help lacks the flip policy"
+# option legality comes from the library (sk_parametrize_check): usage errors, exit 2
+"$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --method lscm --boundary square 2> "$tmp/err"; [ $? = 2 ] || fail "lscm square exit"
+grep -q 'lscm has a free boundary' "$tmp/err" || fail "lscm square message: $(cat "$tmp/err")"
+"$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --steps 10 2> "$tmp/err"; [ $? = 2 ] || fail "--steps without mips exit"
+[ -e "$tmp/x.obj" ] && fail "output after a usage error"
 echo "param uv: every method in the unit square on nefertiti and lion-head; ok"

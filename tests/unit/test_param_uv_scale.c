@@ -3,8 +3,7 @@
  * changing what it computes. */
 #include "testutil.h"
 
-#include "surfkit/hierarchical.h"
-#include "surfkit/param.h"
+#include "surfkit/parametrize.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -52,39 +51,47 @@ static void assert_same_metrics(const char *what, const sk_param_metrics *a,
             fail_msg("%s: metric %d %.17g before normalization, %.17g after", what, k, y[k], x[k]);
 }
 
-/* Given each method on nefertiti and lion-head, when normalized, then the uv box is [0, 1] x
- * [0, h] or [0, w] x [0, 1] and the metrics are those of the raw map. */
+/* Given each method on nefertiti and lion-head through sk_parametrize, when run raw and with the
+ * default normalization, then the normalized uv box is [0, 1] x [0, h] or [0, w] x [0, 1], and
+ * the metrics and the MIPS energy are those of the raw map; and sk_param_normalize on the raw uv
+ * gives exactly the pipeline's uv. */
 static void given_every_method_when_normalized_then_unit_square_and_same_metrics(void **state)
 {
     (void)state;
     for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
         sk_mesh *m = skt_read_mesh(skt_shared_mesh(meshes[i]));
-        double *uv = calloc(2 * m->num_vertices, sizeof *uv);
-        for (int method = SK_PARAM_TUTTE; method <= SK_PARAM_LSCM + 2; ++method) {
+        size_t n2 = 2 * m->num_vertices;
+        double *raw = calloc(n2, sizeof *raw), *uv = calloc(n2, sizeof *uv);
+        for (int k = SK_PARAM_TUTTE; k <= SK_PARAM_MIPS + 1; ++k) {
+            sk_parametrize_opts o = {.method = k > SK_PARAM_MIPS ? SK_PARAM_MIPS : (sk_param_method)k,
+                                     .flat = k > SK_PARAM_MIPS, .seed = 1};
+            sk_parametrize_stats ps;
             sk_error err;
-            sk_status st;
+            o.raw = true;
+            sk_status st = sk_parametrize(m, &o, raw, &ps, &err);
             char what[128];
-            snprintf(what, sizeof what, "%s %s", meshes[i],
-                     method <= SK_PARAM_LSCM ? sk_param_method_name((sk_param_method)method)
-                     : method == SK_PARAM_LSCM + 1 ? "mips-hierarchical" : "mips-flat");
-            if (method <= SK_PARAM_LSCM) {
-                sk_param_opts o = {.method = (sk_param_method)method};
-                st = sk_param_linear(m, &o, uv, NULL, &err);
-            } else if (method == SK_PARAM_LSCM + 1) {
-                sk_hparam_opts o = {.seed = 1};
-                st = sk_param_hierarchical(m, &o, uv, NULL, &err);
-            } else {
-                st = sk_param_mips_flat(m, SK_MIPS_BOUNDARY_FREE, 0, 0.0, 1, uv, NULL, &err);
-            }
-            if (st)
+            snprintf(what, sizeof what, "%s %s", meshes[i], ps.name ? ps.name : "?");
+            if (st < 0)
                 fail_msg("%s: %s", what, err.message);
-            sk_param_metrics before, after;
-            assert_int_equal(sk_param_metrics_compute(m, uv, &before, NULL), SK_OK);
-            assert_int_equal(sk_param_normalize(m, uv, &err), SK_OK);
+            double e_raw = ps.hierarchical ? ps.levels.energy : ps.mips.energy;
+            sk_parametrize_stats_release(&ps);
+            o.raw = false;
+            if (sk_parametrize(m, &o, uv, &ps, &err) < 0)
+                fail_msg("%s: %s", what, err.message);
+            if (k == SK_PARAM_MIPS)
+                assert_true(ps.levels.energy == e_raw); /* the optimizer's numbers unchanged */
+            if (k == SK_PARAM_MIPS + 1)
+                assert_true(ps.mips.energy == e_raw);
+            sk_parametrize_stats_release(&ps);
             assert_unit_square(what, m, uv);
+            sk_param_metrics before, after;
+            assert_int_equal(sk_param_metrics_compute(m, raw, &before, NULL), SK_OK);
             assert_int_equal(sk_param_metrics_compute(m, uv, &after, NULL), SK_OK);
             assert_same_metrics(what, &after, &before);
+            assert_int_equal(sk_param_normalize(m, raw, &err), SK_OK);
+            assert_memory_equal(raw, uv, n2 * sizeof *uv);
         }
+        free(raw);
         free(uv);
         sk_mesh_destroy(&m);
     }
@@ -99,7 +106,12 @@ static void given_free_mips_then_raw_scale_stays_bounded(void **state)
         sk_mesh *m = skt_read_mesh(skt_shared_mesh(meshes[i]));
         double *uv = calloc(2 * m->num_vertices, sizeof *uv);
         sk_hparam_opts o = {.seed = 1};
-        assert_int_equal(sk_param_hierarchical(m, &o, uv, NULL, NULL), SK_OK);
+        sk_hparam_stats hs;
+        assert_int_equal(sk_param_hierarchical(m, &o, uv, &hs, NULL), SK_OK);
+        assert_true(hs.num_levels > 1 && hs.levels != NULL); /* the level table, allocated */
+        assert_true(hs.levels[hs.num_levels - 1].energy == hs.energy);
+        sk_hparam_stats_release(&hs);
+        assert_null(hs.levels);
         double lo[2], hi[2];
         uv_box(m, uv, lo, hi);
         double ext = fmax(hi[0] - lo[0], hi[1] - lo[1]);

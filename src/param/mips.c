@@ -34,8 +34,9 @@ static sk_status colouring_build(const sk__mips_ctx *c, colouring *cl, sk_error 
         cl->order = NULL;
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
-    for (size_t v = 0; v < c->nv; ++v) {
+    for (size_t v = 0; v < c->nv; ++v) /* (all first: the neighbours after v are read below) */
         color[v] = SK_INVALID;
+    for (size_t v = 0; v < c->nv; ++v) {
         if (!c->movable[v])
             continue;
         uint64_t used = 0;

@@ -19,6 +19,8 @@
  *   SK_PARAM_LSCM        least squares conformal maps (Levy et al.) with two pinned boundary
  *                        vertices (the two farthest apart, or opts->pins), Cholesky.
  * With a convex boundary, Tutte, Floater and mean value give a bijection (no flipped triangle).
+ * MIPS (non-linear, hierarchical or flat) is in mips.h and hierarchical.h; one call for every
+ * method, with the defaults and legality checks, is sk_parametrize in parametrize.h.
  */
 #ifndef SURFKIT_PARAM_H
 #define SURFKIT_PARAM_H
@@ -89,6 +91,7 @@ typedef enum {
                               a coarser level's solution); stops at `tolerance` or the budget */
 } sk_linear_solver;
 
+/* Options of the linear methods; zero-initialized means every default. */
 typedef struct sk_param_opts {
     sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
     sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
@@ -97,10 +100,11 @@ typedef struct sk_param_opts {
     size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000 */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
-    sk_progress_fn progress;
+    sk_progress_fn progress;   /* may be NULL; non-zero return cancels (SK_ERR_CANCELLED) */
     void *progress_user;
 } sk_param_opts;
 
+/* What a linear method did (plain values; times in seconds). */
 typedef struct sk_param_stats {
     size_t vertices, interior, boundary, faces;
     sk_solve_stats solve;   /* direct solver details (n, nnz, factor nnz, phase seconds) */
@@ -138,11 +142,14 @@ sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symm
                                  sk_param_stats *stats, sk_error *err);
 
 /* The whole method: check, boundary map, weights, solve. uv has 2 * num_vertices doubles (with
- * SK_BOUNDARY_GIVEN its boundary entries are inputs). */
+ * SK_BOUNDARY_GIVEN its boundary entries are inputs), at the method's own scale. opts may be NULL
+ * (Floater, circle); stats may be NULL. SK_ERR_ARG for SK_PARAM_MIPS or a free boundary with a
+ * fixed-boundary method. */
 sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
                           sk_param_stats *stats, sk_error *err);
 
-/* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM). */
+/* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM); opts and stats may be
+ * NULL. uv at the scale the two pins set (see sk_param_normalize). */
 sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
                         sk_param_stats *stats, sk_error *err);
 
@@ -162,6 +169,7 @@ sk_status sk_param_normalize(const sk_mesh *mesh, double *uv, sk_error *err);
  * for all finite doubles (error-bounded filter, then exact expansion arithmetic). */
 int sk_orient2d(const double a[2], const double b[2], const double c[2]);
 
+/* Distortion of a parametrization; every value is invariant under a similarity of uv. */
 typedef struct sk_param_metrics {
     size_t faces;
     size_t flipped;        /* triangles with clockwise or zero-area uv (exact orientation test) */
@@ -178,6 +186,7 @@ typedef struct sk_param_metrics {
     double area_uv;        /* signed uv area (sum over triangles) */
 } sk_param_metrics;
 
+/* Fills *m (not NULL) for uv (2 * num_vertices doubles) over the alive triangles of mesh. */
 sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
                                    sk_error *err);
 

@@ -1,6 +1,6 @@
 /* UV scale: every method's uv normalized to the unit square (sk_param_normalize) with its metrics
  * unchanged, and the free-boundary MIPS keeps its scale bounded during the optimization without
- * changing what it computes. */
+ * changing what it computes. SK_TEST_QUICK=1 keeps nefertiti only. */
 #include "testutil.h"
 
 #include "surfkit/parametrize.h"
@@ -11,6 +11,13 @@
 #include <string.h>
 
 static const char *const meshes[] = {"nefertiti.off", "lion-head.off"};
+
+/* SK_TEST_QUICK=1 (the sanitizer run): nefertiti only */
+static size_t num_meshes(void)
+{
+    const char *q = getenv("SK_TEST_QUICK");
+    return q && *q && strcmp(q, "0") != 0 ? 1 : sizeof meshes / sizeof meshes[0];
+}
 
 /* Bounding box of the uv of the vertices of faces. */
 static void uv_box(const sk_mesh *m, const double *uv, double lo[2], double hi[2])
@@ -58,7 +65,7 @@ static void assert_same_metrics(const char *what, const sk_param_metrics *a,
 static void given_every_method_when_normalized_then_unit_square_and_same_metrics(void **state)
 {
     (void)state;
-    for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
+    for (size_t i = 0; i < num_meshes(); ++i) {
         sk_mesh *m = skt_read_mesh(skt_shared_mesh(meshes[i]));
         size_t n2 = 2 * m->num_vertices;
         double *raw = calloc(n2, sizeof *raw), *uv = calloc(n2, sizeof *uv);
@@ -102,7 +109,7 @@ static void given_every_method_when_normalized_then_unit_square_and_same_metrics
 static void given_free_mips_then_raw_scale_stays_bounded(void **state)
 {
     (void)state;
-    for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
+    for (size_t i = 0; i < num_meshes(); ++i) {
         sk_mesh *m = skt_read_mesh(skt_shared_mesh(meshes[i]));
         double *uv = calloc(2 * m->num_vertices, sizeof *uv);
         sk_hparam_opts o = {.seed = 1};

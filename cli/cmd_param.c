@@ -114,7 +114,7 @@ static void write_json(FILE *fp, const void *ctx)
         json_kuint(&j, "factor_nnz", ps->solve.factor_nnz);
         json_obj_close(&j);
     } else if (r->ps.hierarchical) {
-        const sk_hparam_stats *hs = &r->ps.levels;
+        const sk_hparam_stats *hs = &r->ps.hparam;
         json_kuint(&j, "steps", hs->steps);
         json_kuint(&j, "repaired_insertions", hs->repaired);
         json_kuint(&j, "fallbacks", hs->fallbacks);

@@ -49,7 +49,7 @@ typedef struct sk_parametrize_stats {
     const char *name;            /* "floater", ..., "lscm", "mips-hierarchical", "mips-flat";
                                     static storage */
     sk_param_stats linear;       /* linear methods and LSCM */
-    sk_hparam_stats levels;      /* hierarchical MIPS */
+    sk_hparam_stats hparam;      /* hierarchical MIPS (holds the allocated level table) */
     sk_mips_stats mips;          /* flat MIPS */
     size_t flipped;              /* triangles with clockwise or zero-area uv (sk_orient2d) */
     double seconds;              /* the whole call */

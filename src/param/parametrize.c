@@ -89,7 +89,7 @@ static sk_status run_method(const sk_mesh *mesh, const sk_parametrize_opts *o,
         ho.seed = seed;
         ho.progress = o->progress;
         ho.progress_user = o->progress_user;
-        return sk_param_hierarchical(mesh, &ho, uv, &s->levels, err);
+        return sk_param_hierarchical(mesh, &ho, uv, &s->hparam, err);
     }
     sk_mips_flat_opts fo = {0};
     fo.boundary = *bo;
@@ -142,6 +142,6 @@ void sk_parametrize_stats_release(sk_parametrize_stats *stats)
 {
     if (!stats)
         return;
-    sk_hparam_stats_release(&stats->levels);
+    sk_hparam_stats_release(&stats->hparam);
     memset(stats, 0, sizeof *stats);
 }

@@ -80,13 +80,13 @@ static void given_every_method_when_normalized_then_unit_square_and_same_metrics
             snprintf(what, sizeof what, "%s %s", meshes[i], ps.name ? ps.name : "?");
             if (st < 0)
                 fail_msg("%s: %s", what, err.message);
-            double e_raw = ps.hierarchical ? ps.levels.energy : ps.mips.energy;
+            double e_raw = ps.hierarchical ? ps.hparam.energy : ps.mips.energy;
             sk_parametrize_stats_release(&ps);
             o.raw = false;
             if (sk_parametrize(m, &o, uv, &ps, &err) < 0)
                 fail_msg("%s: %s", what, err.message);
             if (k == SK_PARAM_MIPS)
-                assert_true(ps.levels.energy == e_raw); /* the optimizer's numbers unchanged */
+                assert_true(ps.hparam.energy == e_raw); /* the optimizer's numbers unchanged */
             if (k == SK_PARAM_MIPS + 1)
                 assert_true(ps.mips.energy == e_raw);
             sk_parametrize_stats_release(&ps);

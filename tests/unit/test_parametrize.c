@@ -95,12 +95,12 @@ static void given_mips_then_same_as_the_drivers(void **state)
     assert_int_equal(sk_parametrize(m, &o, a, &s, NULL), SK_OK);
     assert_string_equal(s.name, "mips-hierarchical");
     assert_int_equal(s.boundary, SK_BOUNDARY_FREE);
-    assert_true(s.hierarchical && s.levels.num_levels > 1 && s.levels.levels);
+    assert_true(s.hierarchical && s.hparam.num_levels > 1 && s.hparam.levels);
     sk_hparam_opts ho = {.seed = 1};
     sk_hparam_stats hs;
     assert_int_equal(sk_param_hierarchical(m, &ho, b, &hs, NULL), SK_OK);
     assert_memory_equal(a, b, n2 * sizeof *a);
-    assert_true(hs.energy == s.levels.energy);
+    assert_true(hs.energy == s.hparam.energy);
     sk_hparam_stats_release(&hs);
     sk_parametrize_stats_release(&s);
     o.flat = true;

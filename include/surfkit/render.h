@@ -1,6 +1,6 @@
 /* Pictures with cairo: UV layouts coloured by distortion, and a checkerboard textured view of
  * the 3D mesh. PNG or SVG chosen by the file extension (.png, .svg); files are written
- * atomically. */
+ * atomically. Every call takes (what to draw..., path, opts, err); opts may be NULL (defaults). */
 #ifndef SURFKIT_RENDER_H
 #define SURFKIT_RENDER_H
 
@@ -29,13 +29,13 @@ typedef struct sk_render_opts {
 
 /* The UV layout: triangles coloured by conformal distortion (legend on the right), flipped
  * triangles filled in magenta with a thick outline, edges in thin grey, boundary in black. */
-sk_status sk_render_uv(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
-                       const char *path, sk_error *err);
+sk_status sk_render_uv(const sk_mesh *mesh, const double *uv, const char *path,
+                       const sk_render_opts *opts, sk_error *err);
 
 /* The 3D mesh seen along opts->view (orthographic, z-buffered), textured with a checkerboard
  * in uv and shaded by the angle to the view (PNG only). */
-sk_status sk_render_checker(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
-                            const char *path, sk_error *err);
+sk_status sk_render_checker(const sk_mesh *mesh, const double *uv, const char *path,
+                            const sk_render_opts *opts, sk_error *err);
 
 /* Pictures of the smooth surface (cairo, PNG, orthographic flat shading) */
 /* The triangle/quad configuration: triangles grey, quads blue, deleted edges red, problem
@@ -55,7 +55,7 @@ typedef double (*sk_field_fn)(void *user, const double p[3]);
  * under `label` (e.g. "distance to the surface"). PNG, written atomically. SK_ERR_TOPOLOGY when a
  * face index is out of range. */
 sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, double scale,
-                          const char *label, const sk_render_opts *opts, const char *path,
+                          const char *label, const char *path, const sk_render_opts *opts,
                           sk_error *err);
 
 #ifdef __cplusplus

@@ -55,20 +55,20 @@ static inline unsigned sk_patch_num_corners(const sk_patch *p)
  *  - tensor: (a, b) = (s, t) in [0, 1]^2.
  * Any output may be NULL. Returns the length of the cross product of the derivatives (0 at a
  * singular point, where the normal is left zero). */
-double sk_patch_eval(const sk_patch *p, double a, double b, double pt[3], double du[3],
-                     double dv[3], double normal[3]);
+SK_API double sk_patch_eval(const sk_patch *p, double a, double b, double pt[3], double du[3],
+                            double dv[3], double normal[3]);
 
 /* The same on a raw control net laid out as in sk_patch (cp: 3 doubles per point). */
-double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,
-                      double a, double b, double pt[3], double du[3], double dv[3],
-                      double normal[3]);
+SK_API double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,
+                             double a, double b, double pt[3], double du[3], double dv[3],
+                             double normal[3]);
 
 /* Point of the boundary curve from corner c to corner c + 1 at parameter t in [0, 1]. */
-void sk_patch_edge_point(const sk_patch *p, unsigned c, double t, double pt[3]);
+SK_API void sk_patch_edge_point(const sk_patch *p, unsigned c, double t, double pt[3]);
 
 /* Control points (degree + 1 of them, 3 doubles each) of the boundary curve from corner c to
  * corner c + 1; returns the curve's degree. */
-unsigned sk_patch_edge_curve(const sk_patch *p, unsigned c, double *cp);
+SK_API unsigned sk_patch_edge_curve(const sk_patch *p, unsigned c, double *cp);
 
 /* Splits a triangular patch of degree n exactly into three tensor patches of degree n x n: the
  * sub-patch q covers the quadrilateral (corner q, midpoint of edge q..q+1, centroid, midpoint of
@@ -77,16 +77,16 @@ unsigned sk_patch_edge_curve(const sk_patch *p, unsigned c, double *cp);
  * so sub-patch corners are [corner q, mid(q, q+1), centroid, mid(q-1, q)], counter-clockwise.
  * No sub-patch has a singular point where the triangle has none. corner_ids of the result are
  * copied for corner q only (the others become SK_INVALID). */
-sk_status sk_patch_split_triangle(const sk_patch *tri, sk_patch out[3], sk_error *err);
+SK_API sk_status sk_patch_split_triangle(const sk_patch *tri, sk_patch out[3], sk_error *err);
 
 /* One tensor patch of degree n x n equal to the triangle of degree n under the map
  * (s, t) -> barycentric (1 - s, s (1 - t), s t); the side s = 0 collapses to corner 0 (a singular point there). For CAD systems that want one surface per
  * triangle; sk_patch_split_triangle is the regular alternative. */
-sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch *tri, sk_patch *out, sk_error *err);
+SK_API sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch *tri, sk_patch *out, sk_error *err);
 
 /* Degree elevation of a tensor patch or a triangle patch to the given degree(s). */
-sk_status sk_patch_elevate(const sk_patch *p, unsigned degree, unsigned degree_v, sk_patch *out,
-                           sk_error *err);
+SK_API sk_status sk_patch_elevate(const sk_patch *p, unsigned degree, unsigned degree_v, sk_patch *out,
+                                  sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -75,14 +75,14 @@ typedef struct sk_hparam_stats {
  * each insertion, a vertex whose one ring is not flip-free is moved to the centroid of the kernel
  * of its one ring; if that kernel is empty the level is re-solved with Floater's method (counted in
  * fallbacks). The result has no inverted triangle. */
-sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
-                                sk_hparam_stats *stats, sk_error *err);
+SK_API sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
+                                       sk_hparam_stats *stats, sk_error *err);
 
 /* The conventional method of Table 1: Floater with a circle (or square) boundary on the full mesh,
  * then MIPS local steps in random order, at most max_steps of them (0: until the tolerance). */
-sk_status sk_param_mips_flat(const sk_mesh *mesh, sk_mips_boundary boundary, size_t max_steps,
-                             double tolerance, uint64_t seed, double *uv, sk_mips_stats *stats,
-                             sk_error *err);
+SK_API sk_status sk_param_mips_flat(const sk_mesh *mesh, sk_mips_boundary boundary, size_t max_steps,
+                                    double tolerance, uint64_t seed, double *uv, sk_mips_stats *stats,
+                                    sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -52,13 +52,13 @@ typedef struct sk_mips_stats {
 /* MIPS energy of uv (2 per vertex) over the alive triangles of mesh; *inverted counts triangles
  * with non-positive parameter area (their energy is not added). Fails on non-triangle faces and
  * on triangles that are degenerate in 3D (MIPS is undefined there). */
-sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
-                         sk_error *err);
+SK_API sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
+                                sk_error *err);
 
 /* Lowers the MIPS energy of uv (2 per vertex, a flip-free start) by local steps in random order.
  * Fails with SK_ERR_ARG if the start has an inverted triangle. */
-sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
-                        sk_mips_stats *stats, sk_error *err);
+SK_API sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
+                               sk_mips_stats *stats, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -39,9 +39,9 @@ typedef enum {
     SK_PARAM_LSCM
 } sk_param_method;
 
-const char *sk_param_method_name(sk_param_method m); /* "tutte", "floater", "mvc", ... */
+SK_API const char *sk_param_method_name(sk_param_method m); /* "tutte", "floater", "mvc", ... */
 /* Parses those names (and "mean-value", "cotangent"); returns false when unknown. */
-bool sk_param_method_parse(const char *name, sk_param_method *m);
+SK_API bool sk_param_method_parse(const char *name, sk_param_method *m);
 
 typedef enum {
     SK_BOUNDARY_CIRCLE = 0, /* unit circle, counter-clockwise */
@@ -99,34 +99,34 @@ typedef struct sk_param_stats {
 /* Checks that the mesh is a triangulated disk: triangles only, one component, one boundary loop,
  * Euler characteristic 1, no degenerate (zero-area) triangle. Otherwise SK_ERR_TOPOLOGY with a
  * message saying what the mesh is ("closed surface of genus 2: cut it to a disk first"). */
-sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
 
 /* Writes uv of the boundary vertices (only) for the circle or square map. */
-sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
-                            sk_error *err);
+SK_API sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
+                                   sk_error *err);
 
 /* Per half-edge weights w[h] = w_ij for i = from(h), j = to(h), over mesh->num_halfedges
  * entries; defined for half-edges leaving interior vertices (others 0). Floater and mean value
  * are normalised to sum 1 per vertex; Tutte is 1, harmonic (cot alpha + cot beta) / 2. */
-sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
+SK_API sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
 
 /* Solves sum_j w_ij (u_i - u_j) = 0 for every free vertex, the others (fixed[i] != 0; NULL means
  * the boundary vertices) keeping their uv. `symmetric` says w_ij = w_ji (then the fixed
  * vertices are eliminated into the right-hand side and the matrix is symmetric positive
  * definite: Cholesky), else LU. u and v are solved together (two right-hand sides). With
  * opts->solver == SK_LINEAR_GAUSS_SEIDEL the free uv given are the starting guess. */
-sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
-                                 const uint8_t *fixed, const sk_param_opts *opts, double *uv,
-                                 sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
+                                        const uint8_t *fixed, const sk_param_opts *opts, double *uv,
+                                        sk_param_stats *stats, sk_error *err);
 
 /* The whole method: check, boundary map, weights, solve. uv has 2 * num_vertices doubles (with
  * SK_BOUNDARY_GIVEN its boundary entries are inputs). */
-sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
-                          sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                                 sk_param_stats *stats, sk_error *err);
 
 /* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM). */
-sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
-                        sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                               sk_param_stats *stats, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Metrics
@@ -134,7 +134,7 @@ sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *
 
 /* Sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear, exact
  * for all finite doubles (error-bounded filter, then exact expansion arithmetic). */
-int sk_orient2d(const double a[2], const double b[2], const double c[2]);
+SK_API int sk_orient2d(const double a[2], const double b[2], const double c[2]);
 
 typedef struct sk_param_metrics {
     size_t faces;
@@ -152,14 +152,14 @@ typedef struct sk_param_metrics {
     double area_uv;        /* signed uv area (sum over triangles) */
 } sk_param_metrics;
 
-sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
-                                   sk_error *err);
+SK_API sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
+                                          sk_error *err);
 
 /* Per face (num_faces entries; deleted / non-triangle faces get 0): conformal distortion
  * sigma1/sigma2 (inf for zero uv area) and orientation (+1, -1, 0 from sk_orient2d). Either
  * output may be NULL. */
-sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
-                                   int8_t *orientation, sk_error *err);
+SK_API sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
+                                          int8_t *orientation, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -4,7 +4,8 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config clang
       libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev
-      g++ libocct-data-exchange-dev)
+      g++ libocct-data-exchange-dev
+      python3-dev python3-numpy python3-pytest python3-setuptools python3-pip)
 if [ "${1:-}" = "--peers" ]; then
   pkgs+=(g++ libcgal-dev libopenmesh-dev)
 fi

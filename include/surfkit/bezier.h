@@ -93,22 +93,22 @@ static inline double *sk_patch_cp(const sk_patch_set *set, size_t i)
 
 /* Makes room for `patches` more patches and `points` more control points (no reallocation while
  * adding that many). */
-sk_status sk_patch_set_reserve(sk_patch_set *set, size_t patches, size_t points, sk_error *err);
+SK_API sk_status sk_patch_set_reserve(sk_patch_set *set, size_t patches, size_t points, sk_error *err);
 
 /* Appends a patch of the given kind and degree(s) (at most SK_PATCH_MAX_DEGREE; degree_v is
  * ignored for triangles). cp (sk_patch_num_points * 3 doubles) may be NULL: the points are then
  * zero. corner_ids (3 for a triangle, 4 for a tensor patch) may be NULL: SK_INVALID. The tag is
  * SK_INVALID. *index (may be NULL) receives the patch's index. cp and corner_ids may point into
  * the set. */
-sk_status sk_patch_set_add(sk_patch_set *set, sk_patch_kind kind, unsigned degree,
-                           unsigned degree_v, const double *cp, const uint32_t *corner_ids,
-                           size_t *index, sk_error *err);
+SK_API sk_status sk_patch_set_add(sk_patch_set *set, sk_patch_kind kind, unsigned degree,
+                                  unsigned degree_v, const double *cp, const uint32_t *corner_ids,
+                                  size_t *index, sk_error *err);
 
 /* Empties the set, keeping its memory. */
-void sk_patch_set_clear(sk_patch_set *set);
+SK_API void sk_patch_set_clear(sk_patch_set *set);
 
 /* Frees the arrays and zeroes the set (NULL-safe). */
-void sk_patch_set_free(sk_patch_set *set);
+SK_API void sk_patch_set_free(sk_patch_set *set);
 
 /* Point, first derivatives and unit normal of patch i at a parameter:
  *  - triangle: (a, b) are the barycentric coordinates v and w (u = 1 - v - w); du, dv receive the
@@ -116,20 +116,20 @@ void sk_patch_set_free(sk_patch_set *set);
  *  - tensor: (a, b) = (s, t) in [0, 1]^2.
  * Any output may be NULL. Returns the length of the cross product of the derivatives (0 at a
  * singular point, where the normal is left zero). */
-double sk_patch_eval(const sk_patch_set *set, size_t i, double a, double b, double pt[3],
-                     double du[3], double dv[3], double normal[3]);
+SK_API double sk_patch_eval(const sk_patch_set *set, size_t i, double a, double b, double pt[3],
+                            double du[3], double dv[3], double normal[3]);
 
 /* The same on a raw control net laid out as above (cp: 3 doubles per point). */
-double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,
-                      double a, double b, double pt[3], double du[3], double dv[3],
-                      double normal[3]);
+SK_API double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,
+                             double a, double b, double pt[3], double du[3], double dv[3],
+                             double normal[3]);
 
 /* Point of the boundary curve of patch i from corner c to corner c + 1 at t in [0, 1]. */
-void sk_patch_edge_point(const sk_patch_set *set, size_t i, unsigned c, double t, double pt[3]);
+SK_API void sk_patch_edge_point(const sk_patch_set *set, size_t i, unsigned c, double t, double pt[3]);
 
 /* Control points (degree + 1 of them, 3 doubles each) of the boundary curve of patch i from
  * corner c to corner c + 1; returns the curve's degree. */
-unsigned sk_patch_edge_curve(const sk_patch_set *set, size_t i, unsigned c, double *cp);
+SK_API unsigned sk_patch_edge_curve(const sk_patch_set *set, size_t i, unsigned c, double *cp);
 
 /* Appends to dst three tensor patches of degree n x n that split the triangular patch i of src
  * (degree n) exactly: sub-patch q covers the quadrilateral (corner q, midpoint of edge q..q+1,
@@ -139,26 +139,26 @@ unsigned sk_patch_edge_curve(const sk_patch_set *set, size_t i, unsigned c, doub
  * mid(q-1, q)], counter-clockwise. No sub-patch has a singular point where the triangle has none.
  * Corner ids are copied for corner q only (the others are SK_INVALID); tags are copied. dst may
  * be src. */
-sk_status sk_patch_split_triangle(const sk_patch_set *src, size_t i, sk_patch_set *dst,
-                                  sk_error *err);
+SK_API sk_status sk_patch_split_triangle(const sk_patch_set *src, size_t i, sk_patch_set *dst,
+                                         sk_error *err);
 
 /* Appends to dst one tensor patch of degree n x n equal to the triangle i of src under the map
  * (s, t) -> barycentric (1 - s, s (1 - t), s t); the side s = 0 collapses to corner 0 (a singular
  * point there). For CAD systems that want one surface per triangle; sk_patch_split_triangle is
  * the regular alternative. dst may be src. */
-sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch_set *src, size_t i,
-                                                 sk_patch_set *dst, sk_error *err);
+SK_API sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch_set *src, size_t i,
+                                                        sk_patch_set *dst, sk_error *err);
 
 /* Appends to dst patch i of src elevated to the given degree(s) (the same surface). dst may be
  * src. */
-sk_status sk_patch_elevate(const sk_patch_set *src, size_t i, unsigned degree, unsigned degree_v,
-                           sk_patch_set *dst, sk_error *err);
+SK_API sk_status sk_patch_elevate(const sk_patch_set *src, size_t i, unsigned degree, unsigned degree_v,
+                                  sk_patch_set *dst, sk_error *err);
 
 /* Appends to dst the tensor patches equal to the patches of src, in order: tensor patches copied,
  * triangles split in three (sk_patch_split_triangle) or, with degenerate, one patch with a
  * collapsed side each. dst must not be src. */
-sk_status sk_patch_set_to_tensor(const sk_patch_set *src, bool degenerate, sk_patch_set *dst,
-                                 sk_error *err);
+SK_API sk_status sk_patch_set_to_tensor(const sk_patch_set *src, bool degenerate, sk_patch_set *dst,
+                                        sk_error *err);
 
 /* Tessellates every patch into a grid of n segments per side (triangles: n^2 triangles, tensor
  * patches: 2 n^2) with the exact patch normals, as a triangle soup with normals. Watertight:
@@ -166,8 +166,8 @@ sk_status sk_patch_set_to_tensor(const sk_patch_set *src, bool degenerate, sk_pa
  * once (on the first patch that has the side) and used by both, and patches sharing a corner id
  * share its vertex; so a closed patch network gives a closed manifold tessellation. Sides and
  * corners without ids get their own vertices. */
-sk_status sk_patch_set_tessellate(const sk_patch_set *set, unsigned n, sk_soup **out,
-                                  sk_error *err);
+SK_API sk_status sk_patch_set_tessellate(const sk_patch_set *set, unsigned n, sk_soup **out,
+                                         sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -34,21 +34,21 @@ typedef struct sk_export_stats {
 } sk_export_stats;
 
 /* Unit flag / name pairs of IGES and the SI prefix of STEP; false for an unknown name. */
-bool sk_export_units_known(const char *units);
+SK_API bool sk_export_units_known(const char *units);
 
-sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
-                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
-sk_status sk_export_step(const char *path, const sk_patch_set *patches,
-                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
-sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
-                                 const sk_export_opts *opts, sk_export_stats *stats,
-                                 sk_error *err);
+SK_API sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
+                                const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
+SK_API sk_status sk_export_step(const char *path, const sk_patch_set *patches,
+                                const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
+SK_API sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
+                                        const sk_export_opts *opts, sk_export_stats *stats,
+                                        sk_error *err);
 
 /* The tensor patches the writers emit for the given patches (triangles split or degenerate per
  * opts), in output order, appended to *out (free it with sk_patch_set_free). Tests compare these
  * with what a CAD kernel reads back. */
-sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_opts *opts,
-                                   sk_patch_set *out, sk_error *err);
+SK_API sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_opts *opts,
+                                          sk_patch_set *out, sk_error *err);
 
 #ifdef __cplusplus
 }

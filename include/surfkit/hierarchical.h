@@ -79,11 +79,11 @@ typedef struct sk_hparam_stats {
  * sk_param_normalize for the unit square. opts may be NULL (defaults). stats may be NULL; else
  * it is overwritten (whatever it held is not freed) whenever the hierarchy was built, also on a
  * later failure, and the caller releases it with sk_hparam_stats_release. */
-sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
-                                sk_hparam_stats *stats, sk_error *err);
+SK_API sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
+                                       sk_hparam_stats *stats, sk_error *err);
 
 /* Frees stats->levels and zeroes *stats. NULL-safe; a zeroed stats is fine. */
-void sk_hparam_stats_release(sk_hparam_stats *stats);
+SK_API void sk_hparam_stats_release(sk_hparam_stats *stats);
 
 /* Options of sk_param_mips_flat; zero-initialized means every default. */
 typedef struct sk_mips_flat_opts {
@@ -97,8 +97,8 @@ typedef struct sk_mips_flat_opts {
 
 /* The conventional method of Table 1: Floater with a circle (or square) boundary on the full mesh,
  * then MIPS local steps in random order (sk_param_mips). opts and stats may be NULL. */
-sk_status sk_param_mips_flat(const sk_mesh *mesh, const sk_mips_flat_opts *opts, double *uv,
-                             sk_mips_stats *stats, sk_error *err);
+SK_API sk_status sk_param_mips_flat(const sk_mesh *mesh, const sk_mips_flat_opts *opts, double *uv,
+                                    sk_mips_stats *stats, sk_error *err);
 
 #ifdef __cplusplus
 }

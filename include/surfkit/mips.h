@@ -63,8 +63,8 @@ typedef struct sk_mips_stats {
  * counts triangles with non-positive parameter area (their energy is not added). Neither output
  * may be NULL. Fails (SK_ERR_TOPOLOGY) on non-triangle faces and on triangles that are degenerate
  * in 3D (MIPS is undefined there). */
-sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
-                         sk_error *err);
+SK_API sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
+                                sk_error *err);
 
 /* Lowers the MIPS energy of uv (2 * num_vertices doubles, in and out; a flip-free start) by local
  * steps in random order. opts and stats may be NULL. Fails with SK_ERR_ARG if the start has an
@@ -72,8 +72,8 @@ sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, 
  * is invariant under similarities and the scale of uv would drift: uv is rescaled by powers of
  * two during the optimization (exact, so the result is the same) and comes back with the larger
  * side of its bounding box in [1, 2), translated to the origin if it had drifted far from it. */
-sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
-                        sk_mips_stats *stats, sk_error *err);
+SK_API sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
+                               sk_mips_stats *stats, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -46,10 +46,10 @@ typedef enum {
 
 /* "tutte", "floater", "mvc", "harmonic", "lscm", "mips" ("floater" for SK_PARAM_DEFAULT,
  * "unknown" else); static storage, never NULL. */
-const char *sk_param_method_name(sk_param_method m);
+SK_API const char *sk_param_method_name(sk_param_method m);
 /* Parses those names (and "barycentric", "shape-preserving", "mean-value", "cotangent"); name
  * may be NULL; returns false (and leaves *m) when unknown. */
-bool sk_param_method_parse(const char *name, sk_param_method *m);
+SK_API bool sk_param_method_parse(const char *name, sk_param_method *m);
 
 /* One boundary vocabulary for every parametrizer. Which shapes a call accepts is said at the
  * call; SK_ERR_ARG for the others. */
@@ -63,9 +63,9 @@ typedef enum {
 } sk_boundary_shape;
 
 /* "default", "circle", "square", "free", "given" ("unknown" else); static storage. */
-const char *sk_boundary_shape_name(sk_boundary_shape shape);
+SK_API const char *sk_boundary_shape_name(sk_boundary_shape shape);
 /* Parses "circle", "square", "free", "given"; name may be NULL; false when unknown. */
-bool sk_boundary_shape_parse(const char *name, sk_boundary_shape *shape);
+SK_API bool sk_boundary_shape_parse(const char *name, sk_boundary_shape *shape);
 
 typedef enum {
     SK_SPACING_CHORD = 0, /* by chord length along the boundary loop */
@@ -119,39 +119,39 @@ typedef struct sk_param_stats {
 /* Checks that the mesh is a triangulated disk: triangles only, one component, one boundary loop,
  * Euler characteristic 1, no degenerate (zero-area) triangle. Otherwise SK_ERR_TOPOLOGY with a
  * message saying what the mesh is ("closed surface of genus 2: cut it to a disk first"). */
-sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
 
 /* Writes uv of the boundary vertices (only) for the circle (also SK_BOUNDARY_DEFAULT) or square
  * map; SK_BOUNDARY_GIVEN leaves uv as it is; SK_BOUNDARY_FREE is SK_ERR_ARG (no map). opts may be
  * NULL (circle, chord spacing). */
-sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
-                            sk_error *err);
+SK_API sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
+                                   sk_error *err);
 
 /* Per half-edge weights w[h] = w_ij for i = from(h), j = to(h), over mesh->num_halfedges
  * entries; defined for half-edges leaving interior vertices (others 0). Floater and mean value
  * are normalised to sum 1 per vertex; Tutte is 1, harmonic (cot alpha + cot beta) / 2. */
-sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
+SK_API sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
 
 /* Solves sum_j w_ij (u_i - u_j) = 0 for every free vertex, the others (fixed[i] != 0; NULL means
  * the boundary vertices) keeping their uv. `symmetric` says w_ij = w_ji (then the fixed
  * vertices are eliminated into the right-hand side and the matrix is symmetric positive
  * definite: Cholesky), else LU. u and v are solved together (two right-hand sides). With
  * opts->solver == SK_LINEAR_GAUSS_SEIDEL the free uv given are the starting guess. */
-sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
-                                 const uint8_t *fixed, const sk_param_opts *opts, double *uv,
-                                 sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
+                                        const uint8_t *fixed, const sk_param_opts *opts, double *uv,
+                                        sk_param_stats *stats, sk_error *err);
 
 /* The whole method: check, boundary map, weights, solve. uv has 2 * num_vertices doubles (with
  * SK_BOUNDARY_GIVEN its boundary entries are inputs), at the method's own scale. opts may be NULL
  * (Floater, circle); stats may be NULL. SK_ERR_ARG for SK_PARAM_MIPS or a free boundary with a
  * fixed-boundary method. */
-sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
-                          sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                                 sk_param_stats *stats, sk_error *err);
 
 /* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM); opts and stats may be
  * NULL. uv at the scale the two pins set (see sk_param_normalize). */
-sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
-                        sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                               sk_param_stats *stats, sk_error *err);
 
 /* Maps uv (2 * mesh->num_vertices doubles, changed in place) into the unit square by one
  * uniform scale and a translation (the aspect ratio is kept): the bounding box of the vertices
@@ -159,7 +159,7 @@ sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *
  * uv lies in [0, 1]^2 (exactly: no rounding outside). Deleted and isolated vertices keep their
  * value. Every metric below is invariant under this map. SK_ERR_NUMERIC when a uv is not
  * finite or all of them are one point; a mesh without faces is left as it is. */
-sk_status sk_param_normalize(const sk_mesh *mesh, double *uv, sk_error *err);
+SK_API sk_status sk_param_normalize(const sk_mesh *mesh, double *uv, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Metrics
@@ -167,7 +167,7 @@ sk_status sk_param_normalize(const sk_mesh *mesh, double *uv, sk_error *err);
 
 /* Sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear, exact
  * for all finite doubles (error-bounded filter, then exact expansion arithmetic). */
-int sk_orient2d(const double a[2], const double b[2], const double c[2]);
+SK_API int sk_orient2d(const double a[2], const double b[2], const double c[2]);
 
 /* Distortion of a parametrization; every value is invariant under a similarity of uv. */
 typedef struct sk_param_metrics {
@@ -187,14 +187,14 @@ typedef struct sk_param_metrics {
 } sk_param_metrics;
 
 /* Fills *m (not NULL) for uv (2 * num_vertices doubles) over the alive triangles of mesh. */
-sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
-                                   sk_error *err);
+SK_API sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
+                                          sk_error *err);
 
 /* Per face (num_faces entries; deleted / non-triangle faces get 0): conformal distortion
  * sigma1/sigma2 (inf for zero uv area) and orientation (+1, -1, 0 from sk_orient2d). Either
  * output may be NULL. */
-sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
-                                   int8_t *orientation, sk_error *err);
+SK_API sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
+                                          int8_t *orientation, sk_error *err);
 
 #ifdef __cplusplus
 }

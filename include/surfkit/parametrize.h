@@ -58,7 +58,7 @@ typedef struct sk_parametrize_stats {
 /* Checks opts alone (no mesh): SK_ERR_ARG with a message saying which combination is not
  * allowed (e.g. "lscm has a free boundary", "flat and max_steps go with the MIPS method").
  * opts may be NULL (the defaults are legal). */
-sk_status sk_parametrize_check(const sk_parametrize_opts *opts, sk_error *err);
+SK_API sk_status sk_parametrize_check(const sk_parametrize_opts *opts, sk_error *err);
 
 /* Parametrizes a triangulated disk (one component, one boundary loop, Euler characteristic 1,
  * no degenerate triangle, no deleted element) into uv: 2 * mesh->num_vertices doubles, written
@@ -68,11 +68,11 @@ sk_status sk_parametrize_check(const sk_parametrize_opts *opts, sk_error *err);
  * and LSCM can flip; the uv is complete and stats->flipped says how many); SK_ERR_ARG for
  * options sk_parametrize_check refuses; SK_ERR_TOPOLOGY when the mesh is not a disk; others from
  * the solvers. */
-sk_status sk_parametrize(const sk_mesh *mesh, const sk_parametrize_opts *opts, double *uv,
-                         sk_parametrize_stats *stats, sk_error *err);
+SK_API sk_status sk_parametrize(const sk_mesh *mesh, const sk_parametrize_opts *opts, double *uv,
+                                sk_parametrize_stats *stats, sk_error *err);
 
 /* Frees what stats holds (the hierarchical level table) and zeroes it. NULL-safe. */
-void sk_parametrize_stats_release(sk_parametrize_stats *stats);
+SK_API void sk_parametrize_stats_release(sk_parametrize_stats *stats);
 
 #ifdef __cplusplus
 }

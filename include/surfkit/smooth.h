@@ -52,8 +52,8 @@ typedef struct sk_edge_deletion_stats {
  * array of 2 * deleted_edges vertex ids (the deleted edges' end points). Fails with
  * SK_ERR_TOPOLOGY for faces that are not triangles and for a closed component with an odd number of
  * even vertices (equivalently an odd number of vertices, by Euler's formula: no solution exists). */
-sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t **deleted,
-                           sk_edge_deletion_stats *stats, sk_error *err);
+SK_API sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t **deleted,
+                                  sk_edge_deletion_stats *stats, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * The smooth surface
@@ -108,9 +108,9 @@ typedef struct sk_smooth {
  * closed component without allow_split), SK_ERR_NUMERIC (an edge whose normals make a cubic
  * boundary curve impossible, named in the message), SK_ERR_CANCELLED. Vertices whose angle bounds
  * are violated or whose system failed are listed in problems; the surface is still returned. */
-sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts, sk_smooth **out,
-                          sk_error *err);
-void sk_smooth_destroy(sk_smooth **smooth);
+SK_API sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts, sk_smooth **out,
+                                 sk_error *err);
+SK_API void sk_smooth_destroy(sk_smooth **smooth);
 
 /* ---------------------------------------------------------------------------------------------
  * Continuity report
@@ -138,8 +138,8 @@ typedef struct sk_continuity_report {
     bool pass_g1, pass_gap;           /* against the tolerances */
 } sk_continuity_report;
 
-sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
-                               sk_continuity_report *rep, sk_error *err);
+SK_API sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
+                                      sk_continuity_report *rep, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -15,6 +15,7 @@
 #include "surfkit/render.h"
 #include "surfkit/mips.h"
 #include "surfkit/hierarchical.h"
+#include "surfkit/atlas.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
 

@@ -147,10 +147,15 @@ int cmd_param(int argc, char **argv)
     const cli_path_opt paths[] = {{"-o", &out}, {"--png", &png}, {"--svg", &svg},
                                   {"--checker", &checker}, {"--report", &report}};
     int took;
+    bool atlas = false; /* not one disk, or --atlas: charts + packing (cmd_param_atlas.c) */
+    int atlas_rc = cmd_param_atlas(argc, argv, &atlas);
+    if (atlas)
+        return atlas_rc;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(help, stdout);
+            fputs(cli_param_atlas_help, stdout);
             return EXIT_OK;
         } else if (!strcmp(a, "-q")) {
             quiet = true;

@@ -258,6 +258,34 @@ static uint32_t dijkstra(const sk_mesh *m, const uint32_t *faces, size_t nf, uin
     return last;
 }
 
+/* The nearest-seed border zigzags along the triangles; a face with two or three neighbours on
+ * the other side (a tooth) changes sides, a few rounds (pieces it cuts off become charts of their
+ * own: the driver splits every chart into its components). */
+static void smooth_sides(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
+                         sk__chart_work *w, const uint32_t seeds[2])
+{
+    for (int round = 0; round < 4; ++round) {
+        size_t changed = 0;
+        for (size_t i = 0; i < nf; ++i) {
+            if (i == seeds[0] || i == seeds[1])
+                continue;
+            uint32_t h = m->f_halfedge[faces[i]];
+            int other = 0;
+            for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+                uint32_t g = m->h_face[h ^ 1u];
+                if (g != SK_INVALID && w->label[g] == stamp && w->side[w->flocal[g]] != w->side[i])
+                    other++;
+            }
+            if (other >= 2) {
+                w->side[i] = (uint8_t)(1 - w->side[i]);
+                changed++;
+            }
+        }
+        if (!changed)
+            break;
+    }
+}
+
 sk_status sk__chart_bisect(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
                            sk__chart_work *w, size_t *n0, sk_error *err)
 {
@@ -272,6 +300,7 @@ sk_status sk__chart_bisect(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_
     if (seeds[1] == seeds[0])
         return sk__fail(err, SK_ERR_ARG, "chart of %zu faces is not edge-connected", nf);
     dijkstra(m, faces, nf, stamp, w, seeds, 2);
+    smooth_sides(m, faces, nf, stamp, w, seeds);
     size_t a = 0, b = 0;
     for (size_t i = 0; i < nf; ++i)
         if (w->side[i] == 0)

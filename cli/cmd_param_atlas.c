@@ -17,7 +17,7 @@ const char cli_param_atlas_help[] =
     "  (a chart that overlaps itself is split), packed into [0,1]^2 with one scale.\n"
     "  --max-distortion D  per chart, area-weighted mean sigma1/sigma2 (default 1.25)\n"
     "  --max-stretch S     per chart, exp of the area-weighted mean |log area scale / chart's\n"
-    "                      mean| (default 1.5)\n"
+    "                      mean| (default 1.25)\n"
     "  --resolution R --padding P  gutter of P texels at R texels across (defaults 1024, 2)\n"
     "  --split-seams       write one vertex per uv (per-vertex u v: what Blender's PLY reader\n"
     "                      takes); default: per-corner uvs (OBJ f v/vt with vt shared inside a\n"

@@ -26,7 +26,8 @@ typedef struct sk_atlas_opts {
     /* Per-chart bounds; a chart above either is split (unless it has fewer than 8 triangles).
      * max_distortion: 3D-area-weighted mean of sigma1/sigma2 over the chart; 0 = 1.25.
      * max_stretch: exp of the 3D-area-weighted mean |log(area scale / chart's mean area scale)|,
-     * i.e. how far a triangle's area scale typically is from its chart's; 0 = 1.5.
+     * i.e. how far a triangle's area scale typically is from its chart's; 0 = 1.25 (bench/atlas.sh:
+     * on cow it brings the area-log mean from 0.155 at 1.5 to 0.098 for 10% more charts).
      * Negative: no bound. */
     double max_distortion;
     double max_stretch;

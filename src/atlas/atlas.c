@@ -208,7 +208,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     if (opts)
         o = *opts;
     double max_conf = o.max_distortion == 0 ? 1.25 : o.max_distortion;
-    double max_stretch = o.max_stretch == 0 ? 1.5 : o.max_stretch;
+    double max_stretch = o.max_stretch == 0 ? 1.25 : o.max_stretch;
     double res = o.resolution ? (double)o.resolution : 1024.0;
     double pad = o.padding == 0 ? 2.0 : o.padding < 0 ? 0.0 : o.padding;
     double t0 = sk_seconds(), tp = 0;

@@ -227,17 +227,25 @@ static void test_shared_meshes(void **state)
     }
 }
 
-/* A disk that MIPS maps well stays one chart. */
+/* A disk within the bounds stays one chart; above them it is split. */
 static void test_disk_stays_one_chart(void **state)
 {
     (void)state;
     sk_mesh *m = skt_read_mesh(skt_shared_mesh("nefertiti.off"));
     sk_atlas *a = NULL;
     sk_atlas_stats st;
-    assert_int_equal(sk_atlas_build(m, NULL, &a, &st, NULL), SK_OK);
+    sk_atlas_opts o = {0};
+    o.max_stretch = 1.5;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_int_equal(st.charts, 1);
     assert_int_equal(st.seam_edges, 0);
     assert_int_equal(a->num_uvs, m->num_vertices);
+    sk_atlas_destroy(&a);
+    o.max_stretch = 1.1; /* nefertiti's one chart has exp(mean |log area scale|) about 1.3 */
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
+    assert_true(st.charts > 1);
+    assert_true(st.seam_edges > 0);
+    assert_true(a->num_uvs > m->num_vertices);
     sk_atlas_destroy(&a);
     sk_mesh_destroy(&m);
 }

@@ -28,6 +28,7 @@ const char cli_param_atlas_help[] =
 
 typedef struct atlas_run {
     const char *in;
+    const sk_atlas *atlas;
     sk_atlas_stats st;
     size_t faces;
     double read_seconds, write_seconds;
@@ -49,6 +50,16 @@ static void write_json(FILE *fp, const void *ctx)
     json_knum(&j, "mips_mean", s->mips_mean);
     json_knum(&j, "conformal_mean", s->conformal_mean);
     json_knum(&j, "area_log_mean", s->area_log_mean);
+    json_key(&j, "chart_mips_mean"); /* per chart, in chart order */
+    json_arr_open(&j);
+    for (size_t c = 0; r->atlas && c < r->atlas->num_charts; ++c)
+        json_num(&j, r->atlas->chart_mips[c]);
+    json_arr_close(&j);
+    json_key(&j, "chart_faces");
+    json_arr_open(&j);
+    for (size_t c = 0; r->atlas && c < r->atlas->num_charts; ++c)
+        json_uint(&j, r->atlas->chart_faces[c]);
+    json_arr_close(&j);
     json_kuint(&j, "flipped", s->flipped);
     json_kuint(&j, "overlaps", s->overlaps);
     json_knum(&j, "utilization", s->utilization);
@@ -204,6 +215,7 @@ int cmd_param_atlas(int argc, char **argv, bool *handled)
     sk_mesh *seams = NULL;
     sk_status st = sk_atlas_build(mesh, &ao, &atlas, &r.st, &err);
     cli_progress_done(&bar);
+    r.atlas = atlas;
     if (st == SK_OK)
         st = sk_atlas_split_mesh(mesh, atlas, &seams, &err);
     double tw = sk_seconds();

@@ -46,6 +46,8 @@ typedef struct sk_atlas {
     uint32_t *face_chart;  /* mesh->num_faces (SK_INVALID for deleted faces) */
     uint32_t *corner_uv;   /* mesh->num_halfedges: uv vertex of the corner at sk_from(h) in face(h),
                               SK_INVALID for boundary half-edges */
+    uint32_t *chart_faces; /* num_charts: triangles of each chart */
+    double *chart_mips;    /* num_charts: mean MIPS energy of each chart's triangles */
 } sk_atlas;
 
 typedef struct sk_atlas_stats {

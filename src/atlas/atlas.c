@@ -42,6 +42,8 @@ void sk_atlas_destroy(sk_atlas **a)
     free((*a)->uv_chart);
     free((*a)->face_chart);
     free((*a)->corner_uv);
+    free((*a)->chart_faces);
+    free((*a)->chart_mips);
     free(*a);
     *a = NULL;
 }
@@ -141,13 +143,14 @@ static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *fac
     return SK_OK;
 }
 
-static sk_status measure_atlas(const sk_mesh *m, const sk_atlas *a, sk_atlas_stats *s,
-                               sk_error *err)
+static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s, sk_error *err)
 {
     size_t nf = m->num_faces;
     double *tri = sk__malloc_array(6 * nf, sizeof(double));
     double *areas = sk__malloc_array(2 * nf, sizeof(double));
-    if (!tri || !areas) {
+    a->chart_faces = sk__calloc_array(a->num_charts ? a->num_charts : 1, sizeof(uint32_t));
+    a->chart_mips = sk__calloc_array(a->num_charts ? a->num_charts : 1, sizeof(double));
+    if (!tri || !areas || !a->chart_faces || !a->chart_mips) {
         free(tri);
         free(areas);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -168,12 +171,16 @@ static sk_status measure_atlas(const sk_mesh *m, const sk_atlas *a, sk_atlas_sta
         sk__tri_distortion(m->positions + 3 * (size_t)v[0], m->positions + 3 * (size_t)v[1],
                            m->positions + 3 * (size_t)v[2], q[0], q[1], q[2], &ta, &tu, &tm, &tc);
         mips += tm;
+        a->chart_faces[a->face_chart[f]]++;
+        a->chart_mips[a->face_chart[f]] += tm;
         conf += ta * tc;
         a3 += ta;
         auv += fabs(tu);
         areas[2 * f] = ta;
         areas[2 * f + 1] = fabs(tu);
     }
+    for (size_t c = 0; c < a->num_charts; ++c)
+        a->chart_mips[c] /= (double)a->chart_faces[c];
     double lsum = 0;
     for (size_t f = 0; f < nf; ++f)
         lsum += fabs(log((areas[2 * f + 1] / auv) / (areas[2 * f] / a3)));

@@ -1,7 +1,8 @@
 /* Packing: each chart is rotated to its smallest-area bounding box (one of its convex hull's edge
- * directions, Freeman & Shapira), laid flat (width >= height), and the boxes go into shelves
- * sorted by height; the largest common scale that fits [0,1]^2 with the gutter is found by
- * bisection. */
+ * directions, Freeman & Shapira), laid flat (width >= height), and the boxes, tallest first, go
+ * onto a skyline at the lowest place they fit, upright or flat (bottom-left rule); above 2000
+ * charts, shelves (rows) instead, which cost linear time. The largest common scale that fits
+ * [0,1]^2 with the gutter is found by bisection. */
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
 
@@ -135,10 +136,106 @@ static bool shelves(const rect *r, size_t n, double s, double g, double *pos)
     return true;
 }
 
+/* Skyline: segments [x_i, x_{i+1}) at height y_i covering [0, 1). */
+typedef struct skyline {
+    double *x, *y;   /* segment starts and heights */
+    double *bx, *by; /* scratch of the same capacity */
+    size_t n, cap;   /* every box adds at most 2 segments: cap = 2 charts + 8 never runs out */
+} skyline;
+
+/* Lowest top for a w x h box starting at segment i (x + w <= 1); INFINITY if it does not fit. */
+static double sky_fit(const skyline *k, size_t i, double w, double h, double *base)
+{
+    double x0 = k->x[i], x1 = x0 + w;
+    if (x1 > 1.0)
+        return INFINITY;
+    double y = 0;
+    for (size_t j = i; j < k->n && k->x[j] < x1; ++j)
+        y = fmax(y, k->y[j]);
+    *base = y;
+    return y + h <= 1.0 ? y + h : INFINITY;
+}
+
+/* Raises [x0, x0 + w) to height top (x0 is a segment start). */
+static bool sky_place(skyline *k, double x0, double w, double top)
+{
+    double x1 = x0 + w;
+    size_t j = 0;
+    while (j + 1 < k->n && k->x[j + 1] <= x1)
+        j++;
+    double after = k->y[j]; /* height just right of the box before it lands */
+    size_t n = 0;
+    for (size_t i = 0; i < k->n && k->x[i] < x0; ++i, ++n) {
+        k->bx[n] = k->x[i];
+        k->by[n] = k->y[i];
+    }
+    k->bx[n] = x0;
+    k->by[n++] = top;
+    if (x1 < 1.0) {
+        k->bx[n] = x1;
+        k->by[n++] = after;
+        for (size_t i = 0; i < k->n; ++i)
+            if (k->x[i] > x1) {
+                k->bx[n] = k->x[i];
+                k->by[n++] = k->y[i];
+            }
+    }
+    size_t m = 0;
+    for (size_t q = 0; q < n; ++q) { /* neighbours of equal height merge */
+        if (m > 0 && k->by[q] == k->y[m - 1])
+            continue;
+        k->x[m] = k->bx[q];
+        k->y[m++] = k->by[q];
+    }
+    k->n = m;
+    return m + 2 <= k->cap;
+}
+
+/* Skyline placement at scale s (rot[c] receives 1 for an upright chart); true when all fit. */
+static bool skyline_pack(const rect *r, size_t n, double s, double g, double *pos, uint8_t *rot,
+                         skyline *k, bool *nomem)
+{
+    k->n = 1;
+    k->x[0] = 0;
+    k->y[0] = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double best = INFINITY, bx = 0, bw = 0;
+        int bt = 0;
+        for (int turn = 0; turn < 2; ++turn) {
+            double w = (turn ? r[i].h : r[i].w) * s + g, h = (turn ? r[i].w : r[i].h) * s + g;
+            for (size_t j = 0; j < k->n; ++j) {
+                double base;
+                double top = sky_fit(k, j, w, h, &base);
+                if (top < best || (top == best && k->x[j] < bx)) {
+                    best = top;
+                    bx = k->x[j];
+                    bw = w;
+                    bt = turn;
+                }
+            }
+        }
+        if (!isfinite(best))
+            return false;
+        double h = (bt ? r[i].w : r[i].h) * s + g;
+        if (pos) {
+            pos[2 * r[i].chart] = bx + 0.5 * g;
+            pos[2 * r[i].chart + 1] = best - h + 0.5 * g;
+            rot[r[i].chart] = (uint8_t)bt;
+        }
+        if (!sky_place(k, bx, bw, best)) {
+            *nomem = true;
+            return false;
+        }
+    }
+    return true;
+}
+
 sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gutter,
                           double *scale, sk_error *err)
 {
     sk_status st = SK_OK;
+    uint8_t *rot = NULL;
+    skyline k = {0};
     size_t maxn = 1;
     for (size_t c = 0; c < nc; ++c)
         if (off[c + 1] - off[c] > maxn)
@@ -164,25 +261,63 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
         goto done;
     }
     /* bisection on the scale: the boxes' area bounds it from above */
+    bool sky = nc <= 2000, nomem = false;
+    rot = sk__calloc_array(nc ? nc : 1, 1);
+    k.cap = 2 * nc + 8;
+    k.x = sk__malloc_array(k.cap, sizeof(double));
+    k.y = sk__malloc_array(k.cap, sizeof(double));
+    k.bx = sk__malloc_array(k.cap, sizeof(double));
+    k.by = sk__malloc_array(k.cap, sizeof(double));
+    if (!rot || !k.x || !k.y || !k.bx || !k.by) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
     double lo = 0, hi = 1.0 / sqrt(area);
-    for (int it = 0; it < 60; ++it) {
+    for (int it = 0; it < 50; ++it) {
         double mid = 0.5 * (lo + hi);
-        if (shelves(r, nc, mid, gutter, NULL))
+        bool fits = sky ? skyline_pack(r, nc, mid, gutter, NULL, NULL, &k, &nomem)
+                        : shelves(r, nc, mid, gutter, NULL);
+        if (nomem) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        if (fits)
             lo = mid;
         else
             hi = mid;
     }
-    if (!(lo > 0) || !shelves(r, nc, lo, gutter, pos)) {
-        st = sk__fail(err, SK_ERR_ARG, "the %zu charts do not fit with gutter %g", nc, gutter);
+    bool ok = lo > 0 && (sky ? skyline_pack(r, nc, lo, gutter, pos, rot, &k, &nomem)
+                             : shelves(r, nc, lo, gutter, pos));
+    if (!ok) {
+        st = nomem ? sk__fail(err, SK_ERR_NOMEM, "out of memory")
+                   : sk__fail(err, SK_ERR_ARG, "the %zu charts do not fit with gutter %g", nc,
+                              gutter);
         goto done;
     }
-    for (size_t c = 0; c < nc; ++c)
+    for (size_t c = 0; c < nc; ++c) {
+        /* upright: a quarter turn counter-clockwise, (x, y) -> (H - y, x), keeps orientation */
+        double hgt = 0;
+        if (rot[c])
+            for (uint32_t i = off[c]; i < off[c + 1]; ++i)
+                hgt = fmax(hgt, uv[2 * (size_t)i + 1]);
         for (uint32_t i = off[c]; i < off[c + 1]; ++i) {
-            uv[2 * (size_t)i] = pos[2 * c] + lo * uv[2 * (size_t)i];
-            uv[2 * (size_t)i + 1] = pos[2 * c + 1] + lo * uv[2 * (size_t)i + 1];
+            double x = uv[2 * (size_t)i], y = uv[2 * (size_t)i + 1];
+            if (rot[c]) {
+                double t = x;
+                x = hgt - y;
+                y = t;
+            }
+            uv[2 * (size_t)i] = pos[2 * c] + lo * x;
+            uv[2 * (size_t)i + 1] = pos[2 * c + 1] + lo * y;
         }
+    }
     *scale = lo;
 done:
+    free(rot);
+    free(k.x);
+    free(k.y);
+    free(k.bx);
+    free(k.by);
     free(r);
     free(pos);
     free(scratch);

@@ -177,6 +177,16 @@ static void check_atlas(const char *name, const sk_mesh *m, size_t min_charts)
         fail_msg("%s: %zu overlapping uv triangle pairs", name, ov);
     assert_int_equal(st.flipped, 0);
     assert_int_equal(st.overlaps, 0);
+    /* per-chart MIPS means average (face-weighted) to the total */
+    double msum = 0;
+    size_t fsum = 0;
+    for (size_t c = 0; c < a->num_charts; ++c) {
+        assert_true(a->chart_faces[c] > 0 && a->chart_mips[c] >= 2.0 - 1e-12);
+        msum += a->chart_mips[c] * a->chart_faces[c];
+        fsum += a->chart_faces[c];
+    }
+    assert_int_equal(fsum, nf);
+    assert_true(fabs(msum / (double)nf - st.mips_mean) < 1e-9);
     /* one scale for all charts: uv area = scale^2 * 3D area, and the report's utilization */
     assert_true(fabs(area_uv - st.scale * st.scale * area3) < 1e-9 * area_uv);
     assert_true(fabs(area_uv - st.utilization) < 1e-9);

@@ -79,9 +79,9 @@ void sk_atlas_destroy(sk_atlas **atlas);
 sk_status sk_uv_overlaps(size_t num_triangles, const double *tri_uv, size_t *count,
                          uint32_t first[2], sk_error *err);
 
-/* The atlas as a soup-ready per-vertex mesh split along the seams: one vertex per uv vertex
- * (positions copied), faces in the mesh's face order; for writers that know only per-vertex uv.
- * positions: 3 * num_uvs, uvs: 2 * num_uvs, tris: 3 * (alive faces). */
+/* The atlas as a mesh split along the seams: one vertex per uv vertex (position copied, uvs set),
+ * faces in the mesh's face order; for writers and readers that know only per-vertex uv (Blender's
+ * PLY importer), and for the pictures (chart borders are its boundary). */
 sk_status sk_atlas_split_mesh(const sk_mesh *mesh, const sk_atlas *atlas, sk_mesh **out,
                               sk_error *err);
 

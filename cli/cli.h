@@ -92,4 +92,9 @@ int cmd_simplify(int argc, char **argv);
 int cmd_deviation(int argc, char **argv);
 int cmd_view(int argc, char **argv);
 
+/* surfkit param with an atlas (cli/cmd_param_atlas.c): takes the run (*handled = true) when the
+ * input is not one disk or an atlas option is given; else leaves it to cmd_param. */
+int cmd_param_atlas(int argc, char **argv, bool *handled);
+extern const char cli_param_atlas_help[];
+
 #endif

@@ -14,6 +14,9 @@ echo
 echo "== 2. hierarchical MIPS parametrization (free boundary) -> out/nefertiti_uv.obj + PNGs"
 $sk param data/nefertiti.off -o out/nefertiti_uv.obj --method mips \
   --png out/nefertiti_uv.png --checker out/nefertiti_checker.png --report out/nefertiti_param.json
+echo "== 2b. atlas of the closed data/sphere.off: charts, per-chart MIPS, packing -> out/sphere_atlas.obj"
+$sk param data/sphere.off -o out/sphere_atlas.obj --png out/sphere_atlas.png \
+  --checker out/sphere_atlas_checker.png --report out/sphere_atlas.json
 echo
 echo "== 3. VC1 smooth surface of data/sphere.off: continuity report, tessellation, STEP, IGES"
 $sk smooth data/sphere.off -o out/sphere_smooth.obj --tess 6 --report out/sphere_report.json \

@@ -187,10 +187,13 @@ static sk_status write_sink(sk__out *o, const sk_soup *soup, const sk_write_opts
         return st;
     bool normals = soup->normals && !opts->no_normals;
     bool uvs = soup->uvs && !opts->no_uvs;
+    /* OBJ and PLY also carry per-corner values (the writers look at soup->corner_*) */
+    bool any_normals = (soup->normals || soup->corner_normal) && !opts->no_normals;
+    bool any_uvs = (soup->uvs || soup->corner_uv) && !opts->no_uvs;
     switch (fmt) {
     case SK_FORMAT_OFF: sk__write_off(o, soup, normals, uvs); break;
-    case SK_FORMAT_OBJ: sk__write_obj(o, soup, normals, uvs); break;
-    case SK_FORMAT_PLY: sk__write_ply(o, soup, normals, uvs, opts->ascii); break;
+    case SK_FORMAT_OBJ: sk__write_obj(o, soup, any_normals, any_uvs); break;
+    case SK_FORMAT_PLY: sk__write_ply(o, soup, normals, any_uvs, opts->ascii); break;
     case SK_FORMAT_STL: sk__write_stl(o, soup, opts->ascii); break;
     case SK_FORMAT_AUTO:
     case SK_FORMAT_UNKNOWN:

@@ -193,5 +193,28 @@ sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
         memcpy(m->normals, s->normals, s->num_vertices * 3 * sizeof(double));
     if (s->uvs)
         memcpy(m->uvs, s->uvs, s->num_vertices * 2 * sizeof(double));
+    if (s->corner_uv) {
+        /* soup corner c of face f is the half-edge leaving face_indices[c] (build order) */
+        uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
+        if (!hw) {
+            sk_mesh_destroy(out);
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        }
+        for (size_t h = 0; h < m->num_halfedges; ++h)
+            hw[h] = SK_INVALID;
+        for (size_t f = 0; f < s->num_faces; ++f) {
+            uint32_t h = m->f_halfedge[f];
+            for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
+                hw[h] = s->corner_uv[c];
+                h = m->h_next[h];
+            }
+        }
+        sk_status ws = sk_mesh_set_wedge_uvs(m, s->num_wedge_uvs, s->wedge_uvs, hw, err);
+        free(hw);
+        if (ws) {
+            sk_mesh_destroy(out);
+            return ws;
+        }
+    }
     return SK_OK;
 }

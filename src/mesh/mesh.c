@@ -38,7 +38,8 @@ sk_status sk_mesh_reserve(sk_mesh *m, size_t nv, size_t nh, size_t nf, sk_error 
             (st = grow((void **)&m->h_next, cap, sizeof(uint32_t))) ||
             (st = grow((void **)&m->h_prev, cap, sizeof(uint32_t))) ||
             (st = grow((void **)&m->h_face, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->e_deleted, cap / 2, 1)))
+            (st = grow((void **)&m->e_deleted, cap / 2, 1)) ||
+            (m->h_wedge_uv && (st = grow((void **)&m->h_wedge_uv, cap, sizeof(uint32_t)))))
             goto fail;
         m->cap_halfedges = cap;
     }
@@ -85,6 +86,8 @@ void sk_mesh_destroy(sk_mesh **mesh)
     free(m->v_deleted);
     free(m->e_deleted);
     free(m->f_deleted);
+    free(m->wedge_uvs);
+    free(m->h_wedge_uv);
     free(m);
     *mesh = NULL;
 }
@@ -128,6 +131,8 @@ uint32_t sk_mesh_new_edge(sk_mesh *m)
     m->num_halfedges += 2;
     for (uint32_t i = h; i < h + 2; ++i) {
         m->h_vertex[i] = m->h_next[i] = m->h_prev[i] = m->h_face[i] = SK_INVALID;
+        if (m->h_wedge_uv)
+            m->h_wedge_uv[i] = SK_INVALID;
     }
     m->e_deleted[h / 2] = 0;
     return h;
@@ -174,7 +179,44 @@ sk_status sk_mesh_copy(const sk_mesh *src, sk_mesh **out, sk_error *err)
     m->num_deleted_vertices = src->num_deleted_vertices;
     m->num_deleted_edges = src->num_deleted_edges;
     m->num_deleted_faces = src->num_deleted_faces;
+    if (src->h_wedge_uv &&
+        sk_mesh_set_wedge_uvs(m, src->num_wedge_uvs, src->wedge_uvs, src->h_wedge_uv, err)) {
+        sk_mesh_destroy(&m);
+        return SK_ERR_NOMEM;
+    }
     *out = m;
+    return SK_OK;
+}
+
+sk_status sk_mesh_set_wedge_uvs(sk_mesh *m, size_t n, const double *values,
+                                const uint32_t *h_wedge, sk_error *err)
+{
+    if (!values || !h_wedge) {
+        free(m->wedge_uvs);
+        free(m->h_wedge_uv);
+        m->wedge_uvs = NULL;
+        m->h_wedge_uv = NULL;
+        m->num_wedge_uvs = 0;
+        return SK_OK;
+    }
+    for (size_t h = 0; h < m->num_halfedges; ++h)
+        if (h_wedge[h] != SK_INVALID && h_wedge[h] >= n)
+            return sk__fail(err, SK_ERR_ARG, "half-edge %zu has wedge %u of %zu", h,
+                            (unsigned)h_wedge[h], n);
+    double *v = sk__malloc_array(n ? n : 1, 2 * sizeof(double));
+    uint32_t *i = sk__malloc_array(m->cap_halfedges ? m->cap_halfedges : 1, sizeof(uint32_t));
+    if (!v || !i) {
+        free(v);
+        free(i);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(v, values, 2 * n * sizeof(double));
+    memcpy(i, h_wedge, m->num_halfedges * sizeof(uint32_t));
+    free(m->wedge_uvs);
+    free(m->h_wedge_uv);
+    m->wedge_uvs = v;
+    m->h_wedge_uv = i;
+    m->num_wedge_uvs = n;
     return SK_OK;
 }
 
@@ -259,6 +301,8 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
         m->h_next[t] = remap(hmap, m->h_next[h]);
         m->h_prev[t] = remap(hmap, m->h_prev[h]);
         m->h_face[t] = remap(fmap, m->h_face[h]);
+        if (m->h_wedge_uv)
+            m->h_wedge_uv[t] = m->h_wedge_uv[h];
         m->e_deleted[t / 2] = 0;
     }
     for (size_t f = 0; f < nf; ++f) {
@@ -371,7 +415,7 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
         return st;
     uint32_t *vmap = sk__malloc_array(m->num_vertices, sizeof(uint32_t));
     uint32_t buf[64];
-    uint32_t *idx = buf;
+    uint32_t *idx = buf, *cw = NULL;
     size_t cap = 64;
     if (!vmap) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -415,9 +459,34 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
             goto done;
         }
     }
+    if (m->h_wedge_uv) {
+        /* corners in the order just pushed: alive faces, half-edges from f_halfedge */
+        size_t nc = s->face_offsets[s->num_faces];
+        cw = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+        if (!cw) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        size_t c = 0;
+        for (size_t f = 0; f < m->num_faces; ++f) {
+            if (m->f_deleted[f])
+                continue;
+            uint32_t h0 = m->f_halfedge[f], h = h0;
+            do {
+                cw[c++] = m->h_wedge_uv[h];
+                h = m->h_next[h];
+            } while (h != h0);
+        }
+        if ((st = sk_soup_set_corner_uvs(s, m->num_wedge_uvs, m->wedge_uvs, cw))) {
+            st = sk__fail(err, st, "per-corner uvs: %s", st == SK_ERR_NOMEM ? "out of memory"
+                                                                            : "index out of range");
+            goto done;
+        }
+    }
 done:
     if (idx != buf)
         free(idx);
+    free(cw);
     free(vmap);
     if (st)
         sk_soup_destroy(&s);

@@ -43,6 +43,10 @@ void sk_soup_destroy(sk_soup **soup)
     free(s->uvs);
     free(s->face_offsets);
     free(s->face_indices);
+    free(s->wedge_uvs);
+    free(s->wedge_normals);
+    free(s->corner_uv);
+    free(s->corner_normal);
     free(s);
     *soup = NULL;
 }
@@ -138,4 +142,49 @@ sk_status sk_soup_add_uvs(sk_soup *s)
         return SK_OK;
     s->uvs = sk__calloc_array(s->cap_vertices, 2 * sizeof(double));
     return s->uvs ? SK_OK : SK_ERR_NOMEM;
+}
+
+static sk_status set_corner(sk_soup *s, size_t dim, size_t n, const double *values,
+                            const uint32_t *corner, size_t *num, double **vals, uint32_t **idx)
+{
+    size_t nc = s->face_offsets[s->num_faces];
+    if (!values || !corner) {
+        free(*vals);
+        free(*idx);
+        *vals = NULL;
+        *idx = NULL;
+        *num = 0;
+        return SK_OK;
+    }
+    for (size_t c = 0; c < nc; ++c)
+        if (corner[c] != SK_INVALID && corner[c] >= n)
+            return SK_ERR_ARG;
+    double *v = sk__malloc_array(n ? n : 1, dim * sizeof(double));
+    uint32_t *i = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+    if (!v || !i) {
+        free(v);
+        free(i);
+        return SK_ERR_NOMEM;
+    }
+    memcpy(v, values, n * dim * sizeof(double));
+    memcpy(i, corner, nc * sizeof(uint32_t));
+    free(*vals);
+    free(*idx);
+    *vals = v;
+    *idx = i;
+    *num = n;
+    return SK_OK;
+}
+
+sk_status sk_soup_set_corner_uvs(sk_soup *s, size_t n, const double *values,
+                                 const uint32_t *corner)
+{
+    return set_corner(s, 2, n, values, corner, &s->num_wedge_uvs, &s->wedge_uvs, &s->corner_uv);
+}
+
+sk_status sk_soup_set_corner_normals(sk_soup *s, size_t n, const double *values,
+                                     const uint32_t *corner)
+{
+    return set_corner(s, 3, n, values, corner, &s->num_wedge_normals, &s->wedge_normals,
+                      &s->corner_normal);
 }

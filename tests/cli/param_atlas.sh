@@ -31,7 +31,7 @@ done
 "$BIN" param "$M/eight.off" -o "$TMP/e.ply" --ascii -q || fail "ply"
 grep -q 'property list uchar double texcoord' "$TMP/e.ply" || fail "PLY lacks texcoord"
 "$BIN" param "$M/eight.off" -o "$TMP/es.ply" --ascii --split-seams -q || fail "split ply"
-grep -q 'property double u' "$TMP/es.ply" || fail "split PLY lacks u"
+grep -q 'property double s' "$TMP/es.ply" || fail "split PLY lacks s t (Blender's names)"
 nvt=$(grep -c '^vt ' "$TMP/eight.obj")
 grep -q "element vertex $nvt" "$TMP/es.ply" || fail "split PLY vertices != vt count $nvt"
 # the PLY reads back into an OBJ with the same uv per corner

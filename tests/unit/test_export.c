@@ -45,7 +45,8 @@ static void given_patches_when_iges_written_then_records_are_80_columns_and_coun
     (void)state;
     sk_patch p[3];
     size_t n = sample_patches(p);
-    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05", .units = "in"};
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05", .units = "in",
+                        .iges_free_surfaces = true};
     sk_export_stats st;
     const char *path = skt_tmp_path("sample.igs");
     assert_int_equal(sk_export_iges(path, p, n, &o, &st, NULL), SK_OK);
@@ -63,7 +64,7 @@ static void given_patches_when_iges_written_then_records_are_80_columns_and_coun
         counts[sec - sections]++;
         line = nl + 1;
     }
-    assert_int_equal(counts[2], 2 * 7);  /* two directory lines per entity */
+    assert_int_equal(counts[2], 2 * (7 + 1)); /* two directory lines per entity, + the group */
     assert_int_equal(counts[4], 1);
     char term[40];
     snprintf(term, sizeof term, "S%07zuG%07zuD%07zuP%07zu", counts[0], counts[1], counts[2], counts[3]);
@@ -71,11 +72,109 @@ static void given_patches_when_iges_written_then_records_are_80_columns_and_coun
     assert_non_null(strstr(text, "2HIN"));                 /* units name */
     assert_non_null(strstr(text, "15H20260102.030405"));   /* date */
     assert_int_equal(count(text, "     128"), 2 * 7);      /* entity type in both DE lines */
+    assert_int_equal(count(text, "     402"), 2);          /* one group holds them */
     free(text);
     /* degenerate triangles: one entity per triangle */
     o.degenerate_triangles = true;
     assert_int_equal(sk_export_iges(path, p, n, &o, &st, NULL), SK_OK);
     assert_int_equal(st.faces, 3);
+}
+
+/* Number of DE entries (first DE line of each entity) of the given type, and the form number
+ * (second line, columns 33-40) of the last one. */
+static size_t count_entities(const char *text, int type, int *form)
+{
+    size_t n = 0;
+    for (const char *line = text; *line;) {
+        const char *nl = strchr(line, '\n');
+        if (!nl)
+            break;
+        if (line[72] == 'D' && atoi(line) == type) {
+            long seq = atol(line + 73);
+            if (seq % 2 == 1)
+                ++n;
+            else if (form)
+                *form = atoi(line + 32);
+        }
+        line = nl + 1;
+    }
+    return n;
+}
+
+static void given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges(void **state)
+{
+    (void)state;
+    sk_patch p[3];
+    size_t n = sample_patches(p);
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_stats st, sst;
+    assert_int_equal(sk_export_step(skt_tmp_path("brep.step"), p, n, &o, &sst, NULL), SK_OK);
+    const char *path = skt_tmp_path("brep.igs");
+    assert_int_equal(sk_export_iges(path, p, n, &o, &st, NULL), SK_OK);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    int form = -1;
+    assert_int_equal(st.faces, 7);
+    assert_false(st.solid);
+    assert_int_equal(count_entities(text, 186, NULL), 0); /* open: no solid */
+    assert_int_equal(count_entities(text, 514, &form), 1);
+    assert_int_equal(form, 2); /* open shell */
+    assert_int_equal(count_entities(text, 510, NULL), 7);
+    assert_int_equal(count_entities(text, 508, NULL), 7);
+    assert_int_equal(count_entities(text, 128, NULL), 7);
+    assert_int_equal(count_entities(text, 504, NULL), 1);
+    assert_int_equal(count_entities(text, 502, NULL), 1);
+    /* the same vertices and edges as the STEP writer finds from the corner ids: 6 corners, 5
+     * midpoints, 2 centroids; 29 loop pieces (one parameter-space line each) over fewer edges */
+    assert_int_equal(st.vertices, 13);
+    assert_int_equal(st.edges, sst.edges);
+    assert_int_equal(count_entities(text, 126, NULL), st.edges);
+    assert_int_equal(count_entities(text, 110, NULL), 29);
+    free(text);
+}
+
+/* A closed surface (a flat tetrahedron) gives a solid: 186 over a closed 514 shell. */
+static void given_closed_patches_when_iges_written_then_a_solid(void **state)
+{
+    (void)state;
+    const double P[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const int tri[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+    sk_patch p[4];
+    for (int t = 0; t < 4; ++t) {
+        sk_patch lin = {.kind = SK_PATCH_TRIANGLE, .degree = 1};
+        memcpy(lin.cp + 3 * sk_tri_index(1, 0, 0), P[tri[t][0]], sizeof P[0]);
+        memcpy(lin.cp + 3 * sk_tri_index(1, 1, 0), P[tri[t][1]], sizeof P[0]);
+        memcpy(lin.cp + 3 * sk_tri_index(1, 0, 1), P[tri[t][2]], sizeof P[0]);
+        assert_int_equal(sk_patch_elevate(&lin, 4, 0, &p[t], NULL), SK_OK);
+        for (int k = 0; k < 3; ++k)
+            p[t].corner_ids[k] = (uint32_t)tri[t][k];
+        p[t].corner_ids[3] = SK_INVALID;
+    }
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_stats st;
+    const char *path = skt_tmp_path("tetra.igs");
+    assert_int_equal(sk_export_iges(path, p, 4, &o, &st, NULL), SK_OK);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    int form = -1;
+    assert_true(st.solid);
+    assert_int_equal(st.faces, 12);
+    assert_int_equal(st.vertices, 4 + 6 + 4);  /* corners, edge midpoints, centroids */
+    assert_int_equal(st.edges, 12 + 12);       /* half edges of the mesh edges, inner edges */
+    assert_int_equal(count_entities(text, 186, NULL), 1);
+    assert_int_equal(count_entities(text, 514, &form), 1);
+    assert_int_equal(form, 1); /* closed shell */
+    assert_int_equal(count_entities(text, 110, NULL), 12 * 4);
+    free(text);
+    path = skt_tmp_path("tetra.step");
+    assert_int_equal(sk_export_step(path, p, 4, &o, &st, NULL), SK_OK);
+    text = skt_read_file(path, &size);
+    assert_true(st.solid);
+    assert_int_equal(count(text, "MANIFOLD_SOLID_BREP("), 1);
+    assert_int_equal(count(text, "CLOSED_SHELL("), 1);
+    assert_int_equal(count(text, "ADVANCED_BREP_SHAPE_REPRESENTATION("), 1);
+    assert_int_equal(count(text, "SHELL_BASED_SURFACE_MODEL("), 0);
+    free(text);
 }
 
 static void given_patches_when_step_written_then_faces_share_edges(void **state)
@@ -143,6 +242,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(given_patches_when_iges_written_then_records_are_80_columns_and_counted),
+        cmocka_unit_test(given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges),
+        cmocka_unit_test(given_closed_patches_when_iges_written_then_a_solid),
         cmocka_unit_test(given_patches_when_step_written_then_faces_share_edges),
         cmocka_unit_test(given_patches_when_obj_freeform_written_then_one_surf_per_tensor_patch),
         cmocka_unit_test(given_bad_arguments_then_writers_fail_and_leave_no_file),

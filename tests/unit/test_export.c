@@ -2,6 +2,10 @@
  * round trip through an independent CAD kernel is tests/occt. */
 #include "testutil.h"
 
+#include "export/export_internal.h"
+
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -220,6 +224,57 @@ static void given_patches_when_obj_freeform_written_then_one_surf_per_tensor_pat
     free(text);
 }
 
+/* The reference: the shortest of "%.1G" .. "%.17G" that reads back, with a decimal point. */
+static void shortest_by_scan(char out[32], double x)
+{
+    for (int p = 1; p <= 17; ++p) {
+        snprintf(out, 32, "%.*G", p, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    if (!strchr(out, '.')) {
+        char *e = strchr(out, 'E');
+        size_t n = strlen(out);
+        if (e) {
+            memmove(e + 1, e, n - (size_t)(e - out) + 1);
+            *e = '.';
+        } else {
+            out[n] = '.';
+            out[n + 1] = '\0';
+        }
+    }
+}
+
+static void given_reals_when_formatted_then_shortest_exact_with_a_point(void **state)
+{
+    (void)state;
+    const double special[] = {1.0, 100.0, 1e-7, 0.1, 0.3, 0.30000000000000004, 1e15, 1e16, 1e17,
+                              999999999999999.0, 123456789012345678.0, 1e300, -2.5e-300,
+                              DBL_MAX, DBL_MIN, 5e-324, -1.5e-310, 2.0 / 3.0, -3.141592653589793};
+    uint64_t seed = 12345;
+    char a[32], b[32];
+    assert_string_equal(sk__fmt_real(a, 0.0), "0.");
+    assert_string_equal(sk__fmt_real(a, -0.0), "0.");
+    assert_string_equal(sk__fmt_real(a, 100.0), "1.E+02");
+    assert_string_equal(sk__fmt_real(a, 0.5), "0.5");
+    for (int i = 0; i < 200000; ++i) {
+        double x;
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        uint32_t r = (uint32_t)(seed >> 33);
+        if (i < (int)(sizeof special / sizeof special[0]))
+            x = special[i];
+        else if (i % 3 == 0) /* short decimals */
+            x = (double)(r % 100000) / pow(10.0, (double)(r % 13));
+        else /* full-precision values over a wide range of exponents */
+            x = ldexp((double)r / 4294967296.0 * 3.0 - 1.5, (int)(r % 400) - 200);
+        shortest_by_scan(b, x);
+        sk__fmt_real(a, x);
+        if (strcmp(a, b))
+            fail_msg("%.17g: %s, shortest is %s", x, a, b);
+        assert_true(strtod(a, NULL) == x);
+    }
+}
+
 static void given_bad_arguments_then_writers_fail_and_leave_no_file(void **state)
 {
     (void)state;
@@ -244,6 +299,7 @@ int main(void)
         cmocka_unit_test(given_patches_when_iges_written_then_records_are_80_columns_and_counted),
         cmocka_unit_test(given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges),
         cmocka_unit_test(given_closed_patches_when_iges_written_then_a_solid),
+        cmocka_unit_test(given_reals_when_formatted_then_shortest_exact_with_a_point),
         cmocka_unit_test(given_patches_when_step_written_then_faces_share_edges),
         cmocka_unit_test(given_patches_when_obj_freeform_written_then_one_surf_per_tensor_patch),
         cmocka_unit_test(given_bad_arguments_then_writers_fail_and_leave_no_file),

@@ -19,9 +19,11 @@
  * its midpoint, and a side whose midpoint is another face's corner (a quad next to a split
  * triangle) is split there, so faces meet edge to edge.
  *
- * With opts->degenerate_triangles or opts->iges_free_surfaces the file holds only the 128
- * surfaces, gathered in one 402 associativity (form 1, unordered group): importers get untrimmed
- * faces that they must sew themselves. */
+ * With opts->degenerate_triangles or opts->iges_free_surfaces, or when a patch has a side
+ * collapsed to a point, the file holds only the 128 surfaces, gathered in one 402 associativity
+ * (form 1, unordered group): importers get untrimmed faces that they must sew themselves. (One
+ * group, not independent surfaces: FreeCAD 0.20's Import.insert segfaults on a file of many
+ * independent surfaces, what this writer wrote before, and opens the same surfaces grouped.) */
 #include "export/export_internal.h"
 
 #include <math.h>
@@ -428,8 +430,10 @@ static void brep_free(brep *br)
     free(br->face_first);
 }
 
-/* Builds vertices, edges and loops of the tensor patches t[0..nt). */
-static sk_status build_brep(brep *br, const sk_patch *t, size_t nt, double size, sk_error *err)
+/* Builds vertices, edges and loops of the tensor patches t[0..nt); stops with *collapsed set at
+ * a side collapsed to a point (a singular corner has no B-rep edge here). */
+static sk_status build_brep(brep *br, const sk_patch *t, size_t nt, double size, bool *collapsed,
+                            sk_error *err)
 {
     static const double corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     double cell = IGES_CELL_REL * size, tol = IGES_WELD_REL * size;
@@ -457,9 +461,8 @@ static sk_status build_brep(brep *br, const sk_patch *t, size_t nt, double size,
             const double *uv0 = corner_uv[k], *uv1 = corner_uv[(k + 1) % 4];
             halve(cp, deg, l, r);
             size_t vm = pool_find(&br->verts, r);
-            if (a == b) {
-                st = sk__fail(err, SK_ERR_ARG, "IGES: side %u of surface %zu is collapsed to a "
-                              "point (use the free-surface layout for degenerate patches)", k, i);
+            if (a == b) { /* a collapsed side: no edge; the caller writes free surfaces */
+                *collapsed = true;
                 goto done;
             }
             if (vm != SIZE_MAX && vm != a && vm != b) { /* another face's corner: split here */
@@ -481,13 +484,14 @@ done:
 }
 
 /* Writes the B-rep entities; *closed tells whether the shell is closed (and a solid written),
- * *edges and *vertices the sizes of the edge and vertex lists. */
+ * *edges and *vertices the sizes of the edge and vertex lists. Writes nothing and sets *collapsed
+ * when a patch has a side collapsed to a point. */
 static sk_status write_brep(sections *s, const sk_patch *t, size_t nt, double size, bool *closed,
-                            size_t *edges, size_t *vertices, sk_error *err)
+                            size_t *edges, size_t *vertices, bool *collapsed, sk_error *err)
 {
     brep br = {0};
-    sk_status st = build_brep(&br, t, nt, size, err);
-    if (st)
+    sk_status st = build_brep(&br, t, nt, size, collapsed, err);
+    if (st || *collapsed)
         goto done;
     *closed = br.ne > 0;
     *edges = br.ne;
@@ -682,10 +686,12 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
     pack_string(&g, stamp);
     pack_end(&g);
 
-    if (free_layout)
-        write_free_surfaces(&sec, t, nt);
-    else if ((st = write_brep(&sec, t, nt, size, &closed, &nedges, &nverts, err)))
+    bool collapsed = false;
+    if (!free_layout &&
+        (st = write_brep(&sec, t, nt, size, &closed, &nedges, &nverts, &collapsed, err)))
         goto done;
+    if (free_layout || collapsed)
+        write_free_surfaces(&sec, t, nt);
     sk__buf_put(&out, sec.d.s ? sec.d.s : "", sec.d.n);
     sk__buf_put(&out, sec.p.s ? sec.p.s : "", sec.p.n);
     char term[256];

@@ -137,6 +137,29 @@ static void given_patches_when_iges_written_then_faces_form_a_brep_with_shared_e
     free(text);
 }
 
+/* A tensor patch with a side collapsed to a point has no B-rep edge there: the writer falls back
+ * to the free surfaces in one group. */
+static void given_a_collapsed_side_when_iges_written_then_free_surfaces(void **state)
+{
+    (void)state;
+    sk_patch p[3], d[2];
+    sample_patches(p);
+    assert_int_equal(sk_patch_triangle_to_degenerate_tensor(&p[1], &d[0], NULL), SK_OK);
+    d[1] = p[0];
+    sk_export_stats st;
+    const char *path = skt_tmp_path("collapsed.igs");
+    assert_int_equal(sk_export_iges(path, d, 2, NULL, &st, NULL), SK_OK);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    assert_int_equal(st.faces, 2);
+    assert_int_equal(st.edges, 0);
+    assert_false(st.solid);
+    assert_int_equal(count_entities(text, 128, NULL), 2);
+    assert_int_equal(count_entities(text, 402, NULL), 1);
+    assert_int_equal(count_entities(text, 514, NULL), 0);
+    free(text);
+}
+
 /* A closed surface (a flat tetrahedron) gives a solid: 186 over a closed 514 shell. */
 static void given_closed_patches_when_iges_written_then_a_solid(void **state)
 {
@@ -299,6 +322,7 @@ int main(void)
         cmocka_unit_test(given_patches_when_iges_written_then_records_are_80_columns_and_counted),
         cmocka_unit_test(given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges),
         cmocka_unit_test(given_closed_patches_when_iges_written_then_a_solid),
+        cmocka_unit_test(given_a_collapsed_side_when_iges_written_then_free_surfaces),
         cmocka_unit_test(given_reals_when_formatted_then_shortest_exact_with_a_point),
         cmocka_unit_test(given_patches_when_step_written_then_faces_share_edges),
         cmocka_unit_test(given_patches_when_obj_freeform_written_then_one_surf_per_tensor_patch),

@@ -27,13 +27,15 @@ static const char help[] =
     "longest edge at the midpoint of its wire frame curve.\n"
     "\n"
     "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
-    "                  .igs/.iges IGES 5.3, one B-spline surface (entity 128) per patch;\n"
-    "                  .step/.stp STEP AP214, one shell whose faces share edges and vertices;\n"
+    "                  .igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
+    "                  and vertices, a solid (186) when the surface is closed, else a shell;\n"
+    "                  .step/.stp STEP AP214, faces sharing edges and vertices, a solid\n"
+    "                  (MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
     "                  .obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
     "                  B-spline with clamped knots (cstype bspline).\n"
     "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
     "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
-    "                  collapsed side instead (IGES only)\n"
+    "                  collapsed side instead (IGES only, loose faces in one group)\n"
     "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
     "  --tess N        grid of N x N per patch (default 4)\n"
     "  --patches F     control nets as JSON\n"
@@ -211,7 +213,7 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
         return cli_fail(st, &err);
     if (!quiet) {
         fprintf(stderr, "smooth: wrote %s: %zu surfaces", path, es.faces);
-        if (cad == CAD_STEP)
+        if (es.edges)
             fprintf(stderr, ", %zu edges, %zu vertices", es.edges, es.vertices);
         fprintf(stderr, ", %.1f KiB\n", (double)es.bytes / 1024.0);
     }

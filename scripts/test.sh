@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds with warnings as errors, runs every test; then builds with
+# Installs what is needed (with the programs of tests/interop), builds with warnings as errors, runs every test; then builds with
 # AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again (lighter data set), and
 # runs every fuzz target over the bad-input corpus (no fuzzing, only replay). The release tests
 # include the API checks (api_exports, api_headers, api_layers), the install test with its C and
@@ -7,7 +7,7 @@
 # Usage: scripts/test.sh            (from the repository root; ../shared must be beside it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh --interop
 jobs=$(nproc 2>/dev/null || echo 2)
 
 echo "== release build (-Werror) and tests"

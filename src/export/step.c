@@ -1,7 +1,7 @@
 /* STEP AP214 (ISO 10303-21) writer: every tensor Bezier patch is a B_SPLINE_SURFACE_WITH_KNOTS
  * (one Bezier span: knots 0 and 1 of multiplicity degree + 1) carried by an ADVANCED_FACE; all
- * faces form one OPEN_SHELL, or CLOSED_SHELL when every edge has two faces, of a
- * SHELL_BASED_SURFACE_MODEL. Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a
+ * faces form one OPEN_SHELL of a SHELL_BASED_SURFACE_MODEL, or, when every edge has two faces, a
+ * CLOSED_SHELL bounding a MANIFOLD_SOLID_BREP (in an ADVANCED_BREP_SHAPE_REPRESENTATION). Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a
  * CAD system sees one connected surface.
  *
  * Topology comes from the patches' corner ids (mesh vertices). A triangle is split into three
@@ -400,9 +400,15 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
         sk__buf_printf(&out, "%s#%zu", i ? "," : "", faces[i]);
     sk__buf_puts(&out, "));\n");
     size_t model = w.next++, rep = w.next++, sdr = w.next++;
-    sk__buf_printf(&out, "#%zu=SHELL_BASED_SURFACE_MODEL('',(#%zu));\n", model, shell);
-    sk__buf_printf(&out, "#%zu=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n", rep,
-                   model);
+    if (closed) { /* a closed shell bounds a solid: importers get a solid for booleans, offsets */
+        sk__buf_printf(&out, "#%zu=MANIFOLD_SOLID_BREP('',#%zu);\n", model, shell);
+        sk__buf_printf(&out, "#%zu=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n",
+                       rep, model);
+    } else {
+        sk__buf_printf(&out, "#%zu=SHELL_BASED_SURFACE_MODEL('',(#%zu));\n", model, shell);
+        sk__buf_printf(&out, "#%zu=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n",
+                       rep, model);
+    }
     sk__buf_printf(&out, "#%zu=SHAPE_DEFINITION_REPRESENTATION(#9,#%zu);\n", sdr, rep);
     sk__buf_puts(&out, "ENDSEC;\nEND-ISO-10303-21;\n");
     st = sk__buf_write_file(&out, path, err);
@@ -411,6 +417,7 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
         stats->edges = w.edges.n;
         stats->vertices = w.vertices.n;
         stats->bytes = out.n;
+        stats->solid = closed;
     }
 done:
     free(faces);

@@ -3,8 +3,10 @@
 #include "io/io_internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static char lower(char c) { return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c; }
 
@@ -130,13 +132,22 @@ static sk_status read_file(const char *path, char **data, size_t *size, sk_error
 {
     *data = NULL;
     *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever; regular
+     * files ignore the flag */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
         return sk__fail(err, SK_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        fclose(f);
-        return sk__fail(err, SK_ERR_IO, "%s: not a regular file", path);
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        close(fd);
+        return sk__fail(err, SK_ERR_IO, "%s: not a regular file (a pipe, device or directory)", path);
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int e = errno;
+        close(fd);
+        return sk__fail(err, e == ENOMEM ? SK_ERR_NOMEM : SK_ERR_IO, "%s: cannot open: %s", path,
+                        strerror(e));
     }
     size_t cap = sb.st_size > 0 ? (size_t)sb.st_size : 0;
     char *buf = malloc(cap + 1);

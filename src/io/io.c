@@ -81,7 +81,7 @@ static sk_format sniff(const char *p, size_t n)
     size_t tl = sk__token_len(p + i, p + n);
     if (tl >= 3 && tl <= 8 && memcmp(p + i + tl - 3, "OFF", 3) == 0)
         return SK_FORMAT_OFF;
-    if (n >= 5 && memcmp(p + i, "solid", 5) == 0 && has_line_starting(p, n, "facet", 4096))
+    if (n - i >= 5 && memcmp(p + i, "solid", 5) == 0 && has_line_starting(p, n, "facet", 4096))
         return SK_FORMAT_STL;
     if (sk__stl_is_binary_size(p, n))
         return SK_FORMAT_STL;

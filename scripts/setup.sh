@@ -4,7 +4,7 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config clang
       libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev
-      g++ libocct-data-exchange-dev)
+      g++ libocct-data-exchange-dev valgrind)
 if [ "${1:-}" = "--peers" ]; then
   pkgs+=(g++ libcgal-dev libopenmesh-dev)
 fi

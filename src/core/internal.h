@@ -38,6 +38,11 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err);
 sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err);
 void sk__atomic_abort(sk__atomic_file *af);
 
+/* One BLAS thread for a stretch of small dense LAPACK calls: begin returns the caller's thread
+ * count, end restores it. Not for code that also runs large sparse factorizations. */
+int sk__blas_serial_begin(void);
+void sk__blas_serial_end(int saved);
+
 /* Asks the kernel for transparent huge pages on a large fresh buffer (Linux; else nothing). */
 void sk__huge_hint(void *p, size_t bytes);
 

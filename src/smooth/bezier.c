@@ -225,6 +225,8 @@ static sk_status compose_bilinear(const sk_patch *tri, double q[4][3], sk_patch 
                 }
         lapack_int info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)m, (lapack_int)(3 * m), A,
                                         (lapack_int)m, ipiv, rhs, (lapack_int)(3 * m));
+        if (info == LAPACK_WORK_MEMORY_ERROR || info == LAPACK_TRANSPOSE_MEMORY_ERROR)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
         if (info != 0)
             return sk__fail(err, SK_ERR_NUMERIC, "Bernstein interpolation failed (info %d)",
                             (int)info);

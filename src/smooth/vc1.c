@@ -812,6 +812,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", i / 3);
             goto fail;
         }
+    if ((st = sk_mesh_check_scale(mesh, err)) != SK_OK)
+        goto fail;
     /* normals */
     double t0 = sk_seconds();
     normals = sk__malloc_array(nv + 1, 3 * sizeof(double));

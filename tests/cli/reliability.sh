@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Issue 17 (reliability) from the command line: inputs that are not regular files are refused at
-# once with one line; smooth exits 4 when its own report fails (each block names the defect).
+# once with one line; smooth exits 4 when its own report fails; out-of-range coordinates are
+# refused naming the range (each block names the defect).
 set -u
 bin=$1 src=$2 shared=$3 tmp=$4
 rm -rf "$tmp"; mkdir -p "$tmp"
@@ -32,5 +33,27 @@ grep -q "report FAIL" "$tmp/err" || fail "--allow-fail summary does not say FAIL
 "$bin" smooth "$shared/data/meshes/sphere.off" -o "$tmp/sphere.step" 2>"$tmp/err"; rc=$?
 [ $rc -eq 0 ] && grep -q "report pass" "$tmp/err" || fail "sphere: exit $rc, $(cat "$tmp/err")"
 rm -f "$tmp"/strip.* "$tmp/sphere.step" "$tmp/err"
+
+# coordinates at 1e100 gave "MIPS sum -nan" with exit 0, at 1e+-80 misleading failures: outside
+# the supported range param and smooth refuse naming it; inside (1e-40, 1e40) they work
+scaled() { awk -v s="$1" 'NR == 1 { print; next } NR == 2 { split($0, h, " "); nv = h[1]; print; next }
+  NR <= nv + 2 { printf "%.17g %.17g %.17g\n", $1 * s, $2 * s, $3 * s; next } { print }' \
+  "$shared/data/meshes/nefertiti.off" >"$tmp/scaled.off"; }
+for s in 1e100 1e-100 1e80 1e-80; do
+  scaled $s
+  for m in mips lscm floater; do
+    "$bin" param -q "$tmp/scaled.off" -o "$tmp/scaled.obj" --method $m 2>"$tmp/err"; rc=$?
+    [ $rc -eq 1 ] && grep -q "supported" "$tmp/err" || fail "param $m at scale $s: exit $rc, $(cat "$tmp/err")"
+  done
+  "$bin" smooth -q "$tmp/scaled.off" -o "$tmp/scaled.step" 2>"$tmp/err"; rc=$?
+  [ $rc -eq 1 ] && grep -q "supported" "$tmp/err" || fail "smooth at scale $s: exit $rc, $(cat "$tmp/err")"
+done
+for s in 1e40 1e-40; do
+  scaled $s
+  "$bin" param -q "$tmp/scaled.off" -o "$tmp/scaled.obj" --method mips --report "$tmp/r.json" \
+    || fail "param mips at scale $s"
+  grep -q '"flipped": 0' "$tmp/r.json" && ! grep -qi nan "$tmp/r.json" || fail "param mips at $s: $(head -c 300 "$tmp/r.json")"
+done
+rm -f "$tmp"/scaled.* "$tmp/r.json" "$tmp/err"
 
 echo "reliability CLI: ok"

@@ -26,12 +26,17 @@ void *sk__malloc_array(size_t n, size_t size);
 void *sk__calloc_array(size_t n, size_t size);
 void *sk__realloc_array(void *p, size_t n, size_t size);
 
-/* Atomic output file: written to a temporary file in the target directory and renamed into place
- * by sk__atomic_commit; sk__atomic_abort removes the temporary. */
+/* Atomic output file (core/atomic_file.c has the rules): written to a temporary beside the
+ * (symlink-resolved) target and renamed into place by sk__atomic_commit, or at sk_outputs_commit
+ * inside a batch; devices and pipes are written directly; sk__atomic_abort removes the
+ * temporary. */
 typedef struct sk__atomic_file {
     FILE *fp;
-    char *final_path;
-    char *tmp_path;
+    int fd;
+    int direct;       /* not a regular file: written in place */
+    char *shown_path; /* as the caller named it, for messages */
+    char *final_path; /* symlinks resolved */
+    char *tmp_path;   /* named temporary, or NULL (anonymous O_TMPFILE until commit) */
 } sk__atomic_file;
 
 sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err);

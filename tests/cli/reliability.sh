@@ -56,4 +56,51 @@ for s in 1e40 1e-40; do
 done
 rm -f "$tmp"/scaled.* "$tmp/r.json" "$tmp/err"
 
+# output files: one writer for everything (core/atomic_file.c)
+tet="$src/tests/data/good/quads.off"
+# a symlinked output stays a link and its target is written
+echo old >"$tmp/real.off"; ln -s real.off "$tmp/link.off"
+"$bin" convert "$tet" "$tmp/link.off" || fail "convert to a symlink"
+[ -L "$tmp/link.off" ] && head -1 "$tmp/real.off" | grep -q OFF || fail "symlink replaced or target not written"
+# an existing file keeps its mode; a new one gets 0666 minus the umask (mkstemp made 0600)
+chmod 0664 "$tmp/real.off"
+"$bin" convert "$tet" "$tmp/real.off" || fail "convert over a 0664 file"
+[ "$(stat -c %a "$tmp/real.off")" = 664 ] || fail "existing mode lost: $(stat -c %a "$tmp/real.off")"
+( umask 022; "$bin" convert "$tet" "$tmp/new1.off" ) && [ "$(stat -c %a "$tmp/new1.off")" = 644 ] \
+  || fail "umask 022: mode $(stat -c %a "$tmp/new1.off")"
+( umask 007; "$bin" convert "$tet" "$tmp/new2.off" ) && [ "$(stat -c %a "$tmp/new2.off")" = 660 ] \
+  || fail "umask 007: mode $(stat -c %a "$tmp/new2.off")"
+# devices and pipes are written directly: a link to /proc/self/fd/1 writes to stdout
+ln -s /proc/self/fd/1 "$tmp/stdout.off"
+"$bin" convert "$tet" "$tmp/stdout.off" >"$tmp/captured" || fail "convert to /proc/self/fd/1"
+[ -L "$tmp/stdout.off" ] && head -1 "$tmp/captured" | grep -q OFF || fail "stdout link replaced or nothing written"
+# a full disk says why, even behind a path longer than the 256-byte message field
+long="$tmp/$(printf 'd%.0s' $(seq 1 200))"; mkdir -p "$long"; ln -s /dev/full "$long/full.off"
+"$bin" convert "$tet" "$long/full.off" 2>"$tmp/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "No space left on device" "$tmp/err" || fail "/dev/full: exit $rc, $(cat "$tmp/err")"
+[ -L "$long/full.off" ] || fail "/dev/full link replaced"
+rm -rf "$long"
+# a command that fails leaves none of its outputs (param wrote uv.obj before the --png failed)
+"$bin" param -q "$shared/data/meshes/nefertiti.off" -o "$tmp/uv.obj" --png "$tmp/nodir/uv.png" 2>/dev/null
+[ $? -eq 1 ] || fail "param with an unwritable --png should exit 1"
+[ ! -e "$tmp/uv.obj" ] || fail "param left uv.obj behind after its --png failed"
+# interrupted writes leave no temporary (O_TMPFILE; named fallback removed by the handler)
+"$bin" subdivide -q "$shared/data/meshes/sphere.off" -n 5 -o "$tmp/base.ply" || fail "subdivide"
+for sig in KILL TERM INT HUP; do
+  "$bin" convert "$tmp/base.ply" "$tmp/big_$sig.obj" & pid=$!
+  sleep 0.3; kill -$sig $pid 2>/dev/null; wait $pid 2>/dev/null
+done
+left=$(ls "$tmp" | grep -c 'tmp' || true)
+[ "$left" -eq 0 ] || fail "interrupted writes left temporaries: $(ls "$tmp" | grep tmp)"
+# two processes writing the same report at once never share a temporary name
+ok=0
+for k in 1 2 3 4 5; do
+  "$bin" simplify -q "$shared/data/meshes/nefertiti.off" -o "$tmp/s1.obj" --report "$tmp/r.json" & p1=$!
+  "$bin" simplify -q "$shared/data/meshes/nefertiti.off" -o "$tmp/s2.obj" --report "$tmp/r.json" & p2=$!
+  wait $p1 && wait $p2 && ok=$((ok + 1))
+done
+[ $ok -eq 5 ] || fail "concurrent simplify runs with one --report: $ok of 5 pairs succeeded"
+python3 -c "import json,sys; json.load(open(sys.argv[1]))" "$tmp/r.json" || fail "report not valid JSON"
+rm -f "$tmp"/*.off "$tmp"/*.obj "$tmp"/*.ply "$tmp/r.json" "$tmp/captured" "$tmp/err"
+
 echo "reliability CLI: ok"

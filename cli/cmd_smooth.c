@@ -153,28 +153,13 @@ static void report_json(FILE *fp, const void *ctx)
 
 typedef enum { CAD_NONE, CAD_IGES, CAD_STEP, CAD_OBJ_FREEFORM } cad_kind;
 
-static bool has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), m = strlen(ext);
-    if (n < m)
-        return false;
-    for (size_t i = 0; i < m; ++i) {
-        char c = path[n - m + i];
-        if (c >= 'A' && c <= 'Z')
-            c = (char)(c - 'A' + 'a');
-        if (c != ext[i])
-            return false;
-    }
-    return true;
-}
-
 static cad_kind cad_kind_of(const char *path, bool freeform)
 {
-    if (has_ext(path, ".igs") || has_ext(path, ".iges"))
+    if (sk_path_has_ext(path, ".igs") || sk_path_has_ext(path, ".iges"))
         return CAD_IGES;
-    if (has_ext(path, ".step") || has_ext(path, ".stp"))
+    if (sk_path_has_ext(path, ".step") || sk_path_has_ext(path, ".stp"))
         return CAD_STEP;
-    if (freeform && has_ext(path, ".obj"))
+    if (freeform && sk_path_has_ext(path, ".obj"))
         return CAD_OBJ_FREEFORM;
     return CAD_NONE;
 }

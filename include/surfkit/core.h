@@ -7,6 +7,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdbool.h>
 #include <stdio.h>
 
 #ifdef __cplusplus
@@ -46,6 +47,9 @@ double sk_seconds(void);
 
 /* Library version string, "MAJOR.MINOR.PATCH". */
 const char *sk_version(void);
+
+/* True when path ends with ext (".step"), ignoring ASCII case: the one extension matcher. */
+bool sk_path_has_ext(const char *path, const char *ext);
 
 /* Output files. Every file the library writes goes through one writer: symlinks are followed and
  * the file is written beside their target; an existing file keeps its mode, a new one gets 0666

@@ -8,15 +8,15 @@
 
 /* Appends one 80-column record: 72 (or 64 + pointer) columns of text, the section letter and the
  * sequence number. */
-static void record(sk__buf *b, const char *text, char section, size_t seq)
+static void record(sk__out *b, const char *text, char section, size_t seq)
 {
-    sk__buf_printf(b, "%-72.72s%c%7zu\n", text, section, seq);
+    sk__out_printf(b, "%-72.72s%c%7zu\n", text, section, seq);
 }
 
 /* Packs free-format tokens into records of `width` columns; each token ends with its delimiter.
  * For the P section, each record carries the DE pointer in columns 66-72. Returns records used. */
 typedef struct packer {
-    sk__buf *b;
+    sk__out *b;
     char section;
     size_t *seq;
     size_t width;
@@ -93,7 +93,7 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
              when + 14, when + 17);
     double maxc = sk__patches_max_coord(t, nt);
 
-    sk__buf out = {0}, dsec = {0}, psec = {0};
+    sk__out out = {0}, dsec = {0}, psec = {0};
     size_t s_seq = 0, g_seq = 0, d_seq = 0, p_seq = 0;
     record(&out, "surfkit: VC1 surface (quartic triangular and bicubic Bezier patches) as IGES "
                  "entity 128", 'S', ++s_seq);
@@ -167,22 +167,22 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
         record(&dsec, l1, 'D', ++d_seq);
         record(&dsec, l2, 'D', ++d_seq);
     }
-    sk__buf_put(&out, dsec.s ? dsec.s : "", dsec.n);
-    sk__buf_put(&out, psec.s ? psec.s : "", psec.n);
+    sk__out_bytes(&out, dsec.buf ? dsec.buf : "", dsec.len);
+    sk__out_bytes(&out, psec.buf ? psec.buf : "", psec.len);
     char term[256];
     snprintf(term, sizeof term, "S%07zuG%07zuD%07zuP%07zu", s_seq, g_seq, d_seq, p_seq);
     record(&out, term, 'T', 1);
     if (dsec.failed || psec.failed)
-        out.failed = true;
-    st = sk__buf_write_file(&out, path, err);
+        out.failed = dsec.failed ? dsec.failed : psec.failed;
+    st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         memset(stats, 0, sizeof *stats);
         stats->faces = nt;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
     }
-    sk__buf_free(&out);
-    sk__buf_free(&dsec);
-    sk__buf_free(&psec);
+    sk__out_free(&out);
+    sk__out_free(&dsec);
+    sk__out_free(&psec);
     free(t);
     return st;
 }

@@ -14,8 +14,8 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size
     sk_status st = sk_export_tensor_patches(patches, count, opts, &t, &nt, err);
     if (st)
         return st;
-    sk__buf out = {0};
-    sk__buf_printf(&out, "# surfkit %s: %zu Bezier patches (OBJ free-form geometry)\n",
+    sk__out out = {0};
+    sk__out_printf(&out, "# surfkit %s: %zu Bezier patches (OBJ free-form geometry)\n",
                    opts && opts->name ? opts->name : "surface", nt);
     size_t base = 1;
     for (size_t i = 0; i < nt; ++i) {
@@ -23,21 +23,21 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size
         unsigned du = p->degree, dv = p->degree_v, n = (du + 1) * (dv + 1);
         char x[32], y[32], z[32];
         for (unsigned k = 0; k < n; ++k)
-            sk__buf_printf(&out, "v %s %s %s\n", sk__fmt_real(x, p->cp[3 * k]),
+            sk__out_printf(&out, "v %s %s %s\n", sk__fmt_real(x, p->cp[3 * k]),
                            sk__fmt_real(y, p->cp[3 * k + 1]), sk__fmt_real(z, p->cp[3 * k + 2]));
-        sk__buf_printf(&out, "cstype bezier\ndeg %u %u\nsurf 0.0 1.0 0.0 1.0", du, dv);
+        sk__out_printf(&out, "cstype bezier\ndeg %u %u\nsurf 0.0 1.0 0.0 1.0", du, dv);
         for (unsigned k = 0; k < n; ++k)
-            sk__buf_printf(&out, " %zu", base + k);
-        sk__buf_puts(&out, "\nparm u 0.0 1.0\nparm v 0.0 1.0\nend\n");
+            sk__out_printf(&out, " %zu", base + k);
+        sk__out_str(&out, "\nparm u 0.0 1.0\nparm v 0.0 1.0\nend\n");
         base += n;
     }
-    st = sk__buf_write_file(&out, path, err);
+    st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         stats->faces = nt;
         stats->edges = stats->vertices = 0;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
     }
-    sk__buf_free(&out);
+    sk__out_free(&out);
     free(t);
     return st;
 }

@@ -1,6 +1,7 @@
 /* Mesh file I/O: format detection, dispatch to the format readers and writers, file wrappers. */
 #define _POSIX_C_SOURCE 200809L
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -8,24 +9,17 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char lower(char c) { return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c; }
-
 sk_format sk_format_from_path(const char *path)
 {
-    if (!path)
+    if (!path || strlen(sk__basename(path)) < 4)
         return SK_FORMAT_UNKNOWN;
-    const char *base = sk__basename(path);
-    const char *dot = strrchr(base, '.');
-    if (!dot || strlen(dot) != 4)
-        return SK_FORMAT_UNKNOWN;
-    char ext[4] = {lower(dot[1]), lower(dot[2]), lower(dot[3]), 0};
-    if (!strcmp(ext, "off"))
+    if (sk_path_has_ext(path, ".off"))
         return SK_FORMAT_OFF;
-    if (!strcmp(ext, "obj"))
+    if (sk_path_has_ext(path, ".obj"))
         return SK_FORMAT_OBJ;
-    if (!strcmp(ext, "ply"))
+    if (sk_path_has_ext(path, ".ply"))
         return SK_FORMAT_PLY;
-    if (!strcmp(ext, "stl"))
+    if (sk_path_has_ext(path, ".stl"))
         return SK_FORMAT_STL;
     return SK_FORMAT_UNKNOWN;
 }

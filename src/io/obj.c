@@ -10,7 +10,8 @@
  * a corner is attached to the corner's position vertex; when a vertex is used with different
  * normals or uvs (texture seams), the first corner in file order wins and the others are dropped.
  * Vertices never given a normal / uv get zeros. */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <stdlib.h>
 

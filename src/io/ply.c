@@ -8,7 +8,8 @@
  *
  * Writing: float64 x y z [nx ny nz] [u v]; faces as `list uchar int vertex_indices` (uint count
  * when a face has more than 255 vertices, uint indices beyond 2^31 vertices). */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <math.h>
 #include <stdlib.h>

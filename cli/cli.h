@@ -9,7 +9,8 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-enum { EXIT_OK = 0, EXIT_BAD_INPUT = 1, EXIT_USAGE = 2, EXIT_INTERNAL = 3 };
+/* EXIT_QUALITY: the result fails its own quality report (smooth) */
+enum { EXIT_OK = 0, EXIT_BAD_INPUT = 1, EXIT_USAGE = 2, EXIT_INTERNAL = 3, EXIT_QUALITY = 4 };
 
 /* "surfkit: message" on stderr, one line. */
 void cli_error(const char *fmt, ...)

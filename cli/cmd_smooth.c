@@ -12,7 +12,7 @@ static const char help[] =
     "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
     "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
     "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
-    "                      [--iges-triangles split|degenerate] [-q]\n"
+    "                      [--iges-triangles split|degenerate] [--allow-fail] [-q]\n"
     "\n"
     "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
@@ -47,7 +47,13 @@ static const char help[] =
     "                  (the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
     "                  patches (the normal-cone test cannot prove them regular; most are),\n"
     "                  self-intersecting patch pairs (patches sharing no corner that cross each\n"
-    "                  other: what CAD checkers flag), pass/fail against 0.5 deg and 0.005\n";
+    "                  other: what CAD checkers flag), pass/fail against 0.5 deg and 0.005\n"
+    "  --allow-fail    write the surface even when the vc1 continuity report fails\n"
+    "\n"
+    "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
+    "0.5 degrees, a gap over 0.005, or a singular patch); the report (--report, --json) is\n"
+    "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
+    "0). pn is C0 by construction: its report is information only.\n";
 
 
 static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
@@ -171,28 +177,13 @@ static void report_json(FILE *fp, const void *ctx)
 
 typedef enum { CAD_NONE, CAD_IGES, CAD_STEP, CAD_OBJ_FREEFORM } cad_kind;
 
-static bool has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), m = strlen(ext);
-    if (n < m)
-        return false;
-    for (size_t i = 0; i < m; ++i) {
-        char c = path[n - m + i];
-        if (c >= 'A' && c <= 'Z')
-            c = (char)(c - 'A' + 'a');
-        if (c != ext[i])
-            return false;
-    }
-    return true;
-}
-
 static cad_kind cad_kind_of(const char *path, bool freeform)
 {
-    if (has_ext(path, ".igs") || has_ext(path, ".iges"))
+    if (sk_path_has_ext(path, ".igs") || sk_path_has_ext(path, ".iges"))
         return CAD_IGES;
-    if (has_ext(path, ".step") || has_ext(path, ".stp"))
+    if (sk_path_has_ext(path, ".step") || sk_path_has_ext(path, ".stp"))
         return CAD_STEP;
-    if (freeform && has_ext(path, ".obj"))
+    if (freeform && sk_path_has_ext(path, ".obj"))
         return CAD_OBJ_FREEFORM;
     return CAD_NONE;
 }
@@ -225,7 +216,7 @@ int cmd_smooth(int argc, char **argv)
     const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
                *report = NULL, *val;
     unsigned long tess = 4;
-    bool quiet = false, json = false, freeform = false;
+    bool quiet = false, json = false, freeform = false, allow_fail = false;
     sk_smooth_opts so = {0};
     sk_export_opts eo = {0};
     const cli_path_opt paths[] = {{"-o", &out}, {"--patches", &patches}, {"--layout", &layout},
@@ -240,6 +231,8 @@ int cmd_smooth(int argc, char **argv)
             quiet = true;
         } else if (!strcmp(a, "--json")) {
             json = true;
+        } else if (!strcmp(a, "--allow-fail")) {
+            allow_fail = true;
         } else if (!strcmp(a, "--allow-split")) {
             so.allow_split = true;
         } else if (!strcmp(a, "--estimate-normals")) {
@@ -326,6 +319,11 @@ int cmd_smooth(int argc, char **argv)
         goto done;
     }
     double t2 = sk_seconds();
+    /* the surface fails its own report (a singular patch has no tangent plane somewhere, e.g.
+     * every patch of a thin strip): the report is written, the surface only on request */
+    bool failed = !(rep.pass_g1 && rep.pass_gap) || rep.singular_patches > 0;
+    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail)
+        goto report_only;
     if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
         goto done;
     if ((out && cad == CAD_NONE) || render) {
@@ -348,6 +346,7 @@ int cmd_smooth(int argc, char **argv)
     }
     if (patches && (rc = cli_write_file(patches, patches_json, s)) != EXIT_OK)
         goto done;
+report_only:;
     report_ctx rc_ctx = {in, s, &rep, normals_src, t1 - t0 + (t2 - t1), t2 - t1};
     if (report && (rc = cli_write_file(report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
@@ -357,11 +356,17 @@ int cmd_smooth(int argc, char **argv)
         fprintf(stderr,
                 "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
                 "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
-                "vertices %zu\n",
+                "vertices %zu, report %s\n",
                 s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
                 s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
                 rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, rep.intersecting_pairs,
-                s->num_problems);
+                s->num_problems, failed ? "FAIL" : "pass");
+    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail) {
+        cli_error("%s: the surface fails its continuity report (max normal jump %.3g deg, max gap "
+                  "%.3g, singular patches %zu): no surface written (--allow-fail writes it anyway)",
+                  in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
+        rc = EXIT_QUALITY;
+    }
 done:
     sk_soup_destroy(&tes);
     sk_smooth_destroy(&s);

@@ -15,6 +15,18 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_WERROR=ON >/dev/nul
 cmake --build build -j"$jobs"
 ctest --test-dir build --output-on-failure -j"$jobs"
 
+echo "== valgrind (memcheck) of surfkit info over tests/data"
+# uninitialised reads are invisible to ASan (issue 17: walk_boundary); memcheck sees them
+vg_one() {
+  valgrind -q --error-exitcode=99 ./build/surfkit info "$1" >/dev/null 2>"build/vg.$$.$2.log"
+  [ $? -ne 99 ] || { echo "valgrind: errors on $1"; cat "build/vg.$$.$2.log"; return 1; }
+  rm -f "build/vg.$$.$2.log"
+}
+export -f vg_one
+ls tests/data/bad/* tests/data/good/* | awk '{print $0 " " NR}' |
+  xargs -P"$jobs" -n2 bash -c 'vg_one "$0" "$1"' || { echo "valgrind corpus run failed"; exit 1; }
+echo "valgrind: $(ls tests/data/bad/* tests/data/good/* | wc -l) files clean"
+
 echo "== ASan + UBSan build and tests"
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSK_WERROR=ON -DSK_SANITIZE=ON \
   -DSK_OPENMP=OFF -DSK_BUILD_BENCH=OFF >/dev/null

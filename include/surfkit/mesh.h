@@ -284,6 +284,14 @@ SK_API void sk_mesh_bbox(const sk_mesh *mesh, double min[3], double max[3]);
 /* Length of the bounding-box diagonal: the model size tolerances are relative to. */
 SK_API double sk_mesh_diagonal(const sk_mesh *mesh);
 
+/* Coordinate range the parametrizations and smooth surfaces work in (products of four
+ * coordinates must stay finite and above the subnormals): every coordinate at most
+ * SK_COORD_MAX in magnitude and a bounding-box diagonal of at least SK_COORD_MIN_SIZE. */
+#define SK_COORD_MAX 1e50
+#define SK_COORD_MIN_SIZE 1e-50
+/* SK_ERR_TOPOLOGY (bad input) naming the range when the alive vertices leave it. */
+sk_status sk_mesh_check_scale(const sk_mesh *mesh, sk_error *err);
+
 #ifdef __cplusplus
 }
 #endif

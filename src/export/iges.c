@@ -40,16 +40,16 @@
 
 /* Appends one 80-column record: 72 (or 64 + pointer) columns of text, the section letter and the
  * sequence number. */
-static void record(sk__buf *b, const char *text, char section, size_t seq)
+static void record(sk__out *b, const char *text, char section, size_t seq)
 {
-    sk__buf_printf(b, "%-72.72s%c%7zu\n", text, section, seq);
+    sk__out_printf(b, "%-72.72s%c%7zu\n", text, section, seq);
 }
 
 /* Packs free-format tokens into records of `width` columns. Every token but the last of the
  * section or entity is followed by ',', the last by ';' (pack_end). For the P section, each record
  * carries the DE pointer in columns 66-72. */
 typedef struct packer {
-    sk__buf *b;
+    sk__out *b;
     char section;
     size_t *seq;
     size_t width;
@@ -133,7 +133,7 @@ static void pack_string(packer *p, const char *s)
 
 /* The D and P sections being written: entity k (0-based) has DE pointer 2k + 1. */
 typedef struct sections {
-    sk__buf d, p;
+    sk__out d, p;
     size_t d_seq, p_seq;
 } sections;
 
@@ -650,7 +650,7 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
     double maxc = sk__patches_max_coord(&ts);
     double size = maxc > 0 ? maxc : 1.0;
 
-    sk__buf out = {0};
+    sk__out out = {0};
     sections sec = {0};
     size_t s_seq = 0, g_seq = 0;
     bool closed = false;
@@ -699,14 +699,14 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
         goto done;
     if (free_layout || collapsed)
         write_free_surfaces(&sec, &ts);
-    sk__buf_put(&out, sec.d.s ? sec.d.s : "", sec.d.n);
-    sk__buf_put(&out, sec.p.s ? sec.p.s : "", sec.p.n);
+    sk__out_bytes(&out, sec.d.buf ? sec.d.buf : "", sec.d.len);
+    sk__out_bytes(&out, sec.p.buf ? sec.p.buf : "", sec.p.len);
     char term[256];
     snprintf(term, sizeof term, "S%07zuG%07zuD%07zuP%07zu", s_seq, g_seq, sec.d_seq, sec.p_seq);
     record(&out, term, 'T', 1);
     if (sec.d.failed || sec.p.failed)
         out.failed = true;
-    st = sk__buf_write_file(&out, path, err);
+    st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         memset(stats, 0, sizeof *stats);
         stats->faces = nt;
@@ -716,9 +716,9 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
         stats->solid = closed;
     }
 done:
-    sk__buf_free(&out);
-    sk__buf_free(&sec.d);
-    sk__buf_free(&sec.p);
+    sk__out_free(&out);
+    sk__out_free(&sec.d);
+    sk__out_free(&sec.p);
     sk_patch_set_free(&ts);
     return st;
 }

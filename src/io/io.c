@@ -1,29 +1,25 @@
 /* Mesh file I/O: format detection, dispatch to the format readers and writers, file wrappers. */
 #define _POSIX_C_SOURCE 200809L
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <sys/stat.h>
-
-static char lower(char c) { return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c; }
+#include <unistd.h>
 
 sk_format sk_format_from_path(const char *path)
 {
-    if (!path)
+    if (!path || strlen(sk__basename(path)) < 4)
         return SK_FORMAT_UNKNOWN;
-    const char *base = sk__basename(path);
-    const char *dot = strrchr(base, '.');
-    if (!dot || strlen(dot) != 4)
-        return SK_FORMAT_UNKNOWN;
-    char ext[4] = {lower(dot[1]), lower(dot[2]), lower(dot[3]), 0};
-    if (!strcmp(ext, "off"))
+    if (sk_path_has_ext(path, ".off"))
         return SK_FORMAT_OFF;
-    if (!strcmp(ext, "obj"))
+    if (sk_path_has_ext(path, ".obj"))
         return SK_FORMAT_OBJ;
-    if (!strcmp(ext, "ply"))
+    if (sk_path_has_ext(path, ".ply"))
         return SK_FORMAT_PLY;
-    if (!strcmp(ext, "stl"))
+    if (sk_path_has_ext(path, ".stl"))
         return SK_FORMAT_STL;
     return SK_FORMAT_UNKNOWN;
 }
@@ -79,7 +75,7 @@ static sk_format sniff(const char *p, size_t n)
     size_t tl = sk__token_len(p + i, p + n);
     if (tl >= 3 && tl <= 8 && memcmp(p + i + tl - 3, "OFF", 3) == 0)
         return SK_FORMAT_OFF;
-    if (n >= 5 && memcmp(p + i, "solid", 5) == 0 && has_line_starting(p, n, "facet", 4096))
+    if (n - i >= 5 && memcmp(p + i, "solid", 5) == 0 && has_line_starting(p, n, "facet", 4096))
         return SK_FORMAT_STL;
     if (sk__stl_is_binary_size(p, n))
         return SK_FORMAT_STL;
@@ -130,13 +126,22 @@ static sk_status read_file(const char *path, char **data, size_t *size, sk_error
 {
     *data = NULL;
     *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever; regular
+     * files ignore the flag */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
         return sk__fail(err, SK_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        fclose(f);
-        return sk__fail(err, SK_ERR_IO, "%s: not a regular file", path);
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        close(fd);
+        return sk__fail(err, SK_ERR_IO, "%s: not a regular file (a pipe, device or directory)", path);
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int e = errno;
+        close(fd);
+        return sk__fail(err, e == ENOMEM ? SK_ERR_NOMEM : SK_ERR_IO, "%s: cannot open: %s", path,
+                        strerror(e));
     }
     size_t cap = sb.st_size > 0 ? (size_t)sb.st_size : 0;
     char *buf = malloc(cap + 1);

@@ -11,7 +11,8 @@
  * survive. The per-vertex uvs / normals are filled too, from the first corner in file order that
  * uses the vertex (vertices never given one get zeros). Writing uses the per-corner values when
  * the soup has them (`f v/vt/vn` with their own index spaces), else the per-vertex ones. */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <stdlib.h>
 

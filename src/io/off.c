@@ -6,7 +6,8 @@
  * normals (N) and texture coordinates (ST, the last two values of a vertex line). One vertex and
  * one face per line. Anything after the last declared face other than comments is an error: it
  * means the counts in the header are wrong. */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <stdlib.h>
 

@@ -15,7 +15,8 @@
  * read; they ignore u v); faces as `list uchar int vertex_indices` (uint count when a face has
  * more than 255 vertices, uint indices beyond 2^31 vertices), then with per-corner uvs
  * `list uchar double texcoord` (uint count beyond 127 vertices). */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -13,7 +13,8 @@
  * Writing: polygons are fan-triangulated, facet normals computed from the corners (zero for a
  * degenerate triangle). Binary coordinates are float32 (STL has no other type); ascii ones are
  * written with enough digits to read back the same doubles. */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <float.h>
 #include <math.h>

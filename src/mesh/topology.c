@@ -198,6 +198,29 @@ void sk_mesh_bbox(const sk_mesh *m, double lo[3], double hi[3])
     }
 }
 
+sk_status sk_mesh_check_scale(const sk_mesh *m, sk_error *err)
+{
+    double lo[3], hi[3];
+    sk_mesh_bbox(m, lo, hi);
+    if (lo[0] > hi[0])
+        return SK_OK; /* no vertex */
+    double big = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        big = fabs(lo[k]) > big ? fabs(lo[k]) : big;
+        big = fabs(hi[k]) > big ? fabs(hi[k]) : big;
+    }
+    if (!(big <= SK_COORD_MAX))
+        return sk__fail(err, SK_ERR_TOPOLOGY,
+                        "a coordinate of magnitude %.3g is out of the supported range (at most "
+                        "%.0e): rescale the mesh", big, SK_COORD_MAX);
+    double d = sk__dist3(lo, hi);
+    if (d > 0.0 && d < SK_COORD_MIN_SIZE)
+        return sk__fail(err, SK_ERR_TOPOLOGY,
+                        "the mesh is %.3g across, below the supported size (at least %.0e): "
+                        "rescale the mesh", d, SK_COORD_MIN_SIZE);
+    return SK_OK;
+}
+
 double sk_mesh_diagonal(const sk_mesh *m)
 {
     double lo[3], hi[3];

@@ -202,10 +202,12 @@ static sk_status check_duplicates(const sk_soup *s, sk_validation *r, const work
 
 /* Counts boundary loops by walking boundary edges: at a vertex with several outgoing boundary
  * edges (non-manifold), any unused one is taken. comp_loops[c] counts loops per component. */
-static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, const uint32_t *vcomp,
-                               long *comp_loops)
+/* nk: the number of corners in the edge table (only usable faces' corners; the rest of w->keys
+ * and w->corner is not initialised). */
+static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, size_t nk,
+                               const uint32_t *vcomp, long *comp_loops)
 {
-    size_t nv = s->num_vertices, nc = s->face_offsets[s->num_faces];
+    size_t nv = s->num_vertices, nc = nk;
     /* boundary directed edges: reverse of the boundary corner's edge, from next(c) to c */
     uint32_t *start = sk__calloc_array(nv + 1, sizeof(uint32_t));
     uint32_t *list = sk__malloc_array(r->boundary_edges + 1, sizeof(uint32_t));
@@ -427,7 +429,7 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
             nfok++;
         }
     r->euler_characteristic = (long)nref - (long)r->edges + (long)nfok;
-    if ((st = walk_boundary(s, r, &w, vcomp, cloops)))
+    if ((st = walk_boundary(s, r, &w, nk, vcomp, cloops)))
         goto nomem;
     r->genus = 0;
     r->genus_defined = r->non_manifold_vertices.count == 0;

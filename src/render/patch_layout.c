@@ -59,16 +59,30 @@ static int item_cmp(const void *a, const void *b)
     return (x->depth < y->depth) - (x->depth > y->depth); /* far (large depth) first */
 }
 
+static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
+{
+    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
+                                                              : CAIRO_STATUS_WRITE_ERROR;
+}
+
+/* through the atomic writer, as render.h promises (cairo_surface_write_to_png wrote in place) */
 static sk_status finish(cairo_surface_t *surf, cairo_t *cr, const char *path, sk_error *err)
 {
     cairo_destroy(cr);
-    cairo_status_t cs = cairo_surface_write_to_png(surf, path);
+    sk__atomic_file af;
+    sk_status st = sk__atomic_open(&af, path, err);
+    if (st) {
+        cairo_surface_destroy(surf);
+        return st;
+    }
+    cairo_status_t cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
     cairo_surface_destroy(surf);
-    if (cs != CAIRO_STATUS_SUCCESS)
+    if (cs != CAIRO_STATUS_SUCCESS) {
+        sk__atomic_abort(&af);
         return sk__fail(err, SK_ERR_IO, "%s: cannot write the PNG (%s)", sk__basename(path),
                         cairo_status_to_string(cs));
-    sk__ok(err);
-    return SK_OK;
+    }
+    return sk__atomic_commit(&af, err);
 }
 
 sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,

@@ -17,12 +17,6 @@ static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigne
                                                               : CAIRO_STATUS_WRITE_ERROR;
 }
 
-static bool has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), k = strlen(ext);
-    return n >= k && !strcasecmp(path + n - k, ext);
-}
-
 /* Colour scale for t in [0, 1]: a blue - green - yellow - red ramp (no magenta, reserved for
  * flips). */
 static void ramp(double t, double rgb[3])
@@ -50,8 +44,8 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
         o = *opts;
     int width = o.width > 0 ? o.width : 1024;
     double cmax = o.conformal_max > 1 ? o.conformal_max : 4.0;
-    bool svg = has_ext(path, ".svg");
-    if (!svg && !has_ext(path, ".png"))
+    bool svg = sk_path_has_ext(path, ".svg");
+    if (!svg && !sk_path_has_ext(path, ".png"))
         return sk__fail(err, SK_ERR_ARG, "%s: pictures are .png or .svg", sk__basename(path));
     size_t nf = m->num_faces;
     double *conf = sk__malloc_array(nf ? nf : 1, sizeof *conf);

@@ -195,6 +195,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_smooth *s = calloc(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    int blas_threads = sk__blas_serial_begin(); /* per-vertex and per-patch dense solves */
     s->scheme = opts.scheme;
     size_t nv = mesh->num_vertices;
     for (uint32_t f = 0; f < mesh->num_faces; ++f)
@@ -208,6 +209,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", i / 3);
             goto fail;
         }
+    if ((st = sk_mesh_check_scale(mesh, err)) != SK_OK)
+        goto fail;
     /* normals */
     double t0 = sk_seconds();
     normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
@@ -244,6 +247,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         s->stats.seconds_patches = sk_seconds() - t0;
         *out = s;
         sk__ok(err);
+        sk__blas_serial_end(blas_threads);
         return sk__progress(opts.progress, opts.progress_user, 1.0, err);
     }
 
@@ -274,10 +278,12 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_mesh_destroy(&work);
     *out = s;
     sk__ok(err);
+    sk__blas_serial_end(blas_threads);
     return sk__progress(opts.progress, opts.progress_user, 1.0, err);
 fail:
     sk_mesh_destroy(&work);
     free(normals);
     sk_smooth_destroy(&s);
+    sk__blas_serial_end(blas_threads);
     return st;
 }

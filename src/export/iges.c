@@ -705,12 +705,12 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
     snprintf(term, sizeof term, "S%07zuG%07zuD%07zuP%07zu", s_seq, g_seq, sec.d_seq, sec.p_seq);
     record(&out, term, 'T', 1);
     if (sec.d.failed || sec.p.failed)
-        out.failed = true;
+        out.failed = SK_ERR_NOMEM;
     st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         memset(stats, 0, sizeof *stats);
         stats->faces = nt;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
         stats->edges = nedges;
         stats->vertices = nverts;
         stats->solid = closed;

@@ -48,7 +48,7 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
     if (st == SK_OK && stats) {
         stats->faces = nt;
         stats->edges = stats->vertices = 0;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
     }
     sk__out_free(&out);
     sk_patch_set_free(&ts);

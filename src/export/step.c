@@ -416,7 +416,7 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
         stats->faces = nfaces;
         stats->edges = w.edges.n;
         stats->vertices = w.vertices.n;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
         stats->solid = closed;
     }
 done:

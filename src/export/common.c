@@ -102,7 +102,7 @@ sk_status sk_export_tensor_patches(const sk_patch *patches, size_t count,
         }
     }
     if (st) {
-        free(t);
+        sk__free(t);
         return st;
     }
     *out = t;

@@ -183,6 +183,6 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
     sk__out_free(&out);
     sk__out_free(&dsec);
     sk__out_free(&psec);
-    free(t);
+    sk__free(t);
     return st;
 }

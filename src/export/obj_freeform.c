@@ -38,6 +38,6 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size
         stats->bytes = out.len;
     }
     sk__out_free(&out);
-    free(t);
+    sk__free(t);
     return st;
 }

@@ -536,7 +536,7 @@ sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup 
                        sk_error *err)
 {
     *out = NULL;
-    ply_header *h = calloc(1, sizeof *h);
+    ply_header *h = sk__calloc_array(1, sizeof *h);
     if (!h)
         return sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
     ply_reader r;
@@ -585,8 +585,8 @@ sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup 
         st = read_binary(&r);
     }
 done:
-    free(r.idx);
-    free(h);
+    sk__free(r.idx);
+    sk__free(h);
     if (st) {
         sk_soup_destroy(&r.s);
         return st;

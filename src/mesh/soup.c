@@ -9,7 +9,7 @@ sk_status sk_soup_create(size_t reserve_vertices, size_t reserve_faces, size_t r
                          bool has_normals, bool has_uvs, sk_soup **out, sk_error *err)
 {
     *out = NULL;
-    sk_soup *s = calloc(1, sizeof *s);
+    sk_soup *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     s->cap_vertices = reserve_vertices ? reserve_vertices : 16;
@@ -38,12 +38,12 @@ void sk_soup_destroy(sk_soup **soup)
     if (!soup || !*soup)
         return;
     sk_soup *s = *soup;
-    free(s->positions);
-    free(s->normals);
-    free(s->uvs);
-    free(s->face_offsets);
-    free(s->face_indices);
-    free(s);
+    sk__free(s->positions);
+    sk__free(s->normals);
+    sk__free(s->uvs);
+    sk__free(s->face_offsets);
+    sk__free(s->face_indices);
+    sk__free(s);
     *soup = NULL;
 }
 

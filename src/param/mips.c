@@ -40,11 +40,11 @@ typedef struct mips_ctx {
 
 static void ctx_free(mips_ctx *c)
 {
-    free(c->tri);
-    free(c->cot);
-    free(c->vt_start);
-    free(c->rec);
-    free(c->movable);
+    sk__free(c->tri);
+    sk__free(c->cot);
+    sk__free(c->vt_start);
+    sk__free(c->rec);
+    sk__free(c->movable);
 }
 
 static sk_status ctx_init(mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
@@ -117,7 +117,7 @@ static sk_status ctx_init(mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk
                         c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3]};
         c->rec[fill[c->tri[i]]++] = r;
     }
-    free(fill);
+    sk__free(fill);
     for (size_t v = 0; v < nv; ++v)
         c->movable[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
                         !(fixed_boundary && sk_is_boundary_v(m, (uint32_t)v));
@@ -262,12 +262,12 @@ static void global_free(mips_global *G)
 {
     sk_sparse_destroy(&G->P);
     sk_solver_destroy(&G->solver);
-    free(G->nb_start);
-    free(G->nb);
-    free(G->g);
-    free(G->d);
-    free(G->x0);
-    free(G->tmp);
+    sk__free(G->nb_start);
+    sk__free(G->nb);
+    sk__free(G->g);
+    sk__free(G->d);
+    sk__free(G->x0);
+    sk__free(G->tmp);
     memset(G, 0, sizeof *G);
 }
 
@@ -293,7 +293,7 @@ static sk_status global_init(mips_global *G, const mips_ctx *c, bool scalar, boo
     G->d = sk__malloc_array(n2 + 1, sizeof(double));
     G->x0 = sk__malloc_array(n2 + 1, sizeof(double));
     G->tmp = sk__malloc_array(2 * n2 + 1, sizeof(double));
-    G->P = calloc(1, sizeof *G->P);
+    G->P = sk__calloc_array(1, sizeof *G->P);
     if (!G->nb_start || !G->nb || !G->g || !G->d || !G->x0 || !G->tmp || !G->P)
         goto nomem;
     size_t fill = 0;
@@ -332,7 +332,7 @@ static sk_status global_init(mips_global *G, const mips_ctx *c, bool scalar, boo
                 P->rowind[k++] = (int)G->nb[i];
         }
         P->colptr[nv] = (int)k;
-        return sk_solver_create(P, SK_SOLVER_CHOLESKY, &G->solver, err);
+        goto solver;
     }
     P->n = n2;
     P->nnz = 3 * nv + 4 * (size_t)fill;
@@ -359,7 +359,11 @@ static sk_status global_init(mips_global *G, const mips_ctx *c, bool scalar, boo
         }
     }
     P->colptr[n2] = (int)k;
-    return sk_solver_create(P, SK_SOLVER_CHOLESKY, &G->solver, err);
+solver:; /* a failed solver setup frees G too: the caller only frees a G that was made */
+    sk_status st = sk_solver_create(P, SK_SOLVER_CHOLESKY, &G->solver, err);
+    if (st)
+        global_free(G);
+    return st;
 nomem:
     global_free(G);
     return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -591,8 +595,8 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     uint32_t *order = sk__malloc_array(c.nv ? c.nv : 1, sizeof(uint32_t));
     uint32_t cstart[SK__MIPS_MAX_COLORS + 1] = {0};
     if (!color || !order) {
-        free(color);
-        free(order);
+        sk__free(color);
+        sk__free(order);
         ctx_free(&c);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
@@ -640,8 +644,8 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         double tg = sk_seconds();
         st = global_init(&G, &c, false, o.frozen_model, err);
         if (st) {
-            free(color);
-            free(order);
+            sk__free(color);
+            sk__free(order);
             ctx_free(&c);
             return st;
         }
@@ -699,11 +703,11 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         if (tol > 0.0 && block_end && block_start - s.energy < tol * block_start)
             break;
     }
-    free(color);
+    sk__free(color);
     if (use_global)
         global_free(&G);
     s.energy = total_energy(&c, uv, &inverted); /* exact sum, not the running one */
-    free(order);
+    sk__free(order);
     ctx_free(&c);
     if (stats)
         *stats = s;

@@ -220,8 +220,8 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             return sk__fail(err, SK_ERR_TOPOLOGY,
                             "edge deletion needs a triangle mesh, face %zu has %zu sides", f,
                             sk_mesh_face_size(m, (uint32_t)f));
-    even = calloc(nv ? nv : 1, 1);
-    bnd = calloc(nv ? nv : 1, 1);
+    even = sk__calloc_array(nv ? nv : 1, 1);
+    bnd = sk__calloc_array(nv ? nv : 1, 1);
     comp = sk__malloc_array(nv + 1, sizeof *comp);
     queue = sk__malloc_array(nv + 1, sizeof *queue);
     dist = sk__malloc_array(nv + 1, sizeof *dist);
@@ -229,8 +229,8 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
     pred = sk__malloc_array(nv + 1, sizeof *pred);
     partner = sk__malloc_array(nv + 1, sizeof *partner);
     remaining = sk__malloc_array(nv + 1, sizeof *remaining);
-    dcnt = calloc(ne ? ne : 1, 1);
-    forbid = calloc(ne ? ne : 1, 1);
+    dcnt = sk__calloc_array(ne ? ne : 1, 1);
+    forbid = sk__calloc_array(ne ? ne : 1, 1);
     if (!even || !bnd || !comp || !queue || !dist || !src || !pred || !partner || !remaining ||
         !dcnt || !forbid) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
@@ -453,7 +453,7 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             fq[nq++] = f;
     /* process as a stack; faces are re-pushed when an edge of theirs changes (bounded by the strict
      * decrease of the deleted set) */
-    uint8_t *inq = calloc(nf ? nf : 1, 1);
+    uint8_t *inq = sk__calloc_array(nf ? nf : 1, 1);
     if (!inq)
         goto nomem;
     memset(inq, 1, nf);
@@ -493,7 +493,7 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
                     cap_q *= 2;
                     uint32_t *q2 = sk__realloc_array(fq, cap_q, sizeof *q2);
                     if (!q2) {
-                        free(inq);
+                        sk__free(inq);
                         goto nomem;
                     }
                     fq = q2;
@@ -503,7 +503,7 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             }
         }
     }
-    free(inq);
+    sk__free(inq);
 
     /* verify: every interior vertex odd, every triangle at most one deleted edge */
     size_t nd = 0;
@@ -562,22 +562,22 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
 nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
 done:
-    free(even);
-    free(bnd);
-    free(dcnt);
-    free(forbid);
-    free(comp);
-    free(queue);
-    free(dist);
-    free(src);
-    free(pred);
-    free(partner);
-    free(remaining);
-    free(fq);
-    free(cands);
-    free(deleted);
-    free(ps.v);
-    free(ps.start);
+    sk__free(even);
+    sk__free(bnd);
+    sk__free(dcnt);
+    sk__free(forbid);
+    sk__free(comp);
+    sk__free(queue);
+    sk__free(dist);
+    sk__free(src);
+    sk__free(pred);
+    sk__free(partner);
+    sk__free(remaining);
+    sk__free(fq);
+    sk__free(cands);
+    sk__free(deleted);
+    sk__free(ps.v);
+    sk__free(ps.start);
     sk_mesh_destroy(&res);
     return st;
 }

@@ -15,12 +15,12 @@ void sk_smooth_destroy(sk_smooth **smooth)
         return;
     sk_smooth *s = *smooth;
     sk_mesh_destroy(&s->config);
-    free(s->normals);
-    free(s->patches);
-    free(s->points);
-    free(s->deleted);
-    free(s->problems);
-    free(s);
+    sk__free(s->normals);
+    sk__free(s->patches);
+    sk__free(s->points);
+    sk__free(s->deleted);
+    sk__free(s->problems);
+    sk__free(s);
     *smooth = NULL;
 }
 
@@ -162,17 +162,17 @@ static sk_status split_odd_components(const sk_mesh *m, const double *normals, s
                 *splits = nsplit;
             }
         }
-        free(target);
-        free(pos);
-        free(nrm);
-        free(off);
-        free(idx);
-        free(fsplit);
+        sk__free(target);
+        sk__free(pos);
+        sk__free(nrm);
+        sk__free(off);
+        sk__free(idx);
+        sk__free(fsplit);
     }
 done:
-    free(comp);
-    free(queue);
-    free(split_h);
+    sk__free(comp);
+    sk__free(queue);
+    sk__free(split_h);
     return st;
 }
 
@@ -532,13 +532,13 @@ static sk_status repair_regularity(sk_smooth *s, vc1_work *W, uint8_t *status, s
 {
     const sk_mesh *m = W->m;
     size_t np = s->num_patches, nv = m->num_vertices;
-    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = calloc(nv + 1, 1), *mark = calloc(np + 1, 1);
+    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = sk__calloc_array(nv + 1, 1), *mark = sk__calloc_array(np + 1, 1);
     uint32_t *faces = sk__malloc_array(LOCAL_FACES, sizeof *faces);
     if (!sing || !cand || !mark || !faces) {
-        free(sing);
-        free(cand);
-        free(mark);
-        free(faces);
+        sk__free(sing);
+        sk__free(cand);
+        sk__free(mark);
+        sk__free(faces);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
     }
     long npl = (long)np;
@@ -624,10 +624,10 @@ static sk_status repair_regularity(sk_smooth *s, vc1_work *W, uint8_t *status, s
     }
     }
     s->stats.repaired_vertices = repaired;
-    free(sing);
-    free(cand);
-    free(mark);
-    free(faces);
+    sk__free(sing);
+    sk__free(cand);
+    sk__free(mark);
+    sk__free(faces);
     return SK_OK;
 }
 
@@ -643,7 +643,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     W.w1 = sk__malloc_array(nh, sizeof(double));
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
-    uint8_t *status = calloc(nv ? nv : 1, 1);
+    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1);
     if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
@@ -770,13 +770,13 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
                 s->problems[s->num_problems++] = (uint32_t)v;
     }
 done:
-    free(target);
-    free(r);
-    free(W.P);
-    free(W.w1);
-    free(W.nu);
-    free(W.C);
-    free(status);
+    sk__free(target);
+    sk__free(r);
+    sk__free(W.P);
+    sk__free(W.w1);
+    sk__free(W.nu);
+    sk__free(W.C);
+    sk__free(status);
     return st;
 }
 
@@ -795,7 +795,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_status st = SK_OK;
     sk_mesh *work = NULL;
     double *normals = NULL;
-    sk_smooth *s = calloc(1, sizeof *s);
+    sk_smooth *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     int blas_threads = sk__blas_serial_begin(); /* per-vertex and per-patch dense solves */
@@ -862,7 +862,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             SK_OK)
             goto fail;
         if (work) {
-            free(normals);
+            sk__free(normals);
             normals = n2;
             base = work;
         }
@@ -885,7 +885,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     return sk__progress(opts.progress, opts.progress_user, 1.0, err);
 fail:
     sk_mesh_destroy(&work);
-    free(normals);
+    sk__free(normals);
     sk_smooth_destroy(&s);
     sk__blas_serial_end(blas_threads);
     return st;

@@ -64,6 +64,20 @@ SK_API double sk_seconds(void);
  * differ from the header a program was compiled with. */
 SK_API const char *sk_version(void);
 
+/* The library's allocator (cgltf, CHOLMOD style): every allocation of libsurfkit goes through it
+ * (not those inside CHOLMOD, LAPACK, cairo or the C library). All zero = malloc/realloc/free.
+ * Process-wide: install it before any other call, or between calls when no object the library
+ * allocated is alive. Memory the library hands over (sk_soup_write_memory's buffer) is freed
+ * with its free. */
+typedef struct sk_allocator {
+    void *(*malloc)(void *user, size_t size);
+    void *(*realloc)(void *user, void *p, size_t size);
+    void (*free)(void *user, void *p);
+    void *user;
+} sk_allocator;
+/* NULL (or an incomplete one) restores the C library's. */
+void sk_set_allocator(const sk_allocator *alloc);
+
 /* True when path ends with ext (".step"), ignoring ASCII case: the one extension matcher. */
 bool sk_path_has_ext(const char *path, const char *ext);
 

@@ -38,13 +38,13 @@ void sk_atlas_destroy(sk_atlas **a)
 {
     if (!a || !*a)
         return;
-    free((*a)->uvs);
-    free((*a)->uv_chart);
-    free((*a)->face_chart);
-    free((*a)->corner_uv);
-    free((*a)->chart_faces);
-    free((*a)->chart_mips);
-    free(*a);
+    sk__free((*a)->uvs);
+    sk__free((*a)->uv_chart);
+    sk__free((*a)->face_chart);
+    sk__free((*a)->corner_uv);
+    sk__free((*a)->chart_faces);
+    sk__free((*a)->chart_mips);
+    sk__free(*a);
     *a = NULL;
 }
 
@@ -151,8 +151,8 @@ static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s,
     a->chart_faces = sk__calloc_array(a->num_charts ? a->num_charts : 1, sizeof(uint32_t));
     a->chart_mips = sk__calloc_array(a->num_charts ? a->num_charts : 1, sizeof(double));
     if (!tri || !areas || !a->chart_faces || !a->chart_mips) {
-        free(tri);
-        free(areas);
+        sk__free(tri);
+        sk__free(areas);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     double mips = 0, conf = 0, a3 = 0, auv = 0;
@@ -202,9 +202,9 @@ static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s,
         }
     }
     s->seam_length_rel = seam / sqrt(a3);
-    free(areas);
+    sk__free(areas);
     sk_status st = sk_uv_overlaps(nf, tri, &s->overlaps, NULL, err);
-    free(tri);
+    sk__free(tri);
     return st;
 }
 
@@ -233,7 +233,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
         return st;
     accepted acc;
     memset(&acc, 0, sizeof acc);
-    sk_atlas *a = calloc(1, sizeof *a);
+    sk_atlas *a = sk__calloc_array(1, sizeof *a);
     uint32_t *faces = sk__malloc_array(nf, sizeof(uint32_t));
     uint32_t *comp = sk__malloc_array(nf, sizeof(uint32_t));
     range *stack = sk__malloc_array(nf + 1, sizeof *stack);
@@ -269,7 +269,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
             stack[c] = (range){start[ncomp - 1 - c], start[ncomp - c]};
         for (size_t f = 0; f < nf; ++f)
             faces[start[comp[f]]++] = (uint32_t)f;
-        free(start);
+        sk__free(start);
     }
     size_t top = ncomp, done_faces = 0;
     uint32_t stamp = 0;
@@ -315,7 +315,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
             s.splits_distortion++;
         } else if (disk) {
             double tq = sk_seconds();
-            free(cuv);
+            sk__free(cuv);
             cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
             if (!cuv) {
                 st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -357,7 +357,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
                                    2 * sizeof(double));
                     }
                     st = sk_uv_overlaps(n, tri, &ov, NULL, err);
-                    free(tri);
+                    sk__free(tri);
                     if (st)
                         goto done;
                 }
@@ -383,7 +383,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
             }
         }
         sk_mesh_destroy(&chart);
-        free(vert_h);
+        sk__free(vert_h);
         vert_h = NULL;
         if (split) {
             tc = sk_seconds();
@@ -420,15 +420,15 @@ done:
     if (stats)
         *stats = s;
     sk_mesh_destroy(&chart);
-    free(vert_h);
-    free(cuv);
-    free(acc.uv);
-    free(acc.chart);
-    free(acc.off);
-    free(faces);
-    free(comp);
-    free(stack);
-    free(sizes);
+    sk__free(vert_h);
+    sk__free(cuv);
+    sk__free(acc.uv);
+    sk__free(acc.chart);
+    sk__free(acc.off);
+    sk__free(faces);
+    sk__free(comp);
+    sk__free(stack);
+    sk__free(sizes);
     sk__chart_work_free(&w);
     return st;
 }
@@ -464,8 +464,8 @@ sk_status sk_atlas_split_mesh(const sk_mesh *m, const sk_atlas *a, sk_mesh **out
     }
     memcpy((*out)->uvs, a->uvs, 2 * a->num_uvs * sizeof(double));
 done:
-    free(pos);
-    free(off);
-    free(idx);
+    sk__free(pos);
+    sk__free(off);
+    sk__free(idx);
     return st;
 }

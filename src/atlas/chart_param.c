@@ -116,6 +116,6 @@ sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__c
     for (size_t f = 0; f < chart->num_faces; ++f)
         dev += sk_mesh_face_area(chart, (uint32_t)f) * fabs(ls[f] - mean);
     q->area_log_dev = dev / q->area3;
-    free(ls);
+    sk__free(ls);
     return st;
 }

@@ -42,17 +42,17 @@ sk_status sk__chart_work_init(sk__chart_work *w, const sk_mesh *m, sk_error *err
 
 void sk__chart_work_free(sk__chart_work *w)
 {
-    free(w->label);
-    free(w->parent);
-    free(w->local);
-    free(w->flocal);
-    free(w->dist);
-    free(w->heap);
-    free(w->heap_pos);
-    free(w->side);
-    free(w->tmp);
-    free(w->centroid);
-    free(w->vcount);
+    sk__free(w->label);
+    sk__free(w->parent);
+    sk__free(w->local);
+    sk__free(w->flocal);
+    sk__free(w->dist);
+    sk__free(w->heap);
+    sk__free(w->heap_pos);
+    sk__free(w->side);
+    sk__free(w->tmp);
+    sk__free(w->centroid);
+    sk__free(w->vcount);
     memset(w, 0, sizeof *w);
 }
 
@@ -162,10 +162,10 @@ sk_status sk__chart_extract(const sk_mesh *m, const uint32_t *faces, size_t nf, 
     *vert_h = vh;
     vh = NULL;
 done:
-    free(vh);
-    free(idx);
-    free(off);
-    free(pos);
+    sk__free(vh);
+    sk__free(idx);
+    sk__free(off);
+    sk__free(pos);
     return st;
 }
 

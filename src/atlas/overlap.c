@@ -143,11 +143,11 @@ sk_status sk_uv_overlaps(size_t n, const double *tri, size_t *count, uint32_t fi
 #undef CELL_Y
     *count = found;
 done:
-    free(t);
-    free(box);
-    free(live);
-    free(cstart);
-    free(fill);
-    free(items);
+    sk__free(t);
+    sk__free(box);
+    sk__free(live);
+    sk__free(cstart);
+    sk__free(fill);
+    sk__free(items);
     return st;
 }

@@ -313,14 +313,14 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
     }
     *scale = lo;
 done:
-    free(rot);
-    free(k.x);
-    free(k.y);
-    free(k.bx);
-    free(k.by);
-    free(r);
-    free(pos);
-    free(scratch);
-    free(hull);
+    sk__free(rot);
+    sk__free(k.x);
+    sk__free(k.y);
+    sk__free(k.bx);
+    sk__free(k.by);
+    sk__free(r);
+    sk__free(pos);
+    sk__free(scratch);
+    sk__free(hull);
     return st;
 }

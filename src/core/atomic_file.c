@@ -82,8 +82,8 @@ void sk_outputs_begin(void)
 static void drop_item(batch_item *it)
 {
     pending_remove(it->tmp_path);
-    free(it->tmp_path);
-    free(it->final_path);
+    sk__free(it->tmp_path);
+    sk__free(it->final_path);
 }
 
 void sk_outputs_abort(void)
@@ -92,7 +92,7 @@ void sk_outputs_abort(void)
         unlink(batch.items[i].tmp_path);
         drop_item(&batch.items[i]);
     }
-    free(batch.items);
+    sk__free(batch.items);
     batch.items = NULL;
     batch.count = batch.cap = 0;
     batch.active = 0;
@@ -115,7 +115,7 @@ sk_status sk_outputs_commit(sk_error *err)
         unlink(batch.items[i].tmp_path);
         drop_item(&batch.items[i]);
     }
-    free(batch.items);
+    sk__free(batch.items);
     batch.items = NULL;
     batch.count = batch.cap = 0;
     batch.active = 0;
@@ -132,7 +132,7 @@ static atomic_uint temp_counter;
 static char *temp_name(const char *target)
 {
     size_t n = strlen(target) + 64;
-    char *t = malloc(n);
+    char *t = sk__malloc_array(n, 1);
     if (t)
         snprintf(t, n, "%s.tmp.%ld.%u", target, (long)getpid(), atomic_fetch_add(&temp_counter, 1u));
     return t;
@@ -141,7 +141,7 @@ static char *temp_name(const char *target)
 /* Follows symlinks to the final target (which need not exist); malloc'ed. */
 static char *resolve_target(const char *path)
 {
-    char *cur = strdup(path);
+    char *cur = sk__strdup(path);
     for (int hops = 0; cur && hops < 40; ++hops) {
         struct stat ls;
         if (lstat(cur, &ls) != 0 || !S_ISLNK(ls.st_mode))
@@ -154,16 +154,16 @@ static char *resolve_target(const char *path)
         char *next;
         const char *slash = strrchr(cur, '/');
         if (link[0] == '/' || !slash) {
-            next = strdup(link);
+            next = sk__strdup(link);
         } else { /* relative to the link's directory */
             size_t dlen = (size_t)(slash - cur) + 1;
-            next = malloc(dlen + (size_t)k + 1);
+            next = sk__malloc_array(dlen + (size_t)k + 1, 1);
             if (next) {
                 memcpy(next, cur, dlen);
                 memcpy(next + dlen, link, (size_t)k + 1);
             }
         }
-        free(cur);
+        sk__free(cur);
         cur = next;
     }
     return cur;
@@ -185,8 +185,8 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err)
     int fd = -1;
     struct stat sb;
     int exists = stat(path, &sb) == 0; /* follows links, also /proc/self/fd/N to a pipe */
-    af->shown_path = strdup(path);
-    af->final_path = exists && !S_ISREG(sb.st_mode) ? strdup(path) : resolve_target(path);
+    af->shown_path = sk__strdup(path);
+    af->final_path = exists && !S_ISREG(sb.st_mode) ? sk__strdup(path) : resolve_target(path);
     if (!af->shown_path || !af->final_path) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto fail;
@@ -205,8 +205,8 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err)
         af->direct = 1;
     } else {
         const char *slash = strrchr(af->final_path, '/');
-        char *dir = slash ? strndup(af->final_path, (size_t)(slash - af->final_path) + 1)
-                          : strdup(".");
+        char *dir = slash ? sk__strndup(af->final_path, (size_t)(slash - af->final_path) + 1)
+                          : sk__strdup(".");
         if (!dir) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
             goto fail;
@@ -214,7 +214,7 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err)
 #ifdef O_TMPFILE
         fd = open(dir, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
 #endif
-        free(dir);
+        sk__free(dir);
         if (fd < 0) { /* no O_TMPFILE here: a named temporary, removed by signal handlers */
             af->tmp_path = temp_name(af->final_path);
             if (!af->tmp_path) {
@@ -224,7 +224,7 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err)
             fd = open(af->tmp_path, O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
             if (fd < 0) {
                 st = io_fail(err, path, "cannot create output file", errno);
-                free(af->tmp_path);
+                sk__free(af->tmp_path);
                 af->tmp_path = NULL;
                 goto fail;
             }
@@ -277,7 +277,7 @@ sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err)
                 break;
             }
             int le = errno;
-            free(af->tmp_path);
+            sk__free(af->tmp_path);
             af->tmp_path = NULL;
             if (le != EEXIST)
                 e = le;
@@ -304,7 +304,7 @@ sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err)
     if (batch.active) { /* published by sk_outputs_commit */
         if (batch.count == batch.cap) {
             size_t cap = batch.cap ? 2 * batch.cap : 8;
-            batch_item *items = realloc(batch.items, cap * sizeof *items);
+            batch_item *items = sk__realloc_array(batch.items, cap * sizeof *items, 1);
             if (!items) {
                 st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
                 sk__atomic_abort(af);
@@ -325,7 +325,7 @@ sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err)
         return st;
     }
     pending_remove(af->tmp_path);
-    free(af->tmp_path);
+    sk__free(af->tmp_path);
     af->tmp_path = NULL;
     sk__atomic_abort(af);
     sk__ok(err);
@@ -342,9 +342,9 @@ void sk__atomic_abort(sk__atomic_file *af)
         unlink(af->tmp_path);
         pending_remove(af->tmp_path);
     }
-    free(af->tmp_path);
-    free(af->final_path);
-    free(af->shown_path);
+    sk__free(af->tmp_path);
+    sk__free(af->final_path);
+    sk__free(af->shown_path);
     memset(af, 0, sizeof *af);
     af->fd = -1;
 }

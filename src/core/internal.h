@@ -27,6 +27,10 @@ sk_status sk__progress(sk_progress_fn fn, void *user, double fraction, sk_error 
 void *sk__malloc_array(size_t n, size_t size);
 void *sk__calloc_array(size_t n, size_t size);
 void *sk__realloc_array(void *p, size_t n, size_t size);
+/* Frees what the wrappers above (and sk__strdup) allocated; NULL is fine. */
+void sk__free(void *p);
+char *sk__strdup(const char *s);
+char *sk__strndup(const char *s, size_t n);
 
 /* Atomic output file (core/atomic_file.c has the rules): written to a temporary beside the
  * (symlink-resolved) target and renamed into place by sk__atomic_commit, or at sk_outputs_commit

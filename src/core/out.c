@@ -52,7 +52,7 @@ bool sk__out_room(sk__out *o, size_t n)
         }
         cap *= 2;
     }
-    char *b = realloc(o->buf, cap);
+    char *b = sk__realloc_array(o->buf, cap, 1);
     if (!b) {
         o->failed = SK_ERR_NOMEM;
         return false;
@@ -144,7 +144,7 @@ void sk__out_printf(sk__out *o, const char *fmt, ...)
 
 void sk__out_free(sk__out *o)
 {
-    free(o->buf);
+    sk__free(o->buf);
     o->buf = NULL;
     o->len = o->cap = 0;
 }

@@ -270,7 +270,7 @@ static size_t pool_add(pool *pl, const double *p)
         return i;
     if (pl->n == pl->cap) {
         size_t cap = pl->cap ? 2 * pl->cap : 256;
-        double *x = realloc(pl->xyz, 3 * cap * sizeof *x);
+        double *x = sk__realloc_array(pl->xyz, 3 * cap * sizeof *x, 1);
         if (!x)
             return SIZE_MAX;
         pl->xyz = x;
@@ -278,12 +278,12 @@ static size_t pool_add(pool *pl, const double *p)
     }
     if (2 * (pl->n + 1) > pl->scap) {
         size_t scap = pl->scap ? 2 * pl->scap : 1024;
-        size_t *slot = calloc(scap, sizeof *slot);
+        size_t *slot = sk__calloc_array(scap, sizeof *slot);
         if (!slot)
             return SIZE_MAX;
         for (size_t k = 0; k < pl->n; ++k)
             pool_slot_insert(slot, scap, pl, k);
-        free(pl->slot);
+        sk__free(pl->slot);
         pl->slot = slot;
         pl->scap = scap;
     }
@@ -294,8 +294,8 @@ static size_t pool_add(pool *pl, const double *p)
 
 static void pool_free(pool *pl)
 {
-    free(pl->xyz);
-    free(pl->slot);
+    sk__free(pl->xyz);
+    sk__free(pl->slot);
 }
 
 typedef struct bedge {
@@ -370,7 +370,7 @@ static bool add_use(brep *br, size_t a, size_t b, const double *cp, unsigned deg
     if (ei == SIZE_MAX) {
         if (br->ne == br->ecap) {
             size_t cap = br->ecap ? 2 * br->ecap : 256;
-            bedge *e = realloc(br->edges, cap * sizeof *e);
+            bedge *e = sk__realloc_array(br->edges, cap * sizeof *e, 1);
             if (!e)
                 return false;
             br->edges = e;
@@ -378,7 +378,7 @@ static bool add_use(brep *br, size_t a, size_t b, const double *cp, unsigned deg
         }
         if (2 * (br->ne + 1) > br->escap) {
             size_t scap = br->escap ? 2 * br->escap : 1024;
-            size_t *slot = calloc(scap, sizeof *slot);
+            size_t *slot = sk__calloc_array(scap, sizeof *slot);
             if (!slot)
                 return false;
             for (size_t k = 0; k < br->ne; ++k) {
@@ -388,7 +388,7 @@ static bool add_use(brep *br, size_t a, size_t b, const double *cp, unsigned deg
                     j = (j + 1) & (scap - 1);
                 slot[j] = k + 1;
             }
-            free(br->eslot);
+            sk__free(br->eslot);
             br->eslot = slot;
             br->escap = scap;
         }
@@ -408,7 +408,7 @@ static bool add_use(brep *br, size_t a, size_t b, const double *cp, unsigned deg
     br->edges[ei].uses++;
     if (br->nu == br->ucap) {
         size_t cap = br->ucap ? 2 * br->ucap : 1024;
-        use *u = realloc(br->uses, cap * sizeof *u);
+        use *u = sk__realloc_array(br->uses, cap * sizeof *u, 1);
         if (!u)
             return false;
         br->uses = u;
@@ -426,10 +426,10 @@ static void brep_free(brep *br)
 {
     pool_free(&br->verts);
     pool_free(&br->mids);
-    free(br->edges);
-    free(br->eslot);
-    free(br->uses);
-    free(br->face_first);
+    sk__free(br->edges);
+    sk__free(br->eslot);
+    sk__free(br->uses);
+    sk__free(br->face_first);
 }
 
 /* Builds vertices, edges and loops of the tensor patches t[0..nt); stops with *collapsed set at
@@ -482,7 +482,7 @@ static sk_status build_brep(brep *br, const sk_patch_set *t, double size, bool *
 nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
 done:
-    free(cv);
+    sk__free(cv);
     return st;
 }
 

@@ -50,7 +50,7 @@ static entry *map_get(map *m, key k, bool *created)
 {
     if (2 * (m->n + 1) > m->cap) {
         size_t cap = m->cap ? 2 * m->cap : 1024;
-        entry *ne = calloc(cap, sizeof *ne);
+        entry *ne = sk__calloc_array(cap, sizeof *ne);
         if (!ne)
             return NULL;
         for (size_t i = 0; i < m->cap; ++i) {
@@ -61,7 +61,7 @@ static entry *map_get(map *m, key k, bool *created)
                 j = (j + 1) & (cap - 1);
             ne[j] = m->e[i];
         }
-        free(m->e);
+        sk__free(m->e);
         m->e = ne;
         m->cap = cap;
     }
@@ -181,7 +181,7 @@ static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *lo
     const sk_patch *p = &set->patches[pi];
     const double *cp = sk_patch_cp(set, pi);
     unsigned du = p->degree, dv = p->degree_v;
-    size_t *ids = malloc((du + 1) * (dv + 1) * sizeof(size_t));
+    size_t *ids = sk__malloc_array((du + 1) * (dv + 1) * sizeof(size_t), 1);
     if (!ids) {
         w->nomem = true;
         return;
@@ -198,7 +198,7 @@ static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *lo
     }
     sk__out_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,.F.,(%u,%u),(%u,%u),(0.,1.),(0.,1.),"
                          ".UNSPECIFIED.);\n", du + 1, du + 1, dv + 1, dv + 1);
-    free(ids);
+    sk__free(ids);
     size_t lp = w->next++;
     sk__out_printf(w->b, "#%zu=EDGE_LOOP('',(", lp);
     for (size_t i = 0; i < nloop; ++i)
@@ -369,7 +369,7 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     size_t nt = 0;
     for (size_t i = 0; i < patches->count; ++i)
         nt += patches->patches[i].kind == SK_PATCH_TRIANGLE ? 3 : 1;
-    faces = malloc((nt ? nt : 1) * sizeof *faces);
+    faces = sk__malloc_array((nt ? nt : 1) * sizeof *faces, 1);
     if (!faces || w.nomem) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -420,11 +420,11 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
         stats->solid = closed;
     }
 done:
-    free(faces);
+    sk__free(faces);
     sk_patch_set_free(&sub);
-    free(split.e);
-    free(w.vertices.e);
-    free(w.edges.e);
+    sk__free(split.e);
+    sk__free(w.vertices.e);
+    sk__free(w.edges.e);
     sk__out_free(&out);
     return st;
 }

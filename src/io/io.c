@@ -144,7 +144,7 @@ static sk_status read_file(const char *path, char **data, size_t *size, sk_error
                         strerror(e));
     }
     size_t cap = sb.st_size > 0 ? (size_t)sb.st_size : 0;
-    char *buf = malloc(cap + 1);
+    char *buf = sk__malloc_array(cap + 1, 1);
     if (!buf) {
         fclose(f);
         return sk__fail(err, SK_ERR_NOMEM, "%s: out of memory reading %zu bytes", path, cap);
@@ -152,7 +152,7 @@ static sk_status read_file(const char *path, char **data, size_t *size, sk_error
     size_t n = fread(buf, 1, cap, f);
     if (n != cap || ferror(f)) {
         int e = errno;
-        free(buf);
+        sk__free(buf);
         fclose(f);
         return sk__fail(err, SK_ERR_IO, "%s: read failed: %s", path, strerror(e));
     }
@@ -180,7 +180,7 @@ sk_status sk_soup_read(const char *path, const sk_read_opts *opts, sk_soup **out
     if (o.format == SK_FORMAT_UNKNOWN)
         o.format = SK_FORMAT_AUTO;
     st = sk_soup_read_memory(data, size, sk__basename(path), &o, out, err);
-    free(data);
+    sk__free(data);
     return st;
 }
 
@@ -224,11 +224,11 @@ sk_status sk_soup_write_memory(const sk_soup *soup, const sk_write_opts *opts, v
     sk__out out = {0};
     sk_status st = write_sink(&out, soup, &o, o.format, err);
     if (st) {
-        free(out.buf);
+        sk__free(out.buf);
         return st;
     }
     if (!out.buf)
-        out.buf = malloc(1);
+        out.buf = sk__malloc_array(1, 1);
     if (!out.buf)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     *data = out.buf;
@@ -261,7 +261,7 @@ sk_status sk_soup_write(const char *path, const sk_soup *soup, const sk_write_op
     sk__out out = {0};
     out.fp = af.fp;
     st = write_sink(&out, soup, &o, o.format, err);
-    free(out.buf);
+    sk__free(out.buf);
     if (st) {
         sk__atomic_abort(&af);
         if (err && st == SK_ERR_IO)

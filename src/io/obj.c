@@ -261,7 +261,7 @@ static sk_status attach(obj_state *o, const uvec *corner, const dvec *vals, int 
         done[v] = 1;
         memcpy(dst + (size_t)dim * v, vals->a + (size_t)dim * a, (size_t)dim * sizeof(double));
     }
-    free(done);
+    sk__free(done);
     return SK_OK;
 }
 
@@ -355,13 +355,13 @@ fail_parse:
 fail_mem:
     st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
 done:
-    free(o.vn.a);
-    free(o.vt.a);
-    free(o.corner_vn.a);
-    free(o.corner_vt.a);
-    free(o.idx.a);
-    free(o.fvt.a);
-    free(o.fvn.a);
+    sk__free(o.vn.a);
+    sk__free(o.vt.a);
+    sk__free(o.corner_vn.a);
+    sk__free(o.corner_vt.a);
+    sk__free(o.idx.a);
+    sk__free(o.fvt.a);
+    sk__free(o.fvn.a);
     if (st) {
         sk_soup_destroy(&o.s);
         return st;

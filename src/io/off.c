@@ -272,7 +272,7 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
         goto done;
     }
 done:
-    free(idx);
+    sk__free(idx);
     if (st) {
         sk_soup_destroy(&s);
         return st;

@@ -631,7 +631,7 @@ sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup 
                        sk_error *err)
 {
     *out = NULL;
-    ply_header *h = calloc(1, sizeof *h);
+    ply_header *h = sk__calloc_array(1, sizeof *h);
     if (!h)
         return sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
     ply_reader r;
@@ -683,11 +683,11 @@ sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup 
         sk_soup_set_corner_uvs(r.s, r.s->face_offsets[r.s->num_faces], r.cuv, r.ccorner))
         st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
 done:
-    free(r.idx);
-    free(r.tc);
-    free(r.cuv);
-    free(r.ccorner);
-    free(h);
+    sk__free(r.idx);
+    sk__free(r.tc);
+    sk__free(r.cuv);
+    sk__free(r.ccorner);
+    sk__free(h);
     if (st) {
         sk_soup_destroy(&r.s);
         return st;

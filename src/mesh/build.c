@@ -162,16 +162,17 @@ sk_status sk_mesh_from_faces(size_t nv, const double *pos, size_t nf, const uint
     }
     /* two fans at one vertex: the fan walk from v_halfedge misses edges */
     sk_error cerr;
-    if (sk_mesh_check(m, &cerr) != SK_OK) {
-        st = sk__fail(err, SK_ERR_TOPOLOGY, "%s", cerr.message);
+    sk_status cst = sk_mesh_check(m, &cerr);
+    if (cst != SK_OK) { /* out of memory stays out of memory */
+        st = sk__fail(err, cst == SK_ERR_NOMEM ? SK_ERR_NOMEM : SK_ERR_TOPOLOGY, "%s", cerr.message);
         goto done;
     }
 done:
-    free(keys);
-    free(corner);
-    free(cface);
-    free(ch);
-    free(bout);
+    sk__free(keys);
+    sk__free(corner);
+    sk__free(cface);
+    sk__free(ch);
+    sk__free(bout);
     if (st)
         sk_mesh_destroy(&m);
     *out = m;
@@ -210,7 +211,7 @@ sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
             }
         }
         sk_status ws = sk_mesh_set_wedge_uvs(m, s->num_wedge_uvs, s->wedge_uvs, hw, err);
-        free(hw);
+        sk__free(hw);
         if (ws) {
             sk_mesh_destroy(out);
             return ws;

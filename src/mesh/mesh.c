@@ -57,7 +57,7 @@ fail:
 
 sk_mesh *sk__mesh_alloc(size_t nv, size_t nh, size_t nf, sk_error *err)
 {
-    sk_mesh *m = calloc(1, sizeof *m);
+    sk_mesh *m = sk__calloc_array(1, sizeof *m);
     if (!m) {
         sk__fail(err, SK_ERR_NOMEM, "out of memory");
         return NULL;
@@ -74,21 +74,21 @@ void sk_mesh_destroy(sk_mesh **mesh)
     if (!mesh || !*mesh)
         return;
     sk_mesh *m = *mesh;
-    free(m->positions);
-    free(m->normals);
-    free(m->uvs);
-    free(m->v_halfedge);
-    free(m->h_vertex);
-    free(m->h_next);
-    free(m->h_prev);
-    free(m->h_face);
-    free(m->f_halfedge);
-    free(m->v_deleted);
-    free(m->e_deleted);
-    free(m->f_deleted);
-    free(m->wedge_uvs);
-    free(m->h_wedge_uv);
-    free(m);
+    sk__free(m->positions);
+    sk__free(m->normals);
+    sk__free(m->uvs);
+    sk__free(m->v_halfedge);
+    sk__free(m->h_vertex);
+    sk__free(m->h_next);
+    sk__free(m->h_prev);
+    sk__free(m->h_face);
+    sk__free(m->f_halfedge);
+    sk__free(m->v_deleted);
+    sk__free(m->e_deleted);
+    sk__free(m->f_deleted);
+    sk__free(m->wedge_uvs);
+    sk__free(m->h_wedge_uv);
+    sk__free(m);
     *mesh = NULL;
 }
 
@@ -192,8 +192,8 @@ sk_status sk_mesh_set_wedge_uvs(sk_mesh *m, size_t n, const double *values,
                                 const uint32_t *h_wedge, sk_error *err)
 {
     if (!values || !h_wedge) {
-        free(m->wedge_uvs);
-        free(m->h_wedge_uv);
+        sk__free(m->wedge_uvs);
+        sk__free(m->h_wedge_uv);
         m->wedge_uvs = NULL;
         m->h_wedge_uv = NULL;
         m->num_wedge_uvs = 0;
@@ -206,14 +206,14 @@ sk_status sk_mesh_set_wedge_uvs(sk_mesh *m, size_t n, const double *values,
     double *v = sk__malloc_array(n ? n : 1, 2 * sizeof(double));
     uint32_t *i = sk__malloc_array(m->cap_halfedges ? m->cap_halfedges : 1, sizeof(uint32_t));
     if (!v || !i) {
-        free(v);
-        free(i);
+        sk__free(v);
+        sk__free(i);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     memcpy(v, values, 2 * n * sizeof(double));
     memcpy(i, h_wedge, m->num_halfedges * sizeof(uint32_t));
-    free(m->wedge_uvs);
-    free(m->h_wedge_uv);
+    sk__free(m->wedge_uvs);
+    sk__free(m->h_wedge_uv);
     m->wedge_uvs = v;
     m->h_wedge_uv = i;
     m->num_wedge_uvs = n;
@@ -256,9 +256,9 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
     uint32_t *hmap = sk__malloc_array(nh, sizeof(uint32_t));
     uint32_t *fmap = sk__malloc_array(nf, sizeof(uint32_t));
     if (!vmap || !hmap || !fmap) {
-        free(vmap);
-        free(hmap);
-        free(fmap);
+        sk__free(vmap);
+        sk__free(hmap);
+        sk__free(fmap);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory compacting the mesh");
     }
     uint32_t k = 0;
@@ -320,9 +320,9 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
         memcpy(vmap_out, vmap, nv * sizeof(uint32_t));
     if (fmap_out)
         memcpy(fmap_out, fmap, nf * sizeof(uint32_t));
-    free(vmap);
-    free(hmap);
-    free(fmap);
+    sk__free(vmap);
+    sk__free(hmap);
+    sk__free(fmap);
     return SK_OK;
 }
 
@@ -400,7 +400,7 @@ sk_status sk_mesh_check(const sk_mesh *m, sk_error *err)
         else if (nb > 1 || (nb == 1 && m->h_face[h0] != SK_INVALID))
             st = sk__fail(err, SK_ERR_TOPOLOGY, "vertex %zu: bad boundary half-edge", v);
     }
-    free(deg);
+    sk__free(deg);
     return st;
 }
 
@@ -445,7 +445,7 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
                 goto done;
             }
             if (idx != buf)
-                free(idx);
+                sk__free(idx);
             idx = p;
             cap = n;
         }
@@ -485,9 +485,9 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
     }
 done:
     if (idx != buf)
-        free(idx);
-    free(cw);
-    free(vmap);
+        sk__free(idx);
+    sk__free(cw);
+    sk__free(vmap);
     if (st)
         sk_soup_destroy(&s);
     *out = s;

@@ -9,7 +9,7 @@ sk_status sk_soup_create(size_t reserve_vertices, size_t reserve_faces, size_t r
                          bool has_normals, bool has_uvs, sk_soup **out, sk_error *err)
 {
     *out = NULL;
-    sk_soup *s = calloc(1, sizeof *s);
+    sk_soup *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     s->cap_vertices = reserve_vertices ? reserve_vertices : 16;
@@ -38,16 +38,16 @@ void sk_soup_destroy(sk_soup **soup)
     if (!soup || !*soup)
         return;
     sk_soup *s = *soup;
-    free(s->positions);
-    free(s->normals);
-    free(s->uvs);
-    free(s->face_offsets);
-    free(s->face_indices);
-    free(s->wedge_uvs);
-    free(s->wedge_normals);
-    free(s->corner_uv);
-    free(s->corner_normal);
-    free(s);
+    sk__free(s->positions);
+    sk__free(s->normals);
+    sk__free(s->uvs);
+    sk__free(s->face_offsets);
+    sk__free(s->face_indices);
+    sk__free(s->wedge_uvs);
+    sk__free(s->wedge_normals);
+    sk__free(s->corner_uv);
+    sk__free(s->corner_normal);
+    sk__free(s);
     *soup = NULL;
 }
 
@@ -149,8 +149,8 @@ static sk_status set_corner(sk_soup *s, size_t dim, size_t n, const double *valu
 {
     size_t nc = s->face_offsets[s->num_faces];
     if (!values || !corner) {
-        free(*vals);
-        free(*idx);
+        sk__free(*vals);
+        sk__free(*idx);
         *vals = NULL;
         *idx = NULL;
         *num = 0;
@@ -162,14 +162,14 @@ static sk_status set_corner(sk_soup *s, size_t dim, size_t n, const double *valu
     double *v = sk__malloc_array(n ? n : 1, dim * sizeof(double));
     uint32_t *i = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
     if (!v || !i) {
-        free(v);
-        free(i);
+        sk__free(v);
+        sk__free(i);
         return SK_ERR_NOMEM;
     }
     memcpy(v, values, n * dim * sizeof(double));
     memcpy(i, corner, nc * sizeof(uint32_t));
-    free(*vals);
-    free(*idx);
+    sk__free(*vals);
+    sk__free(*idx);
     *vals = v;
     *idx = i;
     *num = n;

@@ -186,9 +186,9 @@ done:
     sk_solver_destroy(&solver);
     sk_sparse_destroy(&a);
     sk_triplets_free(&t);
-    free(idx);
-    free(rhs);
-    free(x);
+    sk__free(idx);
+    sk__free(rhs);
+    sk__free(x);
     s.total_seconds = sk_seconds() - t0;
     if (stats)
         *stats = s;

@@ -63,7 +63,7 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
     float *zbuf = sk__malloc_array((size_t)W * H, sizeof *zbuf);
     if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS || !zbuf) {
         cairo_surface_destroy(surf);
-        free(zbuf);
+        sk__free(zbuf);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %d x %d picture", W, H);
     }
     cairo_surface_flush(surf);
@@ -121,7 +121,7 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
             }
         }
     }
-    free(zbuf);
+    sk__free(zbuf);
     cairo_surface_mark_dirty(surf);
     if (o.title) {
         cairo_t *cr = cairo_create(surf);

@@ -53,8 +53,8 @@ static sk_status prepare(const sk_soup *s, uint32_t **tri_out, size_t *nt_out, d
     uint32_t *tri = sk__malloc_array(3 * nt + 3, sizeof *tri);
     double *nrm = sk__calloc_array(3 * s->num_vertices + 3, sizeof *nrm);
     if (!tri || !nrm) {
-        free(tri);
-        free(nrm);
+        sk__free(tri);
+        sk__free(nrm);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     size_t t = 0;
@@ -211,10 +211,10 @@ sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, do
     st = sk__write_png(r.surf, path, err);
 done:
     sk__raster_destroy(&r);
-    free(g.point);
-    free(g.shade);
-    free(val);
-    free(tri);
-    free(nrm);
+    sk__free(g.point);
+    sk__free(g.shade);
+    sk__free(val);
+    sk__free(tri);
+    sk__free(nrm);
     return st;
 }

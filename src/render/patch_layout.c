@@ -157,7 +157,7 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
         cairo_arc(cr, x, y, 4.0, 0, 2 * M_PI);
         cairo_fill(cr);
     }
-    free(items);
+    sk__free(items);
     return finish(surf, cr, png_path, err);
 }
 
@@ -219,6 +219,6 @@ sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_r
         cairo_set_line_width(cr, 0.5);
         cairo_stroke(cr);
     }
-    free(items);
+    sk__free(items);
     return finish(surf, cr, png_path, err);
 }

@@ -68,7 +68,7 @@ void sk__raster_destroy(sk__raster *r)
 {
     if (r->surf)
         cairo_surface_destroy(r->surf);
-    free(r->z);
+    sk__free(r->z);
     r->surf = NULL;
     r->z = NULL;
     r->data = NULL;

@@ -51,8 +51,8 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
     double *conf = sk__malloc_array(nf ? nf : 1, sizeof *conf);
     int8_t *orient = sk__malloc_array(nf ? nf : 1, 1);
     if (!conf || !orient) {
-        free(conf);
-        free(orient);
+        sk__free(conf);
+        sk__free(orient);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     sk_param_face_distortion(m, uv, conf, orient, NULL);
@@ -91,8 +91,8 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
     sk__atomic_file af;
     sk_status st = sk__atomic_open(&af, path, err);
     if (st) {
-        free(conf);
-        free(orient);
+        sk__free(conf);
+        sk__free(orient);
         return st;
     }
     cairo_surface_t *surf = svg ? cairo_svg_surface_create_for_stream(write_fp, af.fp, total_w, height)
@@ -207,8 +207,8 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
         cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
     }
     cairo_surface_destroy(surf);
-    free(conf);
-    free(orient);
+    sk__free(conf);
+    sk__free(orient);
     if (cs != CAIRO_STATUS_SUCCESS) {
         sk__atomic_abort(&af);
         return sk__fail(err, SK_ERR_IO, "%s: cairo could not write the picture: %s",

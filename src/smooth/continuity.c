@@ -227,7 +227,7 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
             rep->num_intersection_examples = i + 1;
         }
     }
-    free(face_patch);
+    sk__free(face_patch);
     sk_soup_destroy(&groups);
     sk_soup_destroy(&tess);
     return st;
@@ -249,9 +249,9 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);
     uint8_t *singular = sk__malloc_array((size_t)np + 1, 1);
     if (!eb || !pb || !singular) {
-        free(eb);
-        free(pb);
-        free(singular);
+        sk__free(eb);
+        sk__free(pb);
+        sk__free(singular);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the continuity report");
     }
 #ifdef SK_HAVE_OPENMP
@@ -312,9 +312,9 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
             rep->singular_examples[rep->num_singular_examples++] = (uint32_t)p;
         rep->singular_patches++;
     }
-    free(eb);
-    free(pb);
-    free(singular);
+    sk__free(eb);
+    sk__free(pb);
+    sk__free(singular);
     rep->max_vertex_error = max_verr;
     rep->max_normal_error_deg = max_nerr;
     rep->uncertified_patches = uncert;

@@ -203,10 +203,10 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
     if (st != SK_OK)
         return cli_fail(st, &err);
     if (!quiet) {
-        fprintf(stderr, "smooth: wrote %s: %zu surfaces", path, es.faces);
+        printf("smooth: wrote %s: %zu surfaces", path, es.faces);
         if (es.edges)
-            fprintf(stderr, ", %zu edges, %zu vertices", es.edges, es.vertices);
-        fprintf(stderr, ", %.1f KiB\n", (double)es.bytes / 1024.0);
+            printf(", %zu edges, %zu vertices", es.edges, es.vertices);
+        printf(", %.1f KiB\n", (double)es.bytes / 1024.0);
     }
     return EXIT_OK;
 }
@@ -353,7 +353,7 @@ report_only:;
     if (json)
         report_json(stdout, &rc_ctx);
     else if (!quiet)
-        fprintf(stderr,
+        printf(
                 "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
                 "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
                 "vertices %zu, report %s\n",

@@ -26,7 +26,15 @@ $sk smooth data/sphere.off -o out/sphere.igs -q
 grep -E '"(triangles|quads|deleted_edges|max_gap|max_normal_jump_deg|max_vertex_error|max_normal_error_deg|singular_patches)"' \
   out/sphere_report.json | sed 's/^ */  /'
 echo
-echo "== 4. surfkit convert / subdivide"
+echo "== 4. how far the smooth surface is from the mesh, both ways -> out/sphere_deviation*.png"
+$sk deviation out/sphere_smooth.obj data/sphere.off --png out/sphere_deviation.png \
+  --png-surface out/sphere_deviation_surface.png --report out/sphere_deviation.json
+echo
+echo "== 5. interactive viewer (one self-contained HTML file): out/sphere.html, out/nefertiti.html"
+$sk view data/sphere.off --smooth -o out/sphere.html
+$sk view out/nefertiti_uv.obj -o out/nefertiti.html
+echo
+echo "== 6. surfkit convert / subdivide"
 $sk convert data/nefertiti.off out/nefertiti.ply
 $sk subdivide -q data/sphere.off -o out/sphere-loop2.obj --scheme loop -n 2
 echo

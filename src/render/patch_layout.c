@@ -1,7 +1,7 @@
 /* Pictures of smooth surfaces (cairo, PNG): the triangle/quad configuration after edge deletion and
  * flat-shaded views of triangle soups. Orthographic projection along a fixed view direction,
  * back faces culled, faces painted far to near. */
-#include "surfkit/render.h"
+#include "render/render_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -59,30 +59,11 @@ static int item_cmp(const void *a, const void *b)
     return (x->depth < y->depth) - (x->depth > y->depth); /* far (large depth) first */
 }
 
-static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
-{
-    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
-                                                              : CAIRO_STATUS_WRITE_ERROR;
-}
-
 /* through the atomic writer, as render.h promises (cairo_surface_write_to_png wrote in place) */
 static sk_status finish(cairo_surface_t *surf, cairo_t *cr, const char *path, sk_error *err)
 {
     cairo_destroy(cr);
-    sk__atomic_file af;
-    sk_status st = sk__atomic_open(&af, path, err);
-    if (st) {
-        cairo_surface_destroy(surf);
-        return st;
-    }
-    cairo_status_t cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
-    cairo_surface_destroy(surf);
-    if (cs != CAIRO_STATUS_SUCCESS) {
-        sk__atomic_abort(&af);
-        return sk__fail(err, SK_ERR_IO, "%s: cannot write the PNG (%s)", sk__basename(path),
-                        cairo_status_to_string(cs));
-    }
-    return sk__atomic_commit(&af, err);
+    return sk__write_png(surf, path, err);
 }
 
 sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,

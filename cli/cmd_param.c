@@ -8,6 +8,7 @@
 static const char help[] =
     "usage: surfkit param IN -o OUT [--method tutte|floater|mvc|harmonic|lscm|mips]\n"
     "                     [--boundary circle|square|free] [--spacing chord|uniform]\n"
+    "                     [--solver direct|hierarchical]\n"
     "                     [--hierarchical | --flat] [--steps N] [--seed S]\n"
     "                     [--png LAYOUT.png] [--svg LAYOUT.svg] [--checker VIEW.png]\n"
     "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii] [-q]\n"
@@ -18,7 +19,9 @@ static const char help[] =
     "(shape-preserving, the default), mvc (mean value), harmonic (cotangent weights; obtuse\n"
     "triangles give negative weights that can flip triangles). Free boundary: lscm (least\n"
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
-    "triangle with a convex boundary.\n"
+    "triangle with a convex boundary. --solver: direct (sparse Cholesky / LU, the default) or\n"
+    "hierarchical (multilevel over the progressive mesh, Krylov iterations to a relative residual\n"
+    "of 1e-12; the same system).\n"
     "\n"
     "mips: minimises the MIPS energy (sum of sigma1/sigma2 + sigma2/sigma1) by local steps that\n"
     "never flip a triangle. --hierarchical (default): Hormann, Greiner, Campagna: a progressive\n"
@@ -102,6 +105,11 @@ static void write_json(FILE *fp, const void *ctx)
         json_kuint(&j, "n", ps->solve.n);
         json_kuint(&j, "nnz", ps->solve.nnz);
         json_kuint(&j, "factor_nnz", ps->solve.factor_nnz);
+        if (ps->levels > 1) {
+            json_kuint(&j, "levels", ps->levels);
+            json_kuint(&j, "iterations", ps->iterations);
+            json_knum(&j, "residual", ps->residual);
+        }
         json_obj_close(&j);
     } else if (r->hierarchical) {
         const sk_hparam_stats *hs = &r->hs;
@@ -138,7 +146,7 @@ int cmd_param(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *png = NULL, *svg = NULL, *checker = NULL, *report = NULL;
     const char *val, *boundary = NULL;
-    bool quiet = false, json = false, mips = false, flat = false, hier_flag = false;
+    bool quiet = false, json = false, mips = false, flat = false, hier_flag = false, solver_flag = false;
     unsigned long steps = 0, seed = 1;
     sk_param_opts po = {0};
     sk_write_opts wo = {0};
@@ -182,6 +190,14 @@ int cmd_param(int argc, char **argv)
                 po.boundary.spacing = SK_SPACING_UNIFORM;
             else
                 return cli_usage("param", "--spacing takes chord or uniform");
+        } else if (cli_opt_value(argc, argv, &i, "--solver", &val)) {
+            if (val && !strcmp(val, "direct"))
+                po.solver = SK_LINEAR_DIRECT;
+            else if (val && !strcmp(val, "hierarchical"))
+                po.solver = SK_LINEAR_HIERARCHICAL;
+            else
+                return cli_usage("param", "--solver takes direct or hierarchical");
+            solver_flag = true;
         } else if (cli_opt_value(argc, argv, &i, "--steps", &val)) {
             if (!cli_parse_uint(val, &steps) || steps == 0)
                 return cli_usage("param", "--steps takes a positive whole number");
@@ -205,6 +221,8 @@ int cmd_param(int argc, char **argv)
         return cli_usage("param", "cannot tell the output format of '%s'", out);
     if ((flat || hier_flag || steps) && !mips)
         return cli_usage("param", "--flat, --hierarchical and --steps go with --method mips");
+    if (solver_flag && mips)
+        return cli_usage("param", "--solver goes with the linear methods");
     if (flat && hier_flag)
         return cli_usage("param", "--flat and --hierarchical exclude each other");
     if (!boundary)

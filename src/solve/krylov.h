@@ -1,10 +1,10 @@
-/* Internal: row-compressed matrices, a Galerkin multilevel hierarchy over given prolongations,
- * and Krylov solvers preconditioned by its V-cycle (preconditioned conjugate gradients for
- * symmetric positive definite systems, right-preconditioned BiCGStab for the others).
+/* Internal: row-compressed matrices, a multilevel hierarchy over given prolongations, and
+ * Krylov solvers preconditioned by its V-cycle (preconditioned conjugate gradients for symmetric
+ * positive definite systems, right-preconditioned BiCGStab for the others).
  *
- * The multilevel operator of level k is A_k = P_k^T A_{k+1} P_k (Galerkin), P_k the
- * prolongation from level k to k + 1 (n_{k+1} x n_k); level 0, the coarsest, is factored
- * directly (CHOLMOD or UMFPACK). The V-cycle smooths with Gauss-Seidel, forward before the
+ * The multilevel operator of level k is A_k = P_k^T A_{k+1} P_k (Galerkin) or one the caller
+ * gives (a rediscretization), P_k the prolongation from level k to k + 1 (n_{k+1} x n_k);
+ * level 0, the coarsest, is factored directly (CHOLMOD or UMFPACK). The V-cycle smooths with Gauss-Seidel, forward before the
  * coarse correction and backward after it, so that for a symmetric A it is a symmetric positive
  * definite preconditioner and CG applies. */
 #ifndef SK_SOLVE_KRYLOV_H

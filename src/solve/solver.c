@@ -85,14 +85,15 @@ sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **
     return sk_solver_create_opts(a, kind, NULL, out, err);
 }
 
-/* SK_ORDERING_DEFAULT: METIS for both solvers. On the systems of a 1M-triangle disk
- * (bench/solve.sh) it has 34% (Cholesky) and 36% (LU) fewer factor entries than AMD, which the
- * libraries' own defaults pick there, about 15% less peak memory (Floater / mean value under
- * 1 GB), and the same CPU time: the longer analysis pays for itself in the factorization. */
+/* SK_ORDERING_DEFAULT, from bench/solve.sh on the systems of a 1M-triangle disk (docs/linear.md):
+ *   Cholesky: CHOLMOD's own choice (AMD there; METIS when AMD fills badly). METIS has 34% fewer
+ *     factor entries, but its analysis costs about 2.3 s more CPU than the factorization saves
+ *     for the single factorization of a linear method.
+ *   LU: METIS. 36% fewer factor entries than UMFPACK's default AMD and 15% less peak memory
+ *     (Floater / mean value at 1M triangles under 1 GB), CPU time the same within the noise. */
 static sk_ordering default_ordering(sk_solver_kind kind)
 {
-    (void)kind;
-    return SK_ORDERING_METIS;
+    return kind == SK_SOLVER_CHOLESKY ? SK_ORDERING_AUTO : SK_ORDERING_METIS;
 }
 
 static void cholmod_ordering(cholmod_common *cc, sk_ordering o)

@@ -97,6 +97,8 @@ typedef enum {
 
 typedef struct sk_solver_opts {
     sk_ordering ordering;
+    bool simplicial; /* Cholesky: simplicial (no BLAS) instead of supernodal; for small factors
+                        solved many times from several threads (the multilevel coarsest level) */
 } sk_solver_opts;
 
 /* Analyses the pattern of a (fill-reducing ordering, symbolic factorization). */

@@ -159,6 +159,8 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         s->cc.print = 0;
         s->cc.error_handler = NULL;
         cholmod_ordering(&s->cc, ord);
+        if (opts && opts->simplicial)
+            s->cc.supernodal = CHOLMOD_SIMPLICIAL;
         cholmod_sparse A = cholmod_view(a);
         s->L = cholmod_analyze(&A, &s->cc);
         if (!s->L || s->cc.status < 0) {

@@ -8,6 +8,7 @@
 static const char help[] =
     "usage: surfkit param IN -o OUT [--method tutte|floater|mvc|harmonic|lscm|mips]\n"
     "                     [--boundary circle|square|free] [--spacing chord|uniform]\n"
+    "                     [--solver direct|hierarchical]\n"
     "                     [--hierarchical | --flat] [--steps N] [--seed S]\n"
     "                     [--png LAYOUT.png] [--svg LAYOUT.svg] [--checker VIEW.png]\n"
     "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii]\n"
@@ -19,7 +20,9 @@ static const char help[] =
     "(shape-preserving, the default), mvc (mean value), harmonic (cotangent weights; obtuse\n"
     "triangles give negative weights that can flip triangles). Free boundary: lscm (least\n"
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
-    "triangle with a convex boundary.\n"
+    "triangle with a convex boundary. --solver direct (default: sparse Cholesky / LU) or\n"
+    "hierarchical (multilevel CG / BiCGStab over the progressive mesh, the coarsest level solved\n"
+    "directly; the same uv to 1e-8 of the layout, not faster today: docs/linear.md).\n"
     "\n"
     "mips: minimises the MIPS energy (sum of sigma1/sigma2 + sigma2/sigma1) by local steps that\n"
     "never flip a triangle. --hierarchical (default): Hormann, Greiner, Campagna: a progressive\n"
@@ -146,8 +149,9 @@ static void write_json(FILE *fp, const void *ctx)
 /* argv -> options; returns EXIT_OK to run, or the exit code (help printed, usage error). */
 typedef struct param_args {
     const char *in, *out, *png, *svg, *checker, *report;
-    bool quiet, json, hier_flag;
+    bool quiet, json, hier_flag, solver_flag;
     sk_parametrize_opts po;
+    sk_param_opts linear; /* --solver: the linear methods' fine tuning (po.linear) */
     sk_write_opts wo;
     sk_render_opts ro;
 } param_args;
@@ -188,6 +192,15 @@ static int parse_args(int argc, char **argv, param_args *a)
             if (!sk_boundary_shape_parse(val, &a->po.boundary.shape) ||
                 a->po.boundary.shape == SK_BOUNDARY_GIVEN)
                 return cli_usage("param", "--boundary takes circle, square or free");
+        } else if (cli_opt_value(argc, argv, &i, "--solver", &val)) {
+            if (val && !strcmp(val, "direct"))
+                a->linear.solver = SK_LINEAR_DIRECT;
+            else if (val && !strcmp(val, "hierarchical"))
+                a->linear.solver = SK_LINEAR_HIERARCHICAL;
+            else
+                return cli_usage("param", "--solver takes direct or hierarchical");
+            a->solver_flag = true;
+            a->po.linear = &a->linear;
         } else if (cli_opt_value(argc, argv, &i, "--spacing", &val)) {
             if (val && !strcmp(val, "chord"))
                 a->po.boundary.spacing = SK_SPACING_CHORD;
@@ -226,6 +239,8 @@ static int parse_args(int argc, char **argv, param_args *a)
         return cli_usage("param", "--flat and --hierarchical exclude each other");
     if (a->hier_flag && a->po.method != SK_PARAM_MIPS)
         return cli_usage("param", "--hierarchical goes with --method mips");
+    if (a->solver_flag && a->po.method == SK_PARAM_MIPS)
+        return cli_usage("param", "--solver goes with the linear methods");
     sk_error err;
     if (sk_parametrize_check(&a->po, &err))
         return cli_usage("param", "%s", err.message);

@@ -76,10 +76,10 @@ typedef struct sk_allocator {
     void *user;
 } sk_allocator;
 /* NULL (or an incomplete one) restores the C library's. */
-void sk_set_allocator(const sk_allocator *alloc);
+SK_API void sk_set_allocator(const sk_allocator *alloc);
 
 /* True when path ends with ext (".step"), ignoring ASCII case: the one extension matcher. */
-bool sk_path_has_ext(const char *path, const char *ext);
+SK_API bool sk_path_has_ext(const char *path, const char *ext);
 
 /* Output files. Every file the library writes goes through one writer: symlinks are followed and
  * the file is written beside their target; an existing file keeps its mode, a new one gets 0666
@@ -87,17 +87,17 @@ bool sk_path_has_ext(const char *path, const char *ext);
  * at all (an anonymous temporary, named and renamed into place when complete).
  *
  * sk_write_file writes path through fn (which returns SK_OK or an error status) that way. */
-sk_status sk_write_file(const char *path, sk_status (*fn)(FILE *fp, void *user), void *user,
-                        sk_error *err);
+SK_API sk_status sk_write_file(const char *path, sk_status (*fn)(FILE *fp, void *user), void *user,
+                               sk_error *err);
 /* One command, several outputs, all or none: after sk_outputs_begin, finished outputs wait as
  * named temporaries; sk_outputs_commit renames them all into place, sk_outputs_abort removes them
  * all. Not thread-safe: one batch per process, begun and ended by the application. */
-void sk_outputs_begin(void);
-sk_status sk_outputs_commit(sk_error *err);
-void sk_outputs_abort(void);
+SK_API void sk_outputs_begin(void);
+SK_API sk_status sk_outputs_commit(sk_error *err);
+SK_API void sk_outputs_abort(void);
 /* Removes every named temporary still pending (async-signal-safe: for a SIGINT/SIGTERM handler,
  * which should then re-raise the signal). */
-void sk_outputs_remove_pending(void);
+SK_API void sk_outputs_remove_pending(void);
 
 #ifdef __cplusplus
 }

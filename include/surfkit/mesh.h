@@ -290,7 +290,7 @@ SK_API double sk_mesh_diagonal(const sk_mesh *mesh);
 #define SK_COORD_MAX 1e50
 #define SK_COORD_MIN_SIZE 1e-50
 /* SK_ERR_TOPOLOGY (bad input) naming the range when the alive vertices leave it. */
-sk_status sk_mesh_check_scale(const sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_mesh_check_scale(const sk_mesh *mesh, sk_error *err);
 
 #ifdef __cplusplus
 }

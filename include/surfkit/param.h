@@ -87,17 +87,28 @@ typedef struct sk_boundary_opts {
 
 typedef enum {
     SK_LINEAR_DIRECT = 0,  /* sparse Cholesky / LU (default) */
-    SK_LINEAR_GAUSS_SEIDEL /* iterative, starting from the interior uv given (a warm start, e.g.
+    SK_LINEAR_GAUSS_SEIDEL, /* iterative, starting from the interior uv given (a warm start, e.g.
                               a coarser level's solution); stops at `tolerance` or the budget */
+    SK_LINEAR_HIERARCHICAL  /* multilevel over the progressive mesh: the coarsest level solved
+                               directly, prolonged through the barycentric coordinates, Krylov
+                               iterations (CG for Tutte / harmonic / LSCM, BiCGStab for Floater /
+                               mean value) preconditioned by a V-cycle on each finer level until
+                               the relative residual reaches `tolerance`; the same system as
+                               direct (see coarse_vertices for small meshes). */
 } sk_linear_solver;
 
 /* Options of the linear methods; zero-initialized means every default. */
 typedef struct sk_param_opts {
     sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
     sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
-    sk_linear_solver solver;   /* LSCM is always direct */
-    double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10 */
-    size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000 */
+    sk_linear_solver solver;   /* LSCM: direct or hierarchical (Gauss-Seidel means direct) */
+    double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10.
+                                  Hierarchical: relative residual ||b - Ax|| / ||b||; 0 = 1e-12 */
+    size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000. Hierarchical: finest-level
+                                  Krylov iterations; 0 = 500 */
+    size_t coarse_vertices;    /* hierarchical: the coarsest level solved directly has at most
+                                  this many vertices, and meshes with fewer than twice as many are
+                                  solved directly; 0 = 20000 */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
     sk_progress_fn progress;   /* may be NULL; non-zero return cancels (SK_ERR_CANCELLED) */
@@ -107,8 +118,13 @@ typedef struct sk_param_opts {
 /* What a linear method did (plain values; times in seconds). */
 typedef struct sk_param_stats {
     size_t vertices, interior, boundary, faces;
-    sk_solve_stats solve;   /* direct solver details (n, nnz, factor nnz, phase seconds) */
-    size_t iterations;      /* Gauss-Seidel sweeps (0 for direct) */
+    sk_solve_stats solve;   /* direct solver details (n, nnz, factor nnz, phase seconds);
+                               hierarchical: analyse = hierarchy build, factor = prolongations,
+                               Galerkin operators and the coarsest factor (factor_nnz), solve =
+                               the Krylov iterations */
+    size_t iterations;      /* Gauss-Seidel sweeps, finest-level Krylov iterations (0 for direct) */
+    size_t levels;          /* hierarchical: levels used (1 = solved directly) */
+    double residual;        /* hierarchical: final relative residual (largest over u and v) */
     double check_seconds;   /* input check */
     double boundary_seconds;
     double weights_seconds; /* weights + matrix assembly */

@@ -84,9 +84,29 @@ typedef struct sk_solve_stats {
 
 typedef struct sk_solver sk_solver;
 
+/* Fill-reducing orderings (bench/solve.sh measures them on the parametrization systems). */
+typedef enum {
+    SK_ORDERING_DEFAULT = 0, /* surfkit's pick for mesh systems (see solver.c) */
+    SK_ORDERING_AUTO,        /* the library's own default: CHOLMOD tries AMD, then METIS when
+                                the fill is high; UMFPACK uses AMD */
+    SK_ORDERING_AMD,         /* approximate minimum degree */
+    SK_ORDERING_METIS,       /* METIS nested dissection */
+    SK_ORDERING_NESDIS,      /* CHOLMOD's nested dissection (Cholesky only; LU: UMFPACK_ORDERING_CHOLMOD) */
+    SK_ORDERING_BEST         /* try several and keep the sparsest factor */
+} sk_ordering;
+
+typedef struct sk_solver_opts {
+    sk_ordering ordering;
+    bool simplicial; /* Cholesky: simplicial (no BLAS) instead of supernodal; for small factors
+                        solved many times from several threads (the multilevel coarsest level) */
+} sk_solver_opts;
+
 /* Analyses the pattern of a (fill-reducing ordering, symbolic factorization). */
 SK_API sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **out,
                                   sk_error *err);
+/* The same with options (NULL = defaults). */
+SK_API sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
+                                       const sk_solver_opts *opts, sk_solver **out, sk_error *err);
 /* Numeric factorization of a; may be called again with new values on the same pattern.
  * Fails with SK_ERR_NUMERIC when the matrix is not positive definite (Cholesky) or singular. */
 SK_API sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err);

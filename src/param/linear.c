@@ -165,14 +165,18 @@ sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetr
         stats->weights_seconds += t1 - t0;
     if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
         goto done;
-    sk_solver_kind kind = symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU;
-    st = sk_solver_create(a, kind, &solver, err);
-    if (st == SK_OK)
-        st = sk_solver_factorize(solver, a, err);
-    if (st == SK_OK)
-        st = sk_solver_solve(solver, 2, rhs, x, err);
-    if (solver && stats)
-        sk_solver_stats(solver, &stats->solve);
+    if (o.solver == SK_LINEAR_HIERARCHICAL) {
+        st = sk__param_solve_hierarchical(m, o.method, a, symmetric, idx, 1, 2, rhs, x, &o, stats, err);
+    } else {
+        sk_solver_kind kind = symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU;
+        st = sk_solver_create(a, kind, &solver, err);
+        if (st == SK_OK)
+            st = sk_solver_factorize(solver, a, err);
+        if (st == SK_OK)
+            st = sk_solver_solve(solver, 2, rhs, x, err);
+        if (solver && stats)
+            sk_solver_stats(solver, &stats->solve);
+    }
     if (stats)
         stats->solve_seconds = sk_seconds() - t1;
     if (st)

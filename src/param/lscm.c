@@ -166,13 +166,17 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
     s.weights_seconds = t3 - t2;
     if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
         goto done;
-    st = sk_solver_create(a, SK_SOLVER_CHOLESKY, &solver, err);
-    if (st == SK_OK)
-        st = sk_solver_factorize(solver, a, err);
-    if (st == SK_OK)
-        st = sk_solver_solve(solver, 1, rhs, x, err);
-    if (solver)
-        sk_solver_stats(solver, &s.solve);
+    if (o.solver == SK_LINEAR_HIERARCHICAL) {
+        st = sk__param_solve_hierarchical(m, SK_PARAM_LSCM, a, true, idx, 2, 1, rhs, x, &o, &s, err);
+    } else {
+        st = sk_solver_create(a, SK_SOLVER_CHOLESKY, &solver, err);
+        if (st == SK_OK)
+            st = sk_solver_factorize(solver, a, err);
+        if (st == SK_OK)
+            st = sk_solver_solve(solver, 1, rhs, x, err);
+        if (solver)
+            sk_solver_stats(solver, &s.solve);
+    }
     s.solve_seconds = sk_seconds() - t3;
     if (st)
         goto done;

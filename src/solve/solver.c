@@ -82,6 +82,62 @@ void sk_solver_destroy(sk_solver **sp)
 sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **out,
                            sk_error *err)
 {
+    return sk_solver_create_opts(a, kind, NULL, out, err);
+}
+
+/* SK_ORDERING_DEFAULT, from bench/solve.sh on the systems of a 1M-triangle disk (docs/linear.md):
+ *   Cholesky: CHOLMOD's own choice (AMD there; METIS when AMD fills badly). METIS has 34% fewer
+ *     factor entries, but its analysis costs about 2.3 s more CPU than the factorization saves
+ *     for the single factorization of a linear method.
+ *   LU: METIS. 36% fewer factor entries than UMFPACK's default AMD and 15% less peak memory
+ *     (Floater / mean value at 1M triangles under 1 GB), CPU time the same within the noise. */
+static sk_ordering default_ordering(sk_solver_kind kind)
+{
+    return kind == SK_SOLVER_CHOLESKY ? SK_ORDERING_AUTO : SK_ORDERING_METIS;
+}
+
+static void cholmod_ordering(cholmod_common *cc, sk_ordering o)
+{
+    switch (o) {
+    case SK_ORDERING_DEFAULT:
+    case SK_ORDERING_AUTO: break; /* nmethods = 0: AMD, METIS if AMD fills badly */
+    case SK_ORDERING_AMD:
+        cc->nmethods = 1;
+        cc->method[0].ordering = CHOLMOD_AMD;
+        break;
+    case SK_ORDERING_METIS:
+        cc->nmethods = 1;
+        cc->method[0].ordering = CHOLMOD_METIS;
+        break;
+    case SK_ORDERING_NESDIS:
+        cc->nmethods = 1;
+        cc->method[0].ordering = CHOLMOD_NESDIS;
+        break;
+    case SK_ORDERING_BEST:
+        cc->nmethods = 9; /* every ordering CHOLMOD has, the best kept */
+        break;
+    }
+}
+
+static double umfpack_ordering(sk_ordering o)
+{
+    switch (o) {
+    case SK_ORDERING_METIS: return UMFPACK_ORDERING_METIS;
+    case SK_ORDERING_NESDIS: return UMFPACK_ORDERING_CHOLMOD;
+    case SK_ORDERING_BEST: return UMFPACK_ORDERING_BEST;
+    case SK_ORDERING_AMD:
+    case SK_ORDERING_AUTO:
+    case SK_ORDERING_DEFAULT: break;
+    }
+    return UMFPACK_ORDERING_AMD;
+}
+
+sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
+                                const sk_solver_opts *opts, sk_solver **out, sk_error *err)
+{
+    sk_ordering ord = opts ? opts->ordering : SK_ORDERING_DEFAULT;
+    if (ord == SK_ORDERING_DEFAULT)
+        ord = default_ordering(kind);
     *out = NULL;
     if (kind == SK_SOLVER_CHOLESKY && a->storage != SK_SPARSE_LOWER)
         return sk__fail(err, SK_ERR_ARG, "the Cholesky solver needs a lower-stored matrix");
@@ -102,6 +158,9 @@ sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **
         s->cc_started = true;
         s->cc.print = 0;
         s->cc.error_handler = NULL;
+        cholmod_ordering(&s->cc, ord);
+        if (opts && opts->simplicial)
+            s->cc.supernodal = CHOLMOD_SIMPLICIAL;
         cholmod_sparse A = cholmod_view(a);
         s->L = cholmod_analyze(&A, &s->cc);
         if (!s->L || s->cc.status < 0) {
@@ -125,6 +184,7 @@ sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **
         memcpy(s->ax, a->values, nnz * sizeof(double));
         umfpack_di_defaults(s->control);
         s->control[UMFPACK_PRL] = 0;
+        s->control[UMFPACK_ORDERING] = umfpack_ordering(ord);
         double info[UMFPACK_INFO];
         int r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
                                     s->control, info);

@@ -1,0 +1,721 @@
+/* Multilevel-preconditioned Krylov solvers (see krylov.h): Galerkin coarse operators over given
+ * prolongations, a Gauss-Seidel V-cycle with a direct solve on the coarsest level, conjugate
+ * gradients (Hestenes & Stiefel) for symmetric positive definite systems and BiCGStab (van der
+ * Vorst 1992) with right preconditioning for the others, and nested iteration from the coarsest
+ * level up (the "cascadic" start: every level begins from the prolonged solution below it). */
+#include "solve/krylov.h"
+#include "core/internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Gauss-Seidel sweeps before and after the coarse correction. */
+#define SK_MG_SWEEPS 1
+
+void sk__csr_free(sk__csr *a)
+{
+    if (!a)
+        return;
+    free(a->ptr);
+    free(a->col);
+    free(a->val);
+    memset(a, 0, sizeof *a);
+}
+
+static sk_status csr_alloc(sk__csr *a, size_t rows, size_t cols, size_t nnz, sk_error *err)
+{
+    memset(a, 0, sizeof *a);
+    a->rows = rows;
+    a->cols = cols;
+    a->ptr = sk__calloc_array(rows + 1, sizeof *a->ptr);
+    a->col = sk__malloc_array(nnz ? nnz : 1, sizeof *a->col);
+    a->val = sk__malloc_array(nnz ? nnz : 1, sizeof *a->val);
+    if (!a->ptr || !a->col || !a->val) {
+        sk__csr_free(a);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix with %zu entries",
+                        rows, cols, nnz);
+    }
+    return SK_OK;
+}
+
+sk_status sk__csr_from_sparse(const sk_sparse *a, sk__csr *out, sk_error *err)
+{
+    size_t n = a->n;
+    bool lower = a->storage == SK_SPARSE_LOWER;
+    size_t nnz = 0;
+    for (size_t c = 0; c < n; ++c)
+        for (int k = a->colptr[c]; k < a->colptr[c + 1]; ++k)
+            nnz += (lower && (size_t)a->rowind[k] != c) ? 2 : 1;
+    sk_status st = csr_alloc(out, n, n, nnz, err);
+    if (st)
+        return st;
+    size_t *next = out->ptr + 1; /* counts, then insertion positions shifted by one */
+    for (size_t c = 0; c < n; ++c)
+        for (int k = a->colptr[c]; k < a->colptr[c + 1]; ++k) {
+            size_t r = (size_t)a->rowind[k];
+            next[r]++;
+            if (lower && r != c)
+                next[c]++;
+        }
+    for (size_t i = 0; i < n; ++i)
+        out->ptr[i + 1] += out->ptr[i];
+    size_t *pos = sk__malloc_array(n ? n : 1, sizeof *pos);
+    if (!pos) {
+        sk__csr_free(out);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(pos, out->ptr, n * sizeof *pos);
+    /* columns in increasing order: every row receives its columns sorted (for a lower-stored
+     * matrix row c gets its mirrored entries, all right of the diagonal, while column c is
+     * visited, after everything left of it and before anything later) */
+    for (size_t c = 0; c < n; ++c)
+        for (int k = a->colptr[c]; k < a->colptr[c + 1]; ++k) {
+            size_t r = (size_t)a->rowind[k];
+            double v = a->values[k];
+            out->col[pos[r]] = (uint32_t)c;
+            out->val[pos[r]++] = v;
+            if (lower && r != c) {
+                out->col[pos[c]] = (uint32_t)r;
+                out->val[pos[c]++] = v;
+            }
+        }
+    free(pos);
+    return SK_OK;
+}
+
+sk_status sk__csr_transpose(const sk__csr *a, sk__csr *out, sk_error *err)
+{
+    size_t nnz = a->ptr[a->rows];
+    sk_status st = csr_alloc(out, a->cols, a->rows, nnz, err);
+    if (st)
+        return st;
+    for (size_t k = 0; k < nnz; ++k)
+        out->ptr[a->col[k] + 1]++;
+    for (size_t j = 0; j < a->cols; ++j)
+        out->ptr[j + 1] += out->ptr[j];
+    size_t *pos = sk__malloc_array(a->cols ? a->cols : 1, sizeof *pos);
+    if (!pos) {
+        sk__csr_free(out);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(pos, out->ptr, a->cols * sizeof *pos);
+    for (size_t i = 0; i < a->rows; ++i)
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            size_t p = pos[a->col[k]]++;
+            out->col[p] = (uint32_t)i;
+            out->val[p] = a->val[k];
+        }
+    free(pos);
+    return SK_OK;
+}
+
+/* Row-by-row product (Gustavson) with a dense accumulator over the columns of b. */
+sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_error *err)
+{
+    size_t nr = a->rows, nc = b->cols;
+    memset(out, 0, sizeof *out);
+    if (a->cols != b->rows)
+        return sk__fail(err, SK_ERR_ARG, "matrix product of %zu x %zu and %zu x %zu", a->rows,
+                        a->cols, b->rows, b->cols);
+    sk_status st = SK_OK;
+    double *acc = sk__calloc_array(nc ? nc : 1, sizeof *acc);
+    size_t *mark = sk__malloc_array(nc ? nc : 1, sizeof *mark);
+    uint32_t *list = sk__malloc_array(nc ? nc : 1, sizeof *list);
+    size_t cap = 8 * (nr + 1);
+    out->rows = nr;
+    out->cols = nc;
+    out->ptr = sk__calloc_array(nr + 1, sizeof *out->ptr);
+    out->col = sk__malloc_array(cap, sizeof *out->col);
+    out->val = sk__malloc_array(cap, sizeof *out->val);
+    if (!acc || !mark || !list || !out->ptr || !out->col || !out->val) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix product", nr, nc);
+        goto done;
+    }
+    for (size_t q = 0; q < nc; ++q)
+        mark[q] = SIZE_MAX;
+    size_t nnz = 0;
+    for (size_t row = 0; row < nr; ++row) {
+        size_t len = 0;
+        for (size_t ka = a->ptr[row]; ka < a->ptr[row + 1]; ++ka) {
+            size_t i = a->col[ka];
+            double av = a->val[ka];
+            for (size_t kb = b->ptr[i]; kb < b->ptr[i + 1]; ++kb) {
+                uint32_t q = b->col[kb];
+                if (mark[q] != row) {
+                    mark[q] = row;
+                    acc[q] = 0;
+                    list[len++] = q;
+                }
+                acc[q] += av * b->val[kb];
+            }
+        }
+        /* sort the columns of the row (short lists: insertion sort) */
+        for (size_t s = 1; s < len; ++s) {
+            uint32_t key = list[s];
+            size_t t = s;
+            for (; t > 0 && list[t - 1] > key; --t)
+                list[t] = list[t - 1];
+            list[t] = key;
+        }
+        if (nnz + len > cap) {
+            size_t ncap = 2 * cap + len;
+            uint32_t *c2 = sk__realloc_array(out->col, ncap, sizeof *c2);
+            if (c2)
+                out->col = c2;
+            double *v2 = sk__realloc_array(out->val, ncap, sizeof *v2);
+            if (v2)
+                out->val = v2;
+            if (!c2 || !v2) {
+                st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix product",
+                              nr, nc);
+                goto done;
+            }
+            cap = ncap;
+        }
+        for (size_t s = 0; s < len; ++s) {
+            out->col[nnz] = list[s];
+            out->val[nnz++] = acc[list[s]];
+        }
+        out->ptr[row + 1] = nnz;
+    }
+done:
+    free(acc);
+    free(mark);
+    free(list);
+    if (st)
+        sk__csr_free(out);
+    return st;
+}
+
+sk_status sk__csr_galerkin(const sk__csr *r, const sk__csr *a, const sk__csr *p, sk__csr *out,
+                           sk_error *err)
+{
+    sk__csr ap = {0};
+    sk_status st = sk__csr_product(a, p, &ap, err);
+    if (st == SK_OK)
+        st = sk__csr_product(r, &ap, out, err);
+    sk__csr_free(&ap);
+    return st;
+}
+
+void sk__csr_multiply(const sk__csr *a, const double *x, double *y)
+{
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 4096) if (a->rows > 100000)
+#endif
+    for (long i = 0; i < (long)a->rows; ++i) {
+        double s = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s += a->val[k] * x[a->col[k]];
+        y[i] = s;
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Hierarchy
+ * ------------------------------------------------------------------------------------------- */
+
+struct sk__multilevel {
+    size_t L;
+    bool symmetric;
+    sk__csr *A;    /* L operators, A[L-1] the finest */
+    sk__csr *P;    /* L-1 prolongations */
+    sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T */
+    double **dinv; /* 1 / diagonal per level (0 for a zero diagonal: that unknown is not smoothed) */
+    sk_sparse *coarse;
+    sk_solver *solver;
+    sk__multilevel_stats stats;
+};
+
+void sk__multilevel_destroy(sk__multilevel **mgp)
+{
+    if (!mgp || !*mgp)
+        return;
+    sk__multilevel *mg = *mgp;
+    for (size_t k = 0; k < mg->L; ++k) {
+        if (mg->A)
+            sk__csr_free(&mg->A[k]);
+        if (mg->dinv)
+            free(mg->dinv[k]);
+        if (k + 1 < mg->L) {
+            if (mg->P)
+                sk__csr_free(&mg->P[k]);
+            if (mg->R)
+                sk__csr_free(&mg->R[k]);
+        }
+    }
+    free(mg->A);
+    free(mg->P);
+    free(mg->R);
+    free(mg->dinv);
+    sk_solver_destroy(&mg->solver);
+    sk_sparse_destroy(&mg->coarse);
+    free(mg);
+    *mgp = NULL;
+}
+
+void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s)
+{
+    *s = mg->stats;
+}
+
+/* The coarsest operator as an sk_sparse for the direct solvers: the lower triangle in columns
+ * (symmetric: row j of the CSR holds column j) or the full matrix in columns (the transpose). */
+static sk_status coarse_sparse(const sk__csr *a, bool symmetric, sk_sparse **out, sk_error *err)
+{
+    *out = NULL;
+    sk__csr t = {0};
+    const sk__csr *src = a;
+    sk_status st = SK_OK;
+    if (!symmetric) {
+        if ((st = sk__csr_transpose(a, &t, err)))
+            return st;
+        src = &t;
+    }
+    size_t n = a->rows, nnz = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (size_t k = src->ptr[i]; k < src->ptr[i + 1]; ++k)
+            if (!symmetric || src->col[k] >= i)
+                nnz++;
+    sk_sparse *s = calloc(1, sizeof *s);
+    if (s) {
+        s->colptr = sk__malloc_array(n + 1, sizeof(int));
+        s->rowind = sk__malloc_array(nnz ? nnz : 1, sizeof(int));
+        s->values = sk__malloc_array(nnz ? nnz : 1, sizeof(double));
+    }
+    if (!s || !s->colptr || !s->rowind || !s->values) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    s->n = n;
+    s->nnz = nnz;
+    s->storage = symmetric ? SK_SPARSE_LOWER : SK_SPARSE_FULL;
+    size_t q = 0;
+    for (size_t i = 0; i < n; ++i) {
+        s->colptr[i] = (int)q;
+        for (size_t k = src->ptr[i]; k < src->ptr[i + 1]; ++k)
+            if (!symmetric || src->col[k] >= i) {
+                s->rowind[q] = (int)src->col[k];
+                s->values[q++] = src->val[k];
+            }
+    }
+    s->colptr[n] = (int)q;
+done:
+    sk__csr_free(&t);
+    if (st)
+        sk_sparse_destroy(&s);
+    *out = s;
+    return st;
+}
+
+sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, size_t L,
+                                bool symmetric, sk__multilevel **out, sk_error *err)
+{
+    *out = NULL;
+    double t0 = sk_seconds();
+    sk_status st = SK_OK;
+    sk__multilevel *mg = calloc(1, sizeof *mg);
+    if (mg) {
+        mg->L = L;
+        mg->symmetric = symmetric;
+        mg->A = calloc(L, sizeof *mg->A);
+        mg->P = calloc(L, sizeof *mg->P);
+        mg->R = calloc(L, sizeof *mg->R);
+        mg->dinv = calloc(L, sizeof *mg->dinv);
+    }
+    if (!mg || !mg->A || !mg->P || !mg->R || !mg->dinv) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        if (mg) /* keep the ownership promise */
+            mg->L = 0;
+        sk__csr_free(fine);
+        for (size_t k = 0; k + 1 < L; ++k) {
+            sk__csr_free(&p[k]);
+            if (coarse_ops)
+                sk__csr_free(&coarse_ops[k]);
+        }
+        goto done;
+    }
+    mg->A[L - 1] = *fine;
+    memset(fine, 0, sizeof *fine);
+    for (size_t k = 0; k + 1 < L; ++k) {
+        mg->P[k] = p[k];
+        memset(&p[k], 0, sizeof p[k]);
+        if (coarse_ops) {
+            mg->A[k] = coarse_ops[k];
+            memset(&coarse_ops[k], 0, sizeof coarse_ops[k]);
+        }
+    }
+    for (size_t k = L - 1; k-- > 0;) {
+        if (mg->P[k].rows != mg->A[k + 1].rows) {
+            st = sk__fail(err, SK_ERR_ARG, "prolongation %zu has %zu rows for %zu unknowns", k,
+                          mg->P[k].rows, mg->A[k + 1].rows);
+            goto done;
+        }
+        if ((st = sk__csr_transpose(&mg->P[k], &mg->R[k], err)))
+            goto done;
+        if (coarse_ops) {
+            if (mg->A[k].rows != mg->P[k].cols) {
+                st = sk__fail(err, SK_ERR_ARG, "operator %zu has %zu rows for %zu unknowns", k,
+                              mg->A[k].rows, mg->P[k].cols);
+                goto done;
+            }
+        } else if ((st = sk__csr_galerkin(&mg->R[k], &mg->A[k + 1], &mg->P[k], &mg->A[k], err))) {
+            goto done;
+        }
+    }
+    for (size_t k = 0; k < L; ++k) {
+        const sk__csr *a = &mg->A[k];
+        mg->dinv[k] = sk__calloc_array(a->rows ? a->rows : 1, sizeof(double));
+        if (!mg->dinv[k]) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        for (size_t i = 0; i < a->rows; ++i)
+            for (size_t q = a->ptr[i]; q < a->ptr[i + 1]; ++q)
+                if (a->col[q] == i && a->val[q] != 0)
+                    mg->dinv[k][i] = 1.0 / a->val[q];
+        mg->stats.operator_nnz += a->ptr[a->rows];
+    }
+    mg->stats.levels = L;
+    mg->stats.unknowns[0] = mg->A[0].rows;
+    mg->stats.unknowns[1] = mg->A[L - 1].rows;
+    mg->stats.finest_nnz = mg->A[L - 1].ptr[mg->A[L - 1].rows];
+    /* simplicial: the coarsest factor is small and solved once per V-cycle from the threads of
+     * the right-hand sides, where BLAS threads of a supernodal solve only compete with them */
+    sk_solver_opts so = {SK_ORDERING_DEFAULT, true};
+    if ((st = coarse_sparse(&mg->A[0], symmetric, &mg->coarse, err)) ||
+        (st = sk_solver_create_opts(mg->coarse, symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU,
+                                    &so, &mg->solver, err)) ||
+        (st = sk_solver_factorize(mg->solver, mg->coarse, err)))
+        goto done;
+    sk_solve_stats ss;
+    sk_solver_stats(mg->solver, &ss);
+    mg->stats.coarse_factor_nnz = ss.factor_nnz;
+done:
+    if (mg)
+        mg->stats.setup_seconds = sk_seconds() - t0;
+    if (st)
+        sk__multilevel_destroy(&mg);
+    *out = mg;
+    return st;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * V-cycle and Krylov iterations
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct workspace {
+    double **b, **x, **r, **z, **t; /* per level */
+    double *kv[8];                  /* Krylov vectors, finest size */
+    int fail;
+} workspace;
+
+static void ws_free(workspace *w, size_t L)
+{
+    for (size_t k = 0; k < L; ++k) {
+        if (w->b)
+            free(w->b[k]);
+        if (w->x)
+            free(w->x[k]);
+        if (w->r)
+            free(w->r[k]);
+        if (w->z)
+            free(w->z[k]);
+        if (w->t)
+            free(w->t[k]);
+    }
+    free(w->b);
+    free(w->x);
+    free(w->r);
+    free(w->z);
+    free(w->t);
+    for (int i = 0; i < 8; ++i)
+        free(w->kv[i]);
+    memset(w, 0, sizeof *w);
+}
+
+static bool ws_alloc(workspace *w, const sk__multilevel *mg)
+{
+    memset(w, 0, sizeof *w);
+    size_t L = mg->L;
+    w->b = calloc(L, sizeof *w->b);
+    w->x = calloc(L, sizeof *w->x);
+    w->r = calloc(L, sizeof *w->r);
+    w->z = calloc(L, sizeof *w->z);
+    w->t = calloc(L, sizeof *w->t);
+    if (!w->b || !w->x || !w->r || !w->z || !w->t)
+        return false;
+    for (size_t k = 0; k < L; ++k) {
+        size_t n = mg->A[k].rows ? mg->A[k].rows : 1;
+        w->b[k] = sk__malloc_array(n, sizeof(double));
+        w->x[k] = sk__malloc_array(n, sizeof(double));
+        w->r[k] = sk__malloc_array(n, sizeof(double));
+        w->z[k] = sk__malloc_array(n, sizeof(double));
+        w->t[k] = sk__malloc_array(n, sizeof(double));
+        if (!w->b[k] || !w->x[k] || !w->r[k] || !w->z[k] || !w->t[k])
+            return false;
+    }
+    size_t nf = mg->A[L - 1].rows ? mg->A[L - 1].rows : 1;
+    for (int i = 0; i < 8; ++i)
+        if (!(w->kv[i] = sk__malloc_array(nf, sizeof(double))))
+            return false;
+    return true;
+}
+
+static double dot(size_t n, const double *a, const double *b)
+{
+    double s = 0;
+    for (size_t i = 0; i < n; ++i)
+        s += a[i] * b[i];
+    return s;
+}
+
+static void gs_forward(const sk__csr *a, const double *dinv, const double *b, double *x)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = b[i];
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s -= a->val[k] * x[a->col[k]];
+        x[i] += s * dinv[i];
+    }
+}
+
+static void gs_backward(const sk__csr *a, const double *dinv, const double *b, double *x)
+{
+    for (size_t i = a->rows; i-- > 0;) {
+        double s = b[i];
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s -= a->val[k] * x[a->col[k]];
+        x[i] += s * dinv[i];
+    }
+}
+
+/* y += P x (rows of P) */
+static void prolong_add(const sk__csr *p, const double *x, double *y)
+{
+    for (size_t i = 0; i < p->rows; ++i) {
+        double s = 0;
+        for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k)
+            s += p->val[k] * x[p->col[k]];
+        y[i] += s;
+    }
+}
+
+static void coarse_solve(sk__multilevel *mg, const double *r, double *z, workspace *w)
+{
+    int bad = 0;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical(sk__multilevel_coarse)
+#endif
+    bad = sk_solver_solve(mg->solver, 1, r, z, NULL) != SK_OK;
+    if (bad) {
+        w->fail = 1;
+        memset(z, 0, mg->A[0].rows * sizeof *z);
+    }
+}
+
+/* z = V-cycle(k) applied to r (z and r of level k; z is overwritten). */
+static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w)
+{
+    if (k == 0) {
+        coarse_solve(mg, r, z, w);
+        return;
+    }
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    memset(z, 0, n * sizeof *z);
+    for (int s = 0; s < SK_MG_SWEEPS; ++s)
+        gs_forward(a, mg->dinv[k], r, z);
+    double *t = w->t[k];
+    sk__csr_multiply(a, z, t);
+    for (size_t i = 0; i < n; ++i)
+        t[i] = r[i] - t[i];
+    sk__csr_multiply(&mg->R[k - 1], t, w->r[k - 1]);
+    vcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+    prolong_add(&mg->P[k - 1], w->z[k - 1], z);
+    for (int s = 0; s < SK_MG_SWEEPS; ++s)
+        gs_backward(a, mg->dinv[k], r, z);
+}
+
+/* Preconditioned CG on level k from the given x; returns the iterations, *relres the true
+ * relative residual at the end. */
+static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
+                  size_t maxit, workspace *w, double *relres)
+{
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *r = w->kv[0], *z = w->kv[1], *p = w->kv[2], *q = w->kv[3];
+    double bn = sqrt(dot(n, b, b));
+    if (bn == 0) {
+        memset(x, 0, n * sizeof *x);
+        *relres = 0;
+        return 0;
+    }
+    sk__csr_multiply(a, x, r);
+    for (size_t i = 0; i < n; ++i)
+        r[i] = b[i] - r[i];
+    double rn = sqrt(dot(n, r, r));
+    size_t it = 0;
+    if (rn > tol * bn && maxit > 0) {
+        vcycle(mg, k, r, z, w);
+        memcpy(p, z, n * sizeof *p);
+        double rz = dot(n, r, z);
+        for (; it < maxit;) {
+            sk__csr_multiply(a, p, q);
+            double pq = dot(n, p, q);
+            if (!(pq > 0))
+                break;
+            double alpha = rz / pq;
+            for (size_t i = 0; i < n; ++i) {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * q[i];
+            }
+            ++it;
+            rn = sqrt(dot(n, r, r));
+            if (rn <= tol * bn)
+                break;
+            vcycle(mg, k, r, z, w);
+            double rz2 = dot(n, r, z);
+            double beta = rz2 / rz;
+            rz = rz2;
+            for (size_t i = 0; i < n; ++i)
+                p[i] = z[i] + beta * p[i];
+        }
+    }
+    /* the true residual (the recursive one drifts by rounding) */
+    sk__csr_multiply(a, x, r);
+    for (size_t i = 0; i < n; ++i)
+        r[i] = b[i] - r[i];
+    *relres = sqrt(dot(n, r, r)) / bn;
+    return it;
+}
+
+/* Right-preconditioned BiCGStab on level k. */
+static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
+                       size_t maxit, workspace *w, double *relres)
+{
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *r = w->kv[0], *rh = w->kv[1], *p = w->kv[2], *v = w->kv[3], *s = w->kv[4],
+           *t = w->kv[5], *ph = w->kv[6], *sh = w->kv[7];
+    double bn = sqrt(dot(n, b, b));
+    if (bn == 0) {
+        memset(x, 0, n * sizeof *x);
+        *relres = 0;
+        return 0;
+    }
+    sk__csr_multiply(a, x, r);
+    for (size_t i = 0; i < n; ++i)
+        r[i] = b[i] - r[i];
+    memcpy(rh, r, n * sizeof *rh);
+    memset(p, 0, n * sizeof *p);
+    memset(v, 0, n * sizeof *v);
+    double rho = 1, alpha = 1, omega = 1;
+    double rn = sqrt(dot(n, r, r));
+    size_t it = 0;
+    while (rn > tol * bn && it < maxit) {
+        double rho2 = dot(n, rh, r);
+        if (rho2 == 0 || omega == 0)
+            break; /* breakdown: the caller sees the residual */
+        double beta = (rho2 / rho) * (alpha / omega);
+        rho = rho2;
+        for (size_t i = 0; i < n; ++i)
+            p[i] = r[i] + beta * (p[i] - omega * v[i]);
+        vcycle(mg, k, p, ph, w);
+        sk__csr_multiply(a, ph, v);
+        double rv = dot(n, rh, v);
+        if (rv == 0)
+            break;
+        alpha = rho / rv;
+        for (size_t i = 0; i < n; ++i)
+            s[i] = r[i] - alpha * v[i];
+        ++it;
+        double sn = sqrt(dot(n, s, s));
+        if (sn <= tol * bn) {
+            for (size_t i = 0; i < n; ++i)
+                x[i] += alpha * ph[i];
+            break;
+        }
+        vcycle(mg, k, s, sh, w);
+        sk__csr_multiply(a, sh, t);
+        double tt = dot(n, t, t);
+        omega = tt > 0 ? dot(n, t, s) / tt : 0;
+        for (size_t i = 0; i < n; ++i) {
+            x[i] += alpha * ph[i] + omega * sh[i];
+            r[i] = s[i] - omega * t[i];
+        }
+        rn = sqrt(dot(n, r, r));
+    }
+    sk__csr_multiply(a, x, r);
+    for (size_t i = 0; i < n; ++i)
+        r[i] = b[i] - r[i];
+    *relres = sqrt(dot(n, r, r)) / bn;
+    return it;
+}
+
+static size_t krylov(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
+                     size_t maxit, workspace *w, double *relres)
+{
+    return mg->symmetric ? pcg(mg, k, b, x, tol, maxit, w, relres)
+                         : bicgstab(mg, k, b, x, tol, maxit, w, relres);
+}
+
+sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b, double *x,
+                               const sk__krylov_opts *opts, sk__krylov_result *res,
+                               sk_error *err)
+{
+    size_t L = mg->L, nf = mg->A[L - 1].rows;
+    double tol = opts->tolerance;
+    size_t maxit = opts->max_iterations, lit = opts->level_iterations;
+    size_t its = 0;
+    double worst = 0;
+    int nomem = 0, fail = 0;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 1) reduction(max : its, worst) reduction(| : nomem, fail) if (nrhs > 1)
+#endif
+    for (long c = 0; c < (long)nrhs; ++c) {
+        workspace w;
+        if (!ws_alloc(&w, mg)) {
+            nomem = 1;
+            ws_free(&w, L);
+            continue;
+        }
+        /* restrict the right-hand side to every level */
+        memcpy(w.b[L - 1], b + (size_t)c * nf, nf * sizeof(double));
+        for (size_t k = L - 1; k-- > 0;)
+            sk__csr_multiply(&mg->R[k], w.b[k + 1], w.b[k]);
+        coarse_solve(mg, w.b[0], w.x[0], &w);
+        double rr = 0;
+        size_t it = 0;
+        for (size_t k = 1; k < L; ++k) {
+            double *xk = k == L - 1 ? x + (size_t)c * nf : w.x[k];
+            memset(xk, 0, mg->A[k].rows * sizeof *xk);
+            prolong_add(&mg->P[k - 1], w.x[k - 1], xk);
+            if (k < L - 1)
+                krylov(mg, k, w.b[k], xk, 0, lit, &w, &rr);
+            else
+                it = krylov(mg, k, w.b[k], xk, tol, maxit, &w, &rr);
+        }
+        if (L == 1) {
+            memcpy(x + (size_t)c * nf, w.x[0], nf * sizeof(double));
+            rr = 0;
+        }
+        if (it > its)
+            its = it;
+        if (rr > worst)
+            worst = rr;
+        fail |= w.fail;
+        ws_free(&w, L);
+    }
+    if (res) {
+        res->iterations = its;
+        res->residual = worst;
+        res->converged = worst <= tol;
+    }
+    if (nomem)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for the multilevel workspace");
+    if (fail)
+        return sk__fail(err, SK_ERR_NUMERIC, "the coarsest direct solve failed");
+    return SK_OK;
+}

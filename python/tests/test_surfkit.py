@@ -110,7 +110,9 @@ def test_parametrize_boundaries(lion):
 
 def test_smooth_equals_cli(lion, tmp_path):
     rep = tmp_path / "s.json"
-    cli("smooth", mesh_path("lion-head.off"), "-o", str(tmp_path / "s.obj"), "--report",
+    # lion-head has singular patches (issue 12), so its report fails: --allow-fail keeps the CLI's
+    # exit 0 and the files (the module returns the surface and its report either way)
+    cli("smooth", mesh_path("lion-head.off"), "--allow-fail", "-o", str(tmp_path / "s.obj"), "--report",
         str(rep), "-q")
     ref = json.loads(rep.read_text())
     s = surfkit.smooth(lion)
@@ -208,31 +210,31 @@ def test_errors_are_exceptions(lion, tmp_path):
     assert not (tmp_path / "x.unknown").exists()
 
 
-def test_gil_released_during_calls(tmp_path):
-    # surfkit.read blocks opening a FIFO until a writer opens it. Only if the GIL is released
-    # can this thread run meanwhile and open the writer end; with the GIL held both would
-    # wait forever (faulthandler ends the run then).
-    import faulthandler
+def test_gil_released_during_calls(lion):
+    # While a long call (hierarchical MIPS on lion-head) runs in a thread, this thread keeps
+    # running Python: it could not if the call held the GIL (the counter would stay at 0 until
+    # the call returned). (A FIFO no longer blocks surfkit.read: non-regular files are refused.)
+    done = threading.Event()
+    ticks = 0
+
+    def work():
+        surfkit.parametrize(lion, method="mips")
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():
+        ticks += 1
+        done.wait(0.001)
+    t.join()
+    assert ticks > 20
+
+
+def test_fifo_is_refused(tmp_path):
     fifo = str(tmp_path / "pipe.off")
     os.mkfifo(fifo)
-    caught = []
-
-    def reader():
-        try:
-            surfkit.read(fifo)
-        except surfkit.Error as e:
-            caught.append(str(e))
-
-    faulthandler.dump_traceback_later(120, exit=True)
-    try:
-        t = threading.Thread(target=reader)
-        t.start()
-        fd = os.open(fifo, os.O_WRONLY)   # blocks until the reader has opened it
-        os.close(fd)
-        t.join()
-    finally:
-        faulthandler.cancel_dump_traceback_later()
-    assert len(caught) == 1 and "pipe.off" in caught[0]   # not a regular file
+    with pytest.raises(surfkit.Error, match="pipe.off"):
+        surfkit.read(fifo)
 
 
 def test_threads_give_the_sequential_results(lion):

@@ -54,6 +54,9 @@ static sk_status check_mesh(const sk_mesh *m, sk_error *err)
         return sk__fail(err, SK_ERR_ARG, "the mesh has deleted elements: compact it first");
     if (m->num_faces == 0)
         return sk__fail(err, SK_ERR_TOPOLOGY, "the mesh has no faces");
+    sk_status st = sk_mesh_check_scale(m, err); /* coordinates in the supported range */
+    if (st)
+        return st;
     for (size_t f = 0; f < m->num_faces; ++f) {
         size_t k = sk_mesh_face_size(m, (uint32_t)f);
         if (k != 3)

@@ -35,22 +35,68 @@ bool sk_export_units_known(const char *name)
 }
 
 /* snprintf "%.<prec>G" with a literal format: glibc takes a much slower path for "%.*G". */
+static void fmt_g(char buf[32], int prec, double x)
+{
+    switch (prec) {
+    case 1: snprintf(buf, 32, "%.1G", x); break;
+    case 2: snprintf(buf, 32, "%.2G", x); break;
+    case 3: snprintf(buf, 32, "%.3G", x); break;
+    case 4: snprintf(buf, 32, "%.4G", x); break;
+    case 5: snprintf(buf, 32, "%.5G", x); break;
+    case 6: snprintf(buf, 32, "%.6G", x); break;
+    case 7: snprintf(buf, 32, "%.7G", x); break;
+    case 8: snprintf(buf, 32, "%.8G", x); break;
+    case 9: snprintf(buf, 32, "%.9G", x); break;
+    case 10: snprintf(buf, 32, "%.10G", x); break;
+    case 11: snprintf(buf, 32, "%.11G", x); break;
+    case 12: snprintf(buf, 32, "%.12G", x); break;
+    case 13: snprintf(buf, 32, "%.13G", x); break;
+    case 14: snprintf(buf, 32, "%.14G", x); break;
+    case 15: snprintf(buf, 32, "%.15G", x); break;
+    case 16: snprintf(buf, 32, "%.16G", x); break;
+    default: snprintf(buf, 32, "%.17G", x); break;
+    }
+}
+
 const char *sk__fmt_real(char buf[32], double x)
 {
     if (x == 0.0)
         x = 0.0; /* no "-0." */
-    /* shortest form that reads back exactly, in capitals, always with a decimal point */
-    sk__fmt_shortest(buf, x);
-    for (char *c = buf; *c; ++c)
-        if (*c >= 'a' && *c <= 'z')
-            *c = (char)(*c - 'a' + 'A');
+    /* The shortest "%.<p>G" that reads back exactly. If 15 digits read back, the shortest p is the
+     * number of significant digits of that string: a double is within 2.3e-16 (relative) of any
+     * decimal that reads back to it, less than half a unit of the 15th digit, so rounding it to
+     * 15 digits gives that decimal padded with zeros. This takes 2 formats instead of up to 17. */
+    snprintf(buf, 32, "%.15G", x);
+    if (x != 0.0 && fabs(x) < DBL_MIN) { /* subnormal: fewer bits, the argument fails; scan */
+        for (int prec = 1; prec <= 17; ++prec) {
+            fmt_g(buf, prec, x);
+            if (strtod(buf, NULL) == x)
+                break;
+        }
+    } else if (strtod(buf, NULL) == x) {
+        int digits = 0, trailing = 0;
+        bool leading = true;
+        for (const char *c = buf; *c && *c != 'E'; ++c) {
+            if (*c < '0' || *c > '9')
+                continue;
+            if (leading && *c == '0')
+                continue;
+            leading = false;
+            ++digits;
+            trailing = *c == '0' ? trailing + 1 : 0;
+        }
+        digits -= trailing;
+        fmt_g(buf, digits > 0 ? digits : 1, x);
+    } else {
+        snprintf(buf, 32, "%.16G", x);
+        if (strtod(buf, NULL) != x)
+            snprintf(buf, 32, "%.17G", x);
+    }
     if (!strchr(buf, '.')) {
         char *e = strchr(buf, 'E');
         size_t n = strlen(buf);
-        if (n + 2 > 32)
-            return buf;
         if (e) {
-            memmove(e + 1, e, strlen(e) + 1);
+            memmove(e + 1, e, n - (size_t)(e - buf) + 1);
             *e = '.';
         } else {
             buf[n] = '.';

@@ -25,6 +25,7 @@ bool sk_view_available(void)
 #endif
 }
 
+#if defined(SK_HAVE_VIEWER)
 /* Base64 of n bytes, straight to fp. */
 static void put_base64(FILE *fp, const void *data, size_t n)
 {
@@ -220,7 +221,6 @@ static void put_data(FILE *fp, const arrays *m, const arrays *s, double scale,
     fputs("}", fp);
 }
 
-#if defined(SK_HAVE_VIEWER)
 /* Writes the template with its markers @DATA@, @THREE_CORE@, @THREE_MODULE@, @APP@ filled. */
 static void put_page(FILE *fp, const arrays *m, const arrays *s, double scale,
                      const sk_view_opts *o)
@@ -250,15 +250,10 @@ static void put_page(FILE *fp, const arrays *m, const arrays *s, double scale,
 #undef MARK
     }
 }
-#endif
 
 sk_status sk_view_write(const sk_mesh *mesh, const double *uv, const sk_smooth *smooth,
                         const sk_view_opts *opts, const char *path, sk_error *err)
 {
-    if (!sk_view_available())
-        return sk__fail(err, SK_ERR_ARG,
-                        "this surfkit was built without the viewer (three.js was not found; "
-                        "scripts/setup.sh fetches it)");
     sk_view_opts o = {0};
     if (opts)
         o = *opts;
@@ -272,12 +267,20 @@ sk_status sk_view_write(const sk_mesh *mesh, const double *uv, const sk_smooth *
     if (!st)
         st = sk__atomic_open(&af, path, err);
     if (!st) {
-#if defined(SK_HAVE_VIEWER)
         put_page(af.fp, &m, &s, o.deviation_scale > 0 ? o.deviation_scale : top, &o);
-#endif
         st = sk__atomic_commit(&af, err);
     }
     arrays_free(&m);
     arrays_free(&s);
     return st;
 }
+#else
+sk_status sk_view_write(const sk_mesh *mesh, const double *uv, const sk_smooth *smooth,
+                        const sk_view_opts *opts, const char *path, sk_error *err)
+{
+    (void)mesh, (void)uv, (void)smooth, (void)opts, (void)path;
+    return sk__fail(err, SK_ERR_ARG,
+                    "this surfkit was built without the viewer (three.js was not found; "
+                    "scripts/setup.sh fetches it)");
+}
+#endif

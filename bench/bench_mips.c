@@ -159,6 +159,7 @@ int main(int argc, char **argv)
         h->seconds = sk_seconds() - t0;
         judge(m, uv, h);
         print_levels(&hs);
+        sk_hparam_stats_release(&hs);
 
         /* converged reference: the same result polished by global steps (one factorization,
          * many solves) and local sweeps until the energy stops moving */

@@ -13,10 +13,10 @@ int main(int argc, char **argv)
 {
     int first = 1;
     double per_vertex = 700.0;
-    sk_mips_boundary boundary = SK_MIPS_BOUNDARY_FREE;
+    sk_boundary_shape boundary = SK_BOUNDARY_FREE;
     while (first < argc && argv[first][0] == '-') {
         if (!strcmp(argv[first], "--circle"))
-            boundary = SK_MIPS_BOUNDARY_CIRCLE;
+            boundary = SK_BOUNDARY_CIRCLE;
         else if (!strcmp(argv[first], "--steps") && first + 1 < argc)
             per_vertex = atof(argv[++first]);
         first++;
@@ -26,7 +26,7 @@ int main(int argc, char **argv)
         return 2;
     }
     printf("boundary: %s; budget: %.0f local steps per vertex\n\n",
-           boundary == SK_MIPS_BOUNDARY_FREE ? "free" : "circle", per_vertex);
+           sk_boundary_shape_name(boundary), per_vertex);
     printf("| mesh | triangles | optimum | hierarchical | excess | conventional | excess | "
            "ratio | flips h/c |\n|---|---|---|---|---|---|---|---|---|\n");
     int rc = 0;
@@ -41,7 +41,7 @@ int main(int argc, char **argv)
         size_t budget = (size_t)(per_vertex * (double)nv);
         double *uv = malloc(2 * nv * sizeof(double));
         /* optimum: hierarchical start, then sweeps until the energy stops moving */
-        sk_hparam_opts opt = {.boundary = boundary, .seed = 7, .level_work = 1e6,
+        sk_hparam_opts opt = {.boundary = {.shape = boundary}, .seed = 7, .level_work = 1e6,
                               .sweeps_per_level = 2000, .finest_sweeps = 20000,
                               .tolerance = 1e-14};
         sk_hparam_stats so;
@@ -60,7 +60,7 @@ int main(int argc, char **argv)
         double optimum = ps.energy;
         /* the budget: the schedule's sweeps on the coarser levels (about 5 of the finest level's
          * size each), all the rest on the input level */
-        sk_hparam_opts ho = {.boundary = boundary, .seed = 1, .finest_sweeps = (size_t)-1,
+        sk_hparam_opts ho = {.boundary = {.shape = boundary}, .seed = 1, .finest_sweeps = (size_t)-1,
                              .max_steps = budget, .tolerance = -1,
                              .global_steps = (size_t)-1}; /* the paper's method: local steps */
         sk_hparam_stats sh;
@@ -70,7 +70,9 @@ int main(int argc, char **argv)
         }
         sk_param_metrics_compute(m, uv, &mh, &err);
         sk_mips_stats sc;
-        sk_status st = sk_param_mips_flat(m, boundary, sh.steps, -1.0, 1, uv, &sc, &err);
+        sk_mips_flat_opts fo = {.boundary = {.shape = boundary}, .max_steps = sh.steps,
+                              .tolerance = -1.0, .seed = 1};
+        sk_status st = sk_param_mips_flat(m, &fo, uv, &sc, &err);
         if (st != SK_OK && st != SK_WARN_FLIPS) {
             fprintf(stderr, "bench_table1: %s: %s\n", argv[i], err.message);
             return 1;
@@ -85,6 +87,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_table1: unequal step counts %zu vs %zu\n", sh.steps, sc.steps);
         if (!(sh.energy < sc.energy))
             rc = 1;
+        sk_hparam_stats_release(&so);
+        sk_hparam_stats_release(&sh);
         free(uv);
         sk_mesh_destroy(&m);
     }

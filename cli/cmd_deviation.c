@@ -118,7 +118,7 @@ static sk_status draw_map(const sk_soup *shown, const char *name, const sk_soup 
     sk_status st = sk_bvh_build(other, &bvh, err);
     if (!st) {
         ro->title = name;
-        st = sk_render_field(shown, sk_bvh_distance, bvh, scale, label, ro, path, err);
+        st = sk_render_field(shown, sk_bvh_distance, bvh, scale, label, path, ro, err);
     }
     sk_bvh_destroy(&bvh);
     return st;

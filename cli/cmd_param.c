@@ -10,7 +10,8 @@ static const char help[] =
     "                     [--boundary circle|square|free] [--spacing chord|uniform]\n"
     "                     [--hierarchical | --flat] [--steps N] [--seed S]\n"
     "                     [--png LAYOUT.png] [--svg LAYOUT.svg] [--checker VIEW.png]\n"
-    "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii] [-q]\n"
+    "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii]\n"
+    "                     [--no-normalize] [-q]\n"
     "\n"
     "Maps a triangulated disk (one boundary loop, Euler characteristic 1) to the plane.\n"
     "Fixed boundary (circle by default, or the unit square with corners at quarter arc length;\n"
@@ -27,10 +28,23 @@ static const char help[] =
     "the full mesh then local steps in random order. --boundary free (default for mips) lets\n"
     "the boundary move; circle/square keep it fixed. --steps N bounds the local steps.\n"
     "\n"
-    "OUT: .obj (v + vt, faces v/vt) or .ply (with u v), also .off (positions only).\n"
+    "OUT: .obj (v + vt, faces v/vt) or .ply (with s t); formats without texture coordinates\n"
+    "(.off, .stl) are refused. The uv are normalized to the unit square (one uniform scale and\n"
+    "a translation, aspect kept: the larger side spans [0, 1]); --no-normalize writes each\n"
+    "method's own scale (unit circle, unit square, LSCM's pins, MIPS's drifting scale).\n"
     "--png/--svg draw the uv layout coloured by conformal distortion sigma1/sigma2, flipped\n"
     "triangles in magenta; --checker draws the 3D mesh with a checkerboard texture seen along\n"
-    "--view (default 0,0,-1). --report writes the metrics as JSON; --json prints them.\n";
+    "--view (default 0,0,-1). --report writes the metrics as JSON; --json prints them.\n"
+    "\n"
+    "Flipped triangles (harmonic and lscm can flip; the others never do): OUT and the pictures\n"
+    "are still written, a warning saying how many goes to stderr, the summary and the report\n"
+    "have 'flipped', and the exit code is 0. Exit codes: 0 done, 1 bad input (not a disk),\n"
+    "2 usage error, 3 internal failure.\n"
+    "\n"
+    "examples:\n"
+    "  surfkit param face.off -o face.obj --png layout.png\n"
+    "  surfkit param face.off -o face.ply --method mips --report metrics.json\n"
+    "  surfkit param face.off -o face.obj --method mips --flat --steps 100000\n";
 
 static bool parse_view(const char *s, double v[3])
 {
@@ -53,13 +67,9 @@ static bool parse_view(const char *s, double v[3])
 
 /* What a run did, for the report. */
 typedef struct run_info {
-    const char *in, *method, *boundary;
-    bool linear, hierarchical;
-    sk_param_stats ps;   /* linear methods */
-    sk_hparam_stats hs;  /* hierarchical MIPS */
-    sk_mips_stats ms;    /* flat MIPS */
+    const char *in;
+    sk_parametrize_stats ps;
     sk_param_metrics pm;
-    double seconds;
 } run_info;
 
 static void write_json(FILE *fp, const void *ctx)
@@ -70,8 +80,8 @@ static void write_json(FILE *fp, const void *ctx)
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "file", r->in);
-    json_kstr(&j, "method", r->method);
-    json_kstr(&j, "boundary", r->boundary);
+    json_kstr(&j, "method", r->ps.name);
+    json_kstr(&j, "boundary", sk_boundary_shape_name(r->ps.boundary));
     json_kuint(&j, "faces", pm->faces);
     json_kuint(&j, "flipped", pm->flipped);
     json_kuint(&j, "degenerate", pm->degenerate);
@@ -82,9 +92,9 @@ static void write_json(FILE *fp, const void *ctx)
     json_knum(&j, "area_log_mean", pm->area_log_mean);
     json_knum(&j, "stretch_max", pm->stretch_max);
     json_kuint(&j, "boundary_self_intersections", pm->boundary_self_intersections);
-    json_knum(&j, "seconds", r->seconds);
-    if (r->linear) {
-        const sk_param_stats *ps = &r->ps;
+    json_knum(&j, "seconds", r->ps.seconds);
+    if (r->ps.method != SK_PARAM_MIPS) {
+        const sk_param_stats *ps = &r->ps.linear;
         json_kuint(&j, "vertices", ps->vertices);
         json_kuint(&j, "interior", ps->interior);
         json_key(&j, "timing");
@@ -103,8 +113,8 @@ static void write_json(FILE *fp, const void *ctx)
         json_kuint(&j, "nnz", ps->solve.nnz);
         json_kuint(&j, "factor_nnz", ps->solve.factor_nnz);
         json_obj_close(&j);
-    } else if (r->hierarchical) {
-        const sk_hparam_stats *hs = &r->hs;
+    } else if (r->ps.hierarchical) {
+        const sk_hparam_stats *hs = &r->ps.hparam;
         json_kuint(&j, "steps", hs->steps);
         json_kuint(&j, "repaired_insertions", hs->repaired);
         json_kuint(&j, "fallbacks", hs->fallbacks);
@@ -125,165 +135,164 @@ static void write_json(FILE *fp, const void *ctx)
         }
         json_arr_close(&j);
     } else {
-        json_kuint(&j, "steps", r->ms.steps);
-        json_kuint(&j, "sweeps", r->ms.sweeps);
-        json_knum(&j, "energy_start", r->ms.energy_start);
+        json_kuint(&j, "steps", r->ps.mips.steps);
+        json_kuint(&j, "sweeps", r->ps.mips.sweeps);
+        json_knum(&j, "energy_start", r->ps.mips.energy_start);
     }
     json_obj_close(&j);
     json_end(&j);
 }
 
+/* argv -> options; returns EXIT_OK to run, or the exit code (help printed, usage error). */
+typedef struct param_args {
+    const char *in, *out, *png, *svg, *checker, *report;
+    bool quiet, json, hier_flag;
+    sk_parametrize_opts po;
+    sk_write_opts wo;
+    sk_render_opts ro;
+} param_args;
 
-int cmd_param(int argc, char **argv)
+static int parse_args(int argc, char **argv, param_args *a)
 {
-    const char *in = NULL, *out = NULL, *png = NULL, *svg = NULL, *checker = NULL, *report = NULL;
-    const char *val, *boundary = NULL;
-    bool quiet = false, json = false, mips = false, flat = false, hier_flag = false;
-    unsigned long steps = 0, seed = 1;
-    sk_param_opts po = {0};
-    sk_write_opts wo = {0};
-    sk_render_opts ro = {0};
-    po.method = SK_PARAM_FLOATER;
-    const cli_path_opt paths[] = {{"-o", &out}, {"--png", &png}, {"--svg", &svg},
-                                  {"--checker", &checker}, {"--report", &report}};
+    const char *val;
+    unsigned long steps = 0, seed = 0;
+    const cli_path_opt paths[] = {{"-o", &a->out}, {"--png", &a->png}, {"--svg", &a->svg},
+                                  {"--checker", &a->checker}, {"--report", &a->report}};
     int took;
     for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--help") || !strcmp(s, "-h")) {
             fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if (!strcmp(a, "--json")) {
-            json = true;
-        } else if (!strcmp(a, "--ascii")) {
-            wo.ascii = true;
-        } else if (!strcmp(a, "--flat")) {
-            flat = true;
-        } else if (!strcmp(a, "--hierarchical")) {
-            hier_flag = true;
+            return -1;
+        } else if (!strcmp(s, "-q")) {
+            a->quiet = true;
+        } else if (!strcmp(s, "--json")) {
+            a->json = true;
+        } else if (!strcmp(s, "--ascii")) {
+            a->wo.ascii = true;
+        } else if (!strcmp(s, "--no-normalize")) {
+            a->po.raw = true;
+        } else if (!strcmp(s, "--flat")) {
+            a->po.flat = true;
+        } else if (!strcmp(s, "--hierarchical")) {
+            a->hier_flag = true;
         } else if ((took = cli_take_path(argc, argv, &i, "param", paths, 5)) != 0) {
             if (took < 0)
                 return EXIT_USAGE;
         } else if (cli_opt_value(argc, argv, &i, "--method", &val)) {
-            if (val && !strcmp(val, "mips"))
-                mips = true;
-            else if (!sk_param_method_parse(val, &po.method))
+            if (!sk_param_method_parse(val, &a->po.method))
                 return cli_usage("param", "--method takes tutte, floater, mvc, harmonic, lscm or "
                                           "mips");
         } else if (cli_opt_value(argc, argv, &i, "--boundary", &val)) {
-            if (!val || (strcmp(val, "circle") && strcmp(val, "square") && strcmp(val, "free")))
+            if (!sk_boundary_shape_parse(val, &a->po.boundary.shape) ||
+                a->po.boundary.shape == SK_BOUNDARY_GIVEN)
                 return cli_usage("param", "--boundary takes circle, square or free");
-            boundary = val;
         } else if (cli_opt_value(argc, argv, &i, "--spacing", &val)) {
             if (val && !strcmp(val, "chord"))
-                po.boundary.spacing = SK_SPACING_CHORD;
+                a->po.boundary.spacing = SK_SPACING_CHORD;
             else if (val && !strcmp(val, "uniform"))
-                po.boundary.spacing = SK_SPACING_UNIFORM;
+                a->po.boundary.spacing = SK_SPACING_UNIFORM;
             else
                 return cli_usage("param", "--spacing takes chord or uniform");
         } else if (cli_opt_value(argc, argv, &i, "--steps", &val)) {
             if (!cli_parse_uint(val, &steps) || steps == 0)
                 return cli_usage("param", "--steps takes a positive whole number");
+            a->po.max_steps = steps;
         } else if (cli_opt_value(argc, argv, &i, "--seed", &val)) {
             if (!cli_parse_uint(val, &seed))
                 return cli_usage("param", "--seed takes a whole number");
+            a->po.seed = seed;
         } else if (cli_opt_value(argc, argv, &i, "--view", &val)) {
-            if (!parse_view(val, ro.view))
+            if (!parse_view(val, a->ro.view))
                 return cli_usage("param", "--view takes three numbers X,Y,Z");
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("param", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
+        } else if (s[0] == '-' && s[1]) {
+            return cli_usage("param", "unknown option '%s'", s);
+        } else if (!a->in) {
+            a->in = s;
         } else {
             return cli_usage("param", "more than one input file");
         }
     }
-    if (!in || !out)
+    if (!a->in || !a->out)
         return cli_usage("param", "needs an input file and -o OUT");
-    if (sk_format_from_path(out) == SK_FORMAT_UNKNOWN)
-        return cli_usage("param", "cannot tell the output format of '%s'", out);
-    if ((flat || hier_flag || steps) && !mips)
-        return cli_usage("param", "--flat, --hierarchical and --steps go with --method mips");
-    if (flat && hier_flag)
+    sk_format ofmt = sk_format_from_path(a->out);
+    if (ofmt == SK_FORMAT_UNKNOWN)
+        return cli_usage("param", "cannot tell the output format of '%s'", a->out);
+    if (ofmt != SK_FORMAT_OBJ && ofmt != SK_FORMAT_PLY)
+        return cli_usage("param", "%s cannot hold texture coordinates ('%s'): write .obj or .ply",
+                         sk_format_name(ofmt), a->out);
+    if (a->po.flat && a->hier_flag)
         return cli_usage("param", "--flat and --hierarchical exclude each other");
-    if (!boundary)
-        boundary = mips || po.method == SK_PARAM_LSCM ? "free" : "circle";
-    if (!mips && ((po.method == SK_PARAM_LSCM) != !strcmp(boundary, "free")))
-        return cli_usage("param", "%s", po.method == SK_PARAM_LSCM
-                                            ? "lscm has a free boundary"
-                                            : "a free boundary needs --method lscm or mips");
-    po.boundary.shape = !strcmp(boundary, "square") ? SK_BOUNDARY_SQUARE : SK_BOUNDARY_CIRCLE;
-    sk_mips_boundary mb = !strcmp(boundary, "free")     ? SK_MIPS_BOUNDARY_FREE
-                          : !strcmp(boundary, "square") ? SK_MIPS_BOUNDARY_SQUARE
-                                                        : SK_MIPS_BOUNDARY_CIRCLE;
+    if (a->hier_flag && a->po.method != SK_PARAM_MIPS)
+        return cli_usage("param", "--hierarchical goes with --method mips");
+    sk_error err;
+    if (sk_parametrize_check(&a->po, &err))
+        return cli_usage("param", "%s", err.message);
+    return EXIT_OK;
+}
 
+int cmd_param(int argc, char **argv)
+{
+    param_args a;
+    memset(&a, 0, sizeof a);
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc < 0 ? EXIT_OK : rc;
     cli_progress bar;
-    cli_progress_init(&bar, "param", quiet);
-    po.progress = cli_progress_cb;
-    po.progress_user = &bar;
+    cli_progress_init(&bar, "param", a.quiet);
+    a.po.progress = cli_progress_cb;
+    a.po.progress_user = &bar;
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     double *uv = NULL;
     run_info r;
     memset(&r, 0, sizeof r);
-    r.in = in;
-    r.boundary = boundary;
-    r.method = mips ? (flat ? "mips-flat" : "mips-hierarchical") : sk_param_method_name(po.method);
-    r.linear = !mips;
-    r.hierarchical = mips && !flat;
-    sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
+    r.in = a.in;
+    sk_status st = sk_mesh_read(a.in, NULL, &mesh, &err);
     if (st == SK_OK) {
         uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
         if (!uv)
             st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
     }
-    double t0 = sk_seconds(); /* time the method, not the reading */
-    if (st == SK_OK && r.linear) {
-        st = sk_param_linear(mesh, &po, uv, &r.ps, &err);
-    } else if (st == SK_OK && r.hierarchical) {
-        sk_hparam_opts ho = {0};
-        ho.boundary = mb;
-        ho.max_steps = steps;
-        ho.seed = seed;
-        ho.progress = cli_progress_cb;
-        ho.progress_user = &bar;
-        st = sk_param_hierarchical(mesh, &ho, uv, &r.hs, &err);
-    } else if (st == SK_OK) {
-        st = sk_param_mips_flat(mesh, mb, steps, 0.0, seed, uv, &r.ms, &err);
-    }
-    r.seconds = sk_seconds() - t0;
+    if (st == SK_OK)
+        st = sk_parametrize(mesh, &a.po, uv, &r.ps, &err);
     cli_progress_done(&bar);
+    if (st == SK_WARN_FLIPS) { /* the result is complete: write it and say so */
+        fprintf(stderr, "surfkit param: warning: %s: %s\n", a.in, err.message);
+        st = SK_OK;
+    }
     if (st == SK_OK)
         st = sk_param_metrics_compute(mesh, uv, &r.pm, &err);
     if (st == SK_OK && !(st = sk_mesh_add_uvs(mesh, &err))) {
         memcpy(mesh->uvs, uv, 2 * mesh->num_vertices * sizeof *uv);
-        st = sk_mesh_write(out, mesh, &wo, &err);
+        st = sk_mesh_write(a.out, mesh, &a.wo, &err);
     }
+    const char *boundary = sk_boundary_shape_name(r.ps.boundary);
     char title[256];
     if (st == SK_OK)
-        snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", in,
-                 r.method, boundary, r.pm.mips_mean, r.pm.flipped);
-    ro.title = title;
-    if (st == SK_OK && png)
-        st = sk_render_uv(mesh, uv, &ro, png, &err);
-    if (st == SK_OK && svg)
-        st = sk_render_uv(mesh, uv, &ro, svg, &err);
-    if (st == SK_OK && checker)
-        st = sk_render_checker(mesh, uv, &ro, checker, &err);
-    int rc = st ? cli_fail(st, &err) : EXIT_OK;
-    if (rc == EXIT_OK && report)
-        rc = cli_write_file(report, write_json, &r);
+        snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", a.in,
+                 r.ps.name, boundary, r.pm.mips_mean, r.pm.flipped);
+    a.ro.title = title;
+    if (st == SK_OK && a.png)
+        st = sk_render_uv(mesh, uv, a.png, &a.ro, &err);
+    if (st == SK_OK && a.svg)
+        st = sk_render_uv(mesh, uv, a.svg, &a.ro, &err);
+    if (st == SK_OK && a.checker)
+        st = sk_render_checker(mesh, uv, a.checker, &a.ro, &err);
+    rc = st ? cli_fail(st, &err) : EXIT_OK;
+    if (rc == EXIT_OK && a.report)
+        rc = cli_write_file(a.report, write_json, &r);
     if (rc == EXIT_OK) {
-        if (json)
+        if (a.json)
             write_json(stdout, &r);
-        else if (!quiet)
+        else if (!a.quiet)
             printf("%s: %zu faces, %s, %s boundary, flipped %zu, MIPS sum %.6f (mean %.6f), "
                    "conformal %.4f, area log %.4f, boundary self-intersections %zu, %.3f s\n",
-                   in, r.pm.faces, r.method, boundary, r.pm.flipped, r.pm.mips_sum, r.pm.mips_mean,
-                   r.pm.conformal_mean, r.pm.area_log_mean, r.pm.boundary_self_intersections,
-                   r.seconds);
+                   a.in, r.pm.faces, r.ps.name, boundary, r.pm.flipped, r.pm.mips_sum,
+                   r.pm.mips_mean, r.pm.conformal_mean, r.pm.area_log_mean,
+                   r.pm.boundary_self_intersections, r.ps.seconds);
     }
+    sk_parametrize_stats_release(&r.ps);
     free(uv);
     sk_mesh_destroy(&mesh);
     return rc;

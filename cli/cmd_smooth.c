@@ -28,7 +28,8 @@ static const char help[] =
     "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
     "                  .igs/.iges IGES 5.3, one B-spline surface (entity 128) per patch;\n"
     "                  .step/.stp STEP AP214, one shell whose faces share edges and vertices;\n"
-    "                  .obj with --obj-freeform: OBJ free-form Bezier surfaces (cstype bezier).\n"
+    "                  .obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
+    "                  B-spline with clamped knots (cstype bspline).\n"
     "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
     "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
     "                  collapsed side instead (IGES only)\n"
@@ -51,8 +52,8 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_kstr(&j, "scheme", s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
     json_kstr(&j, "normals", normals_src);
     size_t tri = 0, quad = 0;
-    for (size_t p = 0; p < s->num_patches; ++p)
-        s->patches[p].kind == SK_SMOOTH_QUAD ? ++quad : ++tri;
+    for (size_t p = 0; p < s->surface.count; ++p)
+        s->surface.patches[p].kind == SK_PATCH_TENSOR ? ++quad : ++tri;
     json_kuint(&j, "vertices", s->config->num_vertices);
     json_kuint(&j, "triangles", tri);
     json_kuint(&j, "quads", quad);
@@ -113,20 +114,22 @@ static void patches_json(FILE *fp, const void *ctx)
     fprintf(fp, "{\"scheme\": \"%s\", \"layout\": \"triangles: b_ijk by rows k = 0..n, j = "
                 "0..n-k; quads: b[i + 4 j]\", \"patches\": [\n",
             s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
-    for (size_t p = 0; p < s->num_patches; ++p) {
-        const sk_smooth_patch *pa = s->patches + p;
-        size_t np = pa->kind == SK_SMOOTH_QUAD ? 16 : (size_t)(pa->degree + 1) * (pa->degree + 2) / 2;
+    const sk_patch_set *set = &s->surface;
+    for (size_t p = 0; p < set->count; ++p) {
+        const sk_patch *pa = &set->patches[p];
+        bool quad = pa->kind == SK_PATCH_TENSOR;
         fprintf(fp, "{\"kind\": \"%s\", \"degree\": %d, \"corners\": [%u, %u, %u",
-                pa->kind == SK_SMOOTH_QUAD ? "quad" : "triangle", pa->degree, pa->corners[0],
-                pa->corners[1], pa->corners[2]);
-        if (pa->kind == SK_SMOOTH_QUAD)
-            fprintf(fp, ", %u", pa->corners[3]);
+                quad ? "quad" : "triangle", pa->degree, pa->corner_ids[0], pa->corner_ids[1],
+                pa->corner_ids[2]);
+        if (quad)
+            fprintf(fp, ", %u", pa->corner_ids[3]);
         fprintf(fp, "], \"points\": [");
-        for (size_t i = 0; i < np; ++i) {
-            const double *x = s->points + 3 * (pa->first + i);
+        const double *cp = sk_patch_cp(set, p);
+        for (size_t i = 0; i < sk_patch_num_points(pa); ++i) {
+            const double *x = cp + 3 * i;
             fprintf(fp, "%s[%.17g, %.17g, %.17g]", i ? ", " : "", x[0], x[1], x[2]);
         }
-        fprintf(fp, "]}%s\n", p + 1 < s->num_patches ? "," : "");
+        fprintf(fp, "]}%s\n", p + 1 < set->count ? "," : "");
     }
     fprintf(fp, "]}\n");
 }
@@ -177,19 +180,14 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
                      bool quiet)
 {
     sk_error err = {0};
-    sk_patch *ps = NULL;
-    size_t n = 0;
     sk_export_stats es = {0};
-    sk_status st = sk_smooth_to_patches(s, &ps, &n, &err);
-    if (st == SK_OK) {
-        if (cad == CAD_IGES)
-            st = sk_export_iges(path, ps, n, eo, &es, &err);
-        else if (cad == CAD_STEP)
-            st = sk_export_step(path, ps, n, eo, &es, &err);
-        else
-            st = sk_export_obj_freeform(path, ps, n, eo, &es, &err);
-    }
-    free(ps);
+    sk_status st;
+    if (cad == CAD_IGES)
+        st = sk_export_iges(path, &s->surface, eo, &es, &err);
+    else if (cad == CAD_STEP)
+        st = sk_export_step(path, &s->surface, eo, &es, &err);
+    else
+        st = sk_export_obj_freeform(path, &s->surface, eo, &es, &err);
     if (st != SK_OK)
         return cli_fail(st, &err);
     if (!quiet) {
@@ -310,7 +308,7 @@ int cmd_smooth(int argc, char **argv)
     if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
         goto done;
     if ((out && cad == CAD_NONE) || render) {
-        if ((st = sk_smooth_tessellate(s, (unsigned)tess, &tes, &err)) != SK_OK) {
+        if ((st = sk_patch_set_tessellate(&s->surface, (unsigned)tess, &tes, &err)) != SK_OK) {
             rc = cli_fail(st, &err);
             goto done;
         }
@@ -338,7 +336,7 @@ int cmd_smooth(int argc, char **argv)
         fprintf(stderr,
                 "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
                 "max gap %.3g, singular patches %zu, problem vertices %zu\n",
-                s->num_patches, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
+                s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
                 s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
                 rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, s->num_problems);
 done:

@@ -108,7 +108,7 @@ int cmd_view(int argc, char **argv)
             goto done;
         }
         snprintf(info, sizeof info, "%zu faces, %zu VC1 patches (%zu deleted edges)",
-                 mesh->num_faces, s->num_patches, s->num_deleted);
+                 mesh->num_faces, s->surface.count, s->num_deleted);
     } else {
         snprintf(info, sizeof info, "%zu vertices, %zu faces", mesh->num_vertices, mesh->num_faces);
     }

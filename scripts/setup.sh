@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 pkgs=(build-essential cmake ninja-build pkg-config clang
       libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev
-      g++ libocct-data-exchange-dev chromium parallel)
+      g++ libocct-data-exchange-dev chromium parallel
+      python3-dev python3-numpy python3-pytest python3-setuptools python3-pip)
 if [ "${1:-}" = "--peers" ]; then
   pkgs+=(g++ libcgal-dev libopenmesh-dev)
 fi

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs what is needed, builds with warnings as errors, runs every test; then builds with
 # AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again (lighter data set), and
-# runs every fuzz target over the bad-input corpus (no fuzzing, only replay).
+# runs every fuzz target over the bad-input corpus (no fuzzing, only replay). The release tests
+# include the API checks (api_exports, api_headers, api_layers), the install test with its C and
+# C++ consumers (install_consumers) and the Python module's pytest suite (python_module).
 # Usage: scripts/test.sh            (from the repository root; ../shared must be beside it)
 set -euo pipefail
 cd "$(dirname "$0")/.."

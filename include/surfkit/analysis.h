@@ -24,15 +24,15 @@ typedef enum {
 } sk_normal_method;
 
 /* Parses "angle", "area", "mean", "quadric"; returns -1 for anything else. */
-int sk_normal_method_from_name(const char *name);
-const char *sk_normal_method_name(sk_normal_method method);
+SK_API int sk_normal_method_from_name(const char *name);
+SK_API const char *sk_normal_method_name(sk_normal_method method);
 
 /* Unit vertex normals (3 per vertex, written to out) estimated from the faces around each vertex
  * (triangles or polygons; polygon corners use the cross product of their two edges). Isolated
  * vertices get (0, 0, 0). Fails with SK_ERR_NUMERIC naming the vertex when the faces around a
  * vertex cancel out (zero-length normal), SK_ERR_ARG for an unknown method. */
-sk_status sk_mesh_vertex_normals(const sk_mesh *mesh, sk_normal_method method, double *out,
-                                 sk_error *err);
+SK_API sk_status sk_mesh_vertex_normals(const sk_mesh *mesh, sk_normal_method method, double *out,
+                                        sk_error *err);
 
 #ifdef __cplusplus
 }

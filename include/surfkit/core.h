@@ -8,6 +8,21 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Library version (CMakeLists.txt reads it from here; sk_version() returns the same string). */
+#define SK_VERSION_MAJOR 0
+#define SK_VERSION_MINOR 1
+#define SK_VERSION_PATCH 0
+#define SK_VERSION_STRING "0.1.0"
+
+/* Marks the public functions: the shared library is built with hidden visibility and exports
+ * exactly these (tests/api/exports.sh checks that every function declared in these headers is
+ * exported, and nothing else is). */
+#if defined(__GNUC__) && __GNUC__ >= 4
+#  define SK_API __attribute__((visibility("default")))
+#else
+#  define SK_API
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -38,13 +53,14 @@ typedef struct sk_error {
 typedef int (*sk_progress_fn)(void *user, double fraction);
 
 /* A short English name of a status ("parse error", ...). */
-const char *sk_status_string(sk_status status);
+SK_API const char *sk_status_string(sk_status status);
 
 /* Monotonic clock in seconds (for timings in reports and benchmarks). */
-double sk_seconds(void);
+SK_API double sk_seconds(void);
 
-/* Library version string, "MAJOR.MINOR.PATCH". */
-const char *sk_version(void);
+/* Library version string, "MAJOR.MINOR.PATCH": SK_VERSION_STRING of the library linked, which may
+ * differ from the header a program was compiled with. */
+SK_API const char *sk_version(void);
 
 #ifdef __cplusplus
 }

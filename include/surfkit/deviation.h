@@ -24,10 +24,10 @@ typedef struct sk_bvh sk_bvh;
  * heuristic, at most 4 triangles per leaf). The soup is copied: it may be freed afterwards.
  * SK_ERR_TOPOLOGY when a face index is out of range, a face has fewer than 3 corners, a coordinate is
  * not finite, or there is no face; SK_ERR_NOMEM when out of memory. */
-sk_status sk_bvh_build(const sk_soup *soup, sk_bvh **out, sk_error *err);
-void sk_bvh_destroy(sk_bvh **bvh);
+SK_API sk_status sk_bvh_build(const sk_soup *soup, sk_bvh **out, sk_error *err);
+SK_API void sk_bvh_destroy(sk_bvh **bvh);
 /* Number of triangles (after fan splitting) */
-size_t sk_bvh_triangles(const sk_bvh *bvh);
+SK_API size_t sk_bvh_triangles(const sk_bvh *bvh);
 
 typedef struct sk_closest {
     double distance;  /* Euclidean distance from the query to point */
@@ -37,11 +37,11 @@ typedef struct sk_closest {
 } sk_closest;
 
 /* The point of the surface nearest to p (ties: any of the nearest). Never fails for finite p. */
-void sk_bvh_closest(const sk_bvh *bvh, const double p[3], sk_closest *out);
+SK_API void sk_bvh_closest(const sk_bvh *bvh, const double p[3], sk_closest *out);
 
 /* Distance from p to the surface of bvh (a const sk_bvh * passed as user): the shape of
  * sk_field_fn in render.h, to colour one surface by its distance to another. */
-double sk_bvh_distance(void *bvh, const double p[3]);
+SK_API double sk_bvh_distance(void *bvh, const double p[3]);
 
 /* ---------------------------------------------------------------------------------------------
  * Deviation
@@ -81,8 +81,8 @@ typedef struct sk_deviation_report {
  * surface and the scan it approximates, or any two meshes). vertex_distance, when not NULL, gets
  * one distance per mesh vertex (num_vertices entries; unreferenced vertices get their distance
  * too). Errors as sk_bvh_build, naming which of the two inputs is wrong. */
-sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_deviation_opts *opts,
-                       sk_deviation_report *report, double *vertex_distance, sk_error *err);
+SK_API sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_deviation_opts *opts,
+                              sk_deviation_report *report, double *vertex_distance, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,6 @@
-/* CAD export of Bezier patch networks: IGES 5.3 (entity 128), STEP AP214 (B-spline surfaces in
- * advanced faces of one shell whose faces share their edges and vertices), OBJ free-form.
+/* CAD export of patch sets (include/surfkit/bezier.h): IGES 5.3 (entity 128), STEP AP214
+ * (B-spline surfaces in advanced faces of one shell whose faces share their edges and vertices),
+ * OBJ free-form. The writers know patches only, nothing of how they were made.
  *
  * Triangular patches become three tensor patches (sk_patch_split_triangle: exact, no singular
  * point) unless degenerate_triangles asks IGES for one patch with a collapsed side. STEP needs
@@ -33,22 +34,21 @@ typedef struct sk_export_stats {
 } sk_export_stats;
 
 /* Unit flag / name pairs of IGES and the SI prefix of STEP; false for an unknown name. */
-bool sk_export_units_known(const char *units);
+SK_API bool sk_export_units_known(const char *units);
 
-sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count,
-                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
-sk_status sk_export_step(const char *path, const sk_patch *patches, size_t count,
-                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
-sk_status sk_export_obj_freeform(const char *path, const sk_patch *patches, size_t count,
-                                 const sk_export_opts *opts, sk_export_stats *stats,
-                                 sk_error *err);
+SK_API sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
+                                const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
+SK_API sk_status sk_export_step(const char *path, const sk_patch_set *patches,
+                                const sk_export_opts *opts, sk_export_stats *stats, sk_error *err);
+SK_API sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
+                                        const sk_export_opts *opts, sk_export_stats *stats,
+                                        sk_error *err);
 
 /* The tensor patches the writers emit for the given patches (triangles split or degenerate per
- * opts), in output order; *out is malloc'ed (free it). Tests compare these with what a CAD
- * kernel reads back. */
-sk_status sk_export_tensor_patches(const sk_patch *patches, size_t count,
-                                   const sk_export_opts *opts, sk_patch **out, size_t *out_count,
-                                   sk_error *err);
+ * opts), in output order, appended to *out (free it with sk_patch_set_free). Tests compare these
+ * with what a CAD kernel reads back. */
+SK_API sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_opts *opts,
+                                          sk_patch_set *out, sk_error *err);
 
 #ifdef __cplusplus
 }

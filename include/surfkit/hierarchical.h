@@ -13,16 +13,13 @@
 extern "C" {
 #endif
 
-typedef enum {
-    SK_MIPS_BOUNDARY_FREE = 0, /* natural boundary (MIPS is scale invariant) */
-    SK_MIPS_BOUNDARY_CIRCLE,   /* fixed on the unit circle (chord-length spacing) */
-    SK_MIPS_BOUNDARY_SQUARE    /* fixed on the unit square */
-} sk_mips_boundary;
-
-#define SK_HPARAM_MAX_LEVELS 64
-
+/* Options of sk_param_hierarchical; zero-initialized means every default. */
 typedef struct sk_hparam_opts {
-    sk_mips_boundary boundary;
+    /* shape SK_BOUNDARY_DEFAULT or SK_BOUNDARY_FREE: natural boundary (MIPS is scale invariant);
+     * SK_BOUNDARY_CIRCLE / SK_BOUNDARY_SQUARE: fixed on the unit circle / square on every level
+     * where the input's boundary map puts it (spacing and corners as in sk_param_boundary);
+     * SK_BOUNDARY_GIVEN: SK_ERR_ARG. */
+    sk_boundary_opts boundary;
     /* Sweep schedule: level l (V_l vertices) gets min(sweeps_per_level, ceil(level_work * V / V_l))
      * sweeps, V the input's vertex count: about the same work on every level, many sweeps on the
      * cheap coarse levels where the low frequencies converge, few on the fine ones. */
@@ -41,7 +38,7 @@ typedef struct sk_hparam_opts {
      * vertices starts with global_steps global steps, each followed by sweeps_per_global local
      * sweeps, before the schedule's sweeps; the coarse levels then carry the low frequencies
      * that local steps are slow to move. */
-    size_t global_steps;        /* per level; 0 = 3; (size_t)-1 = none (the paper's method) */
+    size_t global_steps;        /* per level; 0 = 3; SK_MIPS_NONE = none (the paper's method) */
     size_t global_max_vertices; /* 0 = 25000 (a factorization there takes ~0.1 s) */
     size_t sweeps_per_global;   /* 0 = 2 */
     /* A level above global_max_vertices (and not the input) is optimized only when it has at
@@ -50,6 +47,7 @@ typedef struct sk_hparam_opts {
     double min_growth;
 } sk_hparam_opts;
 
+/* One level of the hierarchy as the driver saw it. */
 typedef struct sk_hparam_level {
     size_t vertices, faces;
     size_t steps, sweeps;
@@ -60,9 +58,11 @@ typedef struct sk_hparam_level {
     double global_seconds;
 } sk_hparam_level;
 
+/* What sk_param_hierarchical did. levels is allocated by the library (any number of levels):
+ * release it with sk_hparam_stats_release. */
 typedef struct sk_hparam_stats {
-    size_t num_levels;     /* levels of the hierarchy (input included) */
-    sk_hparam_level levels[SK_HPARAM_MAX_LEVELS]; /* coarsest first */
+    size_t num_levels;       /* levels of the hierarchy (input included) */
+    sk_hparam_level *levels; /* num_levels entries, coarsest first; NULL when num_levels is 0 */
     size_t steps;          /* local steps over all levels */
     size_t repaired;       /* total inserted vertices repaired */
     size_t fallbacks;      /* levels re-solved with a linear method because repair failed */
@@ -70,19 +70,35 @@ typedef struct sk_hparam_stats {
     double hierarchy_seconds, total_seconds;
 } sk_hparam_stats;
 
-/* Hierarchical MIPS parametrization of a disk-topology triangle mesh into uv (2 per vertex). The
- * coarsest level starts from Floater's parametrization with a circle (or square) boundary. After
- * each insertion, a vertex whose one ring is not flip-free is moved to the centroid of the kernel
- * of its one ring; if that kernel is empty the level is re-solved with Floater's method (counted in
- * fallbacks). The result has no inverted triangle. */
-sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
-                                sk_hparam_stats *stats, sk_error *err);
+/* Hierarchical MIPS parametrization of a disk-topology triangle mesh (no deleted elements) into
+ * uv (2 * num_vertices doubles, written). The coarsest level starts from Floater's
+ * parametrization with a circle (or square) boundary. After each insertion, a vertex whose one
+ * ring is not flip-free is moved to the centroid of the kernel of its one ring; if that kernel
+ * is empty the level is re-solved with Floater's method (counted in fallbacks). The result has no
+ * inverted triangle; with a free boundary its scale is a power of two (sk_param_mips), use
+ * sk_param_normalize for the unit square. opts may be NULL (defaults). stats may be NULL; else
+ * it is overwritten (whatever it held is not freed) whenever the hierarchy was built, also on a
+ * later failure, and the caller releases it with sk_hparam_stats_release. */
+SK_API sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
+                                       sk_hparam_stats *stats, sk_error *err);
+
+/* Frees stats->levels and zeroes *stats. NULL-safe; a zeroed stats is fine. */
+SK_API void sk_hparam_stats_release(sk_hparam_stats *stats);
+
+/* Options of sk_param_mips_flat; zero-initialized means every default. */
+typedef struct sk_mips_flat_opts {
+    sk_boundary_opts boundary; /* as in sk_hparam_opts (default free) */
+    size_t max_steps;          /* budget of local steps; 0 = until the tolerance */
+    double tolerance;          /* as in sk_mips_opts: 0 = 1e-7, negative = never stop early */
+    uint64_t seed;             /* sweep order */
+    sk_progress_fn progress;
+    void *progress_user;
+} sk_mips_flat_opts;
 
 /* The conventional method of Table 1: Floater with a circle (or square) boundary on the full mesh,
- * then MIPS local steps in random order, at most max_steps of them (0: until the tolerance). */
-sk_status sk_param_mips_flat(const sk_mesh *mesh, sk_mips_boundary boundary, size_t max_steps,
-                             double tolerance, uint64_t seed, double *uv, sk_mips_stats *stats,
-                             sk_error *err);
+ * then MIPS local steps in random order (sk_param_mips). opts and stats may be NULL. */
+SK_API sk_status sk_param_mips_flat(const sk_mesh *mesh, const sk_mips_flat_opts *opts, double *uv,
+                                    sk_mips_stats *stats, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -43,11 +43,11 @@ typedef struct sk_collapse_opts {
  * last interior edge; no face normal of V's remaining one-ring turns by more than the threshold; no
  * face becomes degenerate (SK_DEGENERATE_REL); the valences stay at or above the minimum. Such a
  * collapse keeps the Euler characteristic and the number of boundary loops. opts may be NULL. */
-bool sk_mesh_collapse_ok(const sk_mesh *mesh, uint32_t h, const sk_collapse_opts *opts);
+SK_API bool sk_mesh_collapse_ok(const sk_mesh *mesh, uint32_t h, const sk_collapse_opts *opts);
 
 /* Performs the collapse of h (call sk_mesh_collapse_ok first): marks V, one or two faces and two or
  * three edges deleted (sk_mesh_compact removes them). */
-void sk_mesh_collapse(sk_mesh *mesh, uint32_t h);
+SK_API void sk_mesh_collapse(sk_mesh *mesh, uint32_t h);
 
 /* ---------------------------------------------------------------------------------------------
  * Hierarchy
@@ -76,9 +76,9 @@ typedef struct sk_hierarchy_opts {
 /* Builds the hierarchy of a triangle mesh (SK_ERR_TOPOLOGY for other faces, SK_ERR_NUMERIC for
  * non-finite coordinates). Deleted elements of the input are ignored: level L-1 is the compacted
  * input. Isolated vertices are kept on every level. opts may be NULL. */
-sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts,
-                             sk_hierarchy **out, sk_error *err);
-void sk_hierarchy_destroy(sk_hierarchy **h);
+SK_API sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts,
+                                    sk_hierarchy **out, sk_error *err);
+SK_API void sk_hierarchy_destroy(sk_hierarchy **h);
 
 typedef struct sk_level_info {
     size_t vertices, faces;
@@ -87,10 +87,10 @@ typedef struct sk_level_info {
 } sk_level_info;
 
 /* Number of levels L (at least 1: the input itself). */
-size_t sk_hierarchy_num_levels(const sk_hierarchy *h);
-sk_level_info sk_hierarchy_level_info(const sk_hierarchy *h, size_t level);
+SK_API size_t sk_hierarchy_num_levels(const sk_hierarchy *h);
+SK_API sk_level_info sk_hierarchy_level_info(const sk_hierarchy *h, size_t level);
 /* The coarsest mesh M^0 (compacted; owned by the hierarchy). */
-const sk_mesh *sk_hierarchy_coarsest(const sk_hierarchy *h);
+SK_API const sk_mesh *sk_hierarchy_coarsest(const sk_hierarchy *h);
 
 /* One vertex split: undoes the collapse of v (level i+1 numbering) onto w0. All other vertex ids are
  * level i numbers. The split takes the faces of w0 from the edge (w0, first) around to the edge
@@ -109,28 +109,28 @@ typedef struct sk_vertex_split {
 
 /* Splits taking level to level + 1 (level < L - 1) and their count. They commute (the removed
  * vertices of a level are pairwise non-adjacent); they are stored sorted by w0. */
-const sk_vertex_split *sk_hierarchy_splits(const sk_hierarchy *h, size_t level, size_t *count);
+SK_API const sk_vertex_split *sk_hierarchy_splits(const sk_hierarchy *h, size_t level, size_t *count);
 /* Vertex map of level + 1 -> level: the level number of a kept vertex, SK_INVALID for a removed one.
  * Its length is the vertex count of level + 1. Coarser levels are numbered in a spatial (Morton)
  * order of the vertices, and keep the relative order from there on. */
-const uint32_t *sk_hierarchy_vertex_map(const sk_hierarchy *h, size_t level);
+SK_API const uint32_t *sk_hierarchy_vertex_map(const sk_hierarchy *h, size_t level);
 
 /* Turns mesh, which must be level `level` (as from sk_hierarchy_coarsest or an earlier call), into
  * level + 1 in place: applies the splits, then renumbers the vertices as level + 1 numbers them.
  * uvs (when the mesh has them) of inserted vertices are interpolated with the barycentric
  * coordinates; normals are interpolated and normalised. */
-sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *mesh, sk_error *err);
 
 /* A copy of level `level` (coarsest mesh plus splits). */
-sk_status sk_hierarchy_level_mesh(const sk_hierarchy *h, size_t level, sk_mesh **out,
-                                  sk_error *err);
+SK_API sk_status sk_hierarchy_level_mesh(const sk_hierarchy *h, size_t level, sk_mesh **out,
+                                         sk_error *err);
 
 /* Section 3, "Triangle Insertion": carries a per-vertex attribute of `dim` doubles (uv: dim = 2)
  * from level to level + 1: kept vertices copy theirs, inserted ones get
  * rho * a(w0) + sigma * a(wi) + tau * a(wi+1). coarse has dim * V(level) values, fine dim *
  * V(level + 1); they must not overlap. */
-sk_status sk_hierarchy_prolong(const sk_hierarchy *h, size_t level, const double *coarse,
-                               size_t dim, double *fine, sk_error *err);
+SK_API sk_status sk_hierarchy_prolong(const sk_hierarchy *h, size_t level, const double *coarse,
+                                      size_t dim, double *fine, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -32,9 +32,9 @@ typedef struct sk_intersection_report {
  * (touching and coplanar contacts do not count).
  * SK_ERR_TOPOLOGY for an index out of range (in surface, face_group or groups), a face with fewer
  * than 3 corners or a non-finite coordinate; SK_ERR_NOMEM. */
-sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_group,
-                                const sk_soup *groups, sk_intersection_report *rep,
-                                sk_error *err);
+SK_API sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_group,
+                                       const sk_soup *groups, sk_intersection_report *rep,
+                                       sk_error *err);
 
 #ifdef __cplusplus
 }

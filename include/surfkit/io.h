@@ -38,9 +38,9 @@ typedef struct sk_write_opts {
 } sk_write_opts;
 
 /* Format from a path's extension (case-insensitive): .off .obj .ply .stl; SK_FORMAT_UNKNOWN else. */
-sk_format sk_format_from_path(const char *path);
+SK_API sk_format sk_format_from_path(const char *path);
 /* A short name ("OFF", "OBJ", "PLY", "STL", "auto", "unknown"); never NULL. */
-const char *sk_format_name(sk_format format);
+SK_API const char *sk_format_name(sk_format format);
 
 /* Parses size bytes (need not be NUL-terminated; never modified) into a new soup. The format is
  * opts->format, else the extension of name, else guessed from the content (PLY magic, OFF
@@ -51,11 +51,11 @@ const char *sk_format_name(sk_format format);
  * *out is NULL, nothing leaks, and err holds one line "NAME:LINE: what" (text) or "NAME: byte
  * OFFSET: what" (binary) with SK_ERR_PARSE (SK_ERR_NOMEM if memory ran out). Declared counts are
  * checked against the input size before anything is allocated for them. */
-sk_status sk_soup_read_memory(const void *data, size_t size, const char *name,
-                              const sk_read_opts *opts, sk_soup **out, sk_error *err);
+SK_API sk_status sk_soup_read_memory(const void *data, size_t size, const char *name,
+                                     const sk_read_opts *opts, sk_soup **out, sk_error *err);
 /* Reads a whole file and parses it as sk_soup_read_memory does, naming it by its base name in
  * parse errors. SK_ERR_IO (message with the path) when the file cannot be opened or read. */
-sk_status sk_soup_read(const char *path, const sk_read_opts *opts, sk_soup **out, sk_error *err);
+SK_API sk_status sk_soup_read(const char *path, const sk_read_opts *opts, sk_soup **out, sk_error *err);
 
 /* Writes the soup in opts->format (else from the path's extension). Text formats use the
  * shortest decimal that reads back as the same double; binary PLY stores doubles; binary STL
@@ -63,18 +63,18 @@ sk_status sk_soup_read(const char *path, const sk_read_opts *opts, sk_soup **out
  * of range or a face of fewer than 3 vertices. The file is written to a temporary in the target
  * folder and renamed into place only when complete: on any error no file (and no temporary) is
  * left behind. */
-sk_status sk_soup_write(const char *path, const sk_soup *soup, const sk_write_opts *opts,
-                        sk_error *err);
+SK_API sk_status sk_soup_write(const char *path, const sk_soup *soup, const sk_write_opts *opts,
+                               sk_error *err);
 /* Writes to a malloc'ed buffer (*data, *size; the caller frees *data); opts->format must be given.
  * Same bytes as sk_soup_write would write; on failure *data is NULL. */
-sk_status sk_soup_write_memory(const sk_soup *soup, const sk_write_opts *opts, void **data,
-                               size_t *size, sk_error *err);
+SK_API sk_status sk_soup_write_memory(const sk_soup *soup, const sk_write_opts *opts, void **data,
+                                      size_t *size, sk_error *err);
 
 /* Convenience: sk_soup_read + sk_mesh_from_soup (a topology error is prefixed with the file's
  * base name); sk_mesh_to_soup + sk_soup_write (same guarantees as sk_soup_write). */
-sk_status sk_mesh_read(const char *path, const sk_read_opts *opts, sk_mesh **out, sk_error *err);
-sk_status sk_mesh_write(const char *path, const sk_mesh *mesh, const sk_write_opts *opts,
-                        sk_error *err);
+SK_API sk_status sk_mesh_read(const char *path, const sk_read_opts *opts, sk_mesh **out, sk_error *err);
+SK_API sk_status sk_mesh_write(const char *path, const sk_mesh *mesh, const sk_write_opts *opts,
+                               sk_error *err);
 
 #ifdef __cplusplus
 }

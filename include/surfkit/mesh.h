@@ -38,18 +38,18 @@ typedef struct sk_soup {
 
 /* Creates an empty soup with reserved room; attribute arrays are allocated when has_normals /
  * has_uvs is set. */
-sk_status sk_soup_create(size_t reserve_vertices, size_t reserve_faces, size_t reserve_indices,
-                         bool has_normals, bool has_uvs, sk_soup **out, sk_error *err);
-void sk_soup_destroy(sk_soup **soup);
+SK_API sk_status sk_soup_create(size_t reserve_vertices, size_t reserve_faces, size_t reserve_indices,
+                                bool has_normals, bool has_uvs, sk_soup **out, sk_error *err);
+SK_API void sk_soup_destroy(sk_soup **soup);
 
 /* Appends a vertex (normal / uv may be NULL when the soup has none; ignored when it has none). */
-sk_status sk_soup_push_vertex(sk_soup *soup, const double pos[3], const double normal[3],
-                              const double uv[2]);
+SK_API sk_status sk_soup_push_vertex(sk_soup *soup, const double pos[3], const double normal[3],
+                                     const double uv[2]);
 /* Appends a face with n indices (n may be < 3 in a defective file: it is kept and reported). */
-sk_status sk_soup_push_face(sk_soup *soup, const uint32_t *indices, size_t n);
+SK_API sk_status sk_soup_push_face(sk_soup *soup, const uint32_t *indices, size_t n);
 /* Adds (zeroed) normal / uv arrays if absent. */
-sk_status sk_soup_add_normals(sk_soup *soup);
-sk_status sk_soup_add_uvs(sk_soup *soup);
+SK_API sk_status sk_soup_add_normals(sk_soup *soup);
+SK_API sk_status sk_soup_add_uvs(sk_soup *soup);
 
 static inline size_t sk_soup_face_size(const sk_soup *s, size_t f)
 {
@@ -101,11 +101,11 @@ typedef struct sk_validation {
 } sk_validation;
 
 /* Fills rep with the full report; only allocation failure makes it fail. */
-sk_status sk_soup_validate(const sk_soup *soup, sk_validation *rep, sk_error *err);
+SK_API sk_status sk_soup_validate(const sk_soup *soup, sk_validation *rep, sk_error *err);
 
 /* True when the soup can become an sk_mesh (no index, size, repeat, non-manifold or orientation
  * defect, finite coordinates). */
-bool sk_validation_is_manifold(const sk_validation *rep);
+SK_API bool sk_validation_is_manifold(const sk_validation *rep);
 
 /* Relative tolerance for degenerate faces: twice the area <= SK_DEGENERATE_REL * (longest edge)^2,
  * i.e. the smallest angle of the face is below about 1e-12 radians. */
@@ -176,48 +176,48 @@ static inline uint32_t sk_cw_out(const sk_mesh *m, uint32_t h) { return m->h_nex
 static inline uint32_t sk_ccw_out(const sk_mesh *m, uint32_t h) { return m->h_prev[h] ^ 1u; }
 
 /* Number of edges (= faces, counting the boundary gap as none) around v. */
-size_t sk_mesh_valence(const sk_mesh *m, uint32_t v);
+SK_API size_t sk_mesh_valence(const sk_mesh *m, uint32_t v);
 /* Number of vertices of face f. */
-size_t sk_mesh_face_size(const sk_mesh *m, uint32_t f);
+SK_API size_t sk_mesh_face_size(const sk_mesh *m, uint32_t f);
 
 /* Builds a half-edge mesh from a soup; fails with SK_ERR_TOPOLOGY naming the first defect (use
  * sk_soup_validate for the full report). Normals and uvs are copied when the soup has them.
  * Unreferenced vertices become isolated vertices (v_halfedge == SK_INVALID). */
-sk_status sk_mesh_from_soup(const sk_soup *soup, sk_mesh **out, sk_error *err);
+SK_API sk_status sk_mesh_from_soup(const sk_soup *soup, sk_mesh **out, sk_error *err);
 
 /* Builds from plain arrays: positions (3 * nv), polygon faces given by offsets/indices. */
-sk_status sk_mesh_from_faces(size_t nv, const double *positions, size_t nf, const uint32_t *offsets,
-                             const uint32_t *indices, sk_mesh **out, sk_error *err);
+SK_API sk_status sk_mesh_from_faces(size_t nv, const double *positions, size_t nf, const uint32_t *offsets,
+                                    const uint32_t *indices, sk_mesh **out, sk_error *err);
 
 /* Converts the (compacted or not) mesh to a soup; deleted elements are skipped and indices
  * renumbered. */
-sk_status sk_mesh_to_soup(const sk_mesh *mesh, sk_soup **out, sk_error *err);
+SK_API sk_status sk_mesh_to_soup(const sk_mesh *mesh, sk_soup **out, sk_error *err);
 
-sk_status sk_mesh_copy(const sk_mesh *mesh, sk_mesh **out, sk_error *err);
-void sk_mesh_destroy(sk_mesh **mesh);
+SK_API sk_status sk_mesh_copy(const sk_mesh *mesh, sk_mesh **out, sk_error *err);
+SK_API void sk_mesh_destroy(sk_mesh **mesh);
 
 /* Optional property arrays (zero-filled when created). */
-sk_status sk_mesh_add_normals(sk_mesh *mesh, sk_error *err);
-sk_status sk_mesh_add_uvs(sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_mesh_add_normals(sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_mesh_add_uvs(sk_mesh *mesh, sk_error *err);
 
 /* Room for more elements (mutating algorithms call this before adding). */
-sk_status sk_mesh_reserve(sk_mesh *mesh, size_t vertices, size_t halfedges, size_t faces,
-                          sk_error *err);
+SK_API sk_status sk_mesh_reserve(sk_mesh *mesh, size_t vertices, size_t halfedges, size_t faces,
+                                 sk_error *err);
 /* Appends elements; return the new index (SK_INVALID on allocation failure). Connectivity of the
  * new elements is SK_INVALID and must be set by the caller. */
-uint32_t sk_mesh_new_vertex(sk_mesh *mesh, const double pos[3]);
-uint32_t sk_mesh_new_edge(sk_mesh *mesh); /* returns the first half-edge 2e */
-uint32_t sk_mesh_new_face(sk_mesh *mesh);
+SK_API uint32_t sk_mesh_new_vertex(sk_mesh *mesh, const double pos[3]);
+SK_API uint32_t sk_mesh_new_edge(sk_mesh *mesh); /* returns the first half-edge 2e */
+SK_API uint32_t sk_mesh_new_face(sk_mesh *mesh);
 
 /* Removes deleted elements and renumbers the rest, keeping relative order. If the map arrays are
  * not NULL they receive old -> new indices (SK_INVALID for removed elements); vmap has
  * num_vertices entries, fmap num_faces entries (sizes before compaction). */
-sk_status sk_mesh_compact(sk_mesh *mesh, uint32_t *vmap, uint32_t *fmap, sk_error *err);
+SK_API sk_status sk_mesh_compact(sk_mesh *mesh, uint32_t *vmap, uint32_t *fmap, sk_error *err);
 
 /* Checks every connectivity invariant (next/prev inverse, faces closed, opposite pairs, vertex
  * half-edge is boundary when possible, no two fans); returns SK_ERR_TOPOLOGY with the first
  * violation. Used by tests and after mutating algorithms. */
-sk_status sk_mesh_check(const sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_mesh_check(const sk_mesh *mesh, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Topology and geometry queries
@@ -231,8 +231,8 @@ typedef struct sk_loops {
 } sk_loops;
 
 /* All boundary loops, each as an ordered cycle of boundary half-edges (vertex sk_from(h) in turn). */
-sk_status sk_mesh_boundary_loops(const sk_mesh *mesh, sk_loops *loops, sk_error *err);
-void sk_loops_free(sk_loops *loops);
+SK_API sk_status sk_mesh_boundary_loops(const sk_mesh *mesh, sk_loops *loops, sk_error *err);
+SK_API void sk_loops_free(sk_loops *loops);
 
 typedef struct sk_topology {
     size_t vertices, edges, faces, boundary_loops, components;
@@ -242,18 +242,18 @@ typedef struct sk_topology {
 
 /* Counts over alive, non-isolated elements. face_component (may be NULL; num_faces entries)
  * receives the component id of each face. */
-sk_status sk_mesh_topology(const sk_mesh *mesh, sk_topology *top, uint32_t *face_component,
-                           sk_error *err);
+SK_API sk_status sk_mesh_topology(const sk_mesh *mesh, sk_topology *top, uint32_t *face_component,
+                                  sk_error *err);
 
 /* Face normal (Newell's method for polygons), unit length; returns twice the area for triangles
  * (the length of the unnormalised Newell vector, area * 2 in general). */
-double sk_mesh_face_normal(const sk_mesh *mesh, uint32_t f, double n[3]);
+SK_API double sk_mesh_face_normal(const sk_mesh *mesh, uint32_t f, double n[3]);
 /* Area of face f. */
-double sk_mesh_face_area(const sk_mesh *mesh, uint32_t f);
-double sk_mesh_edge_length(const sk_mesh *mesh, uint32_t e);
-void sk_mesh_bbox(const sk_mesh *mesh, double min[3], double max[3]);
+SK_API double sk_mesh_face_area(const sk_mesh *mesh, uint32_t f);
+SK_API double sk_mesh_edge_length(const sk_mesh *mesh, uint32_t e);
+SK_API void sk_mesh_bbox(const sk_mesh *mesh, double min[3], double max[3]);
 /* Length of the bounding-box diagonal: the model size tolerances are relative to. */
-double sk_mesh_diagonal(const sk_mesh *mesh);
+SK_API double sk_mesh_diagonal(const sk_mesh *mesh);
 
 #ifdef __cplusplus
 }

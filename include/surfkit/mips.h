@@ -9,6 +9,7 @@
 #define SURFKIT_MIPS_H
 
 #include "surfkit/mesh.h"
+#include "surfkit/param.h"
 
 #include <stdbool.h>
 
@@ -16,8 +17,15 @@
 extern "C" {
 #endif
 
+/* For a count whose default (0) is not "none" (sk_hparam_opts.global_steps), or to say "none"
+ * explicitly anywhere: none at all. */
+#define SK_MIPS_NONE ((size_t)-1)
+
+/* Options of sk_param_mips; zero-initialized means every default. */
 typedef struct sk_mips_opts {
-    bool fixed_boundary;  /* keep boundary vertices where they are (default: free, natural) */
+    sk_boundary_shape boundary; /* SK_BOUNDARY_DEFAULT or SK_BOUNDARY_FREE: natural boundary;
+                                   SK_BOUNDARY_GIVEN: the boundary vertices keep the uv given;
+                                   others: SK_ERR_ARG */
     size_t max_sweeps;    /* sweeps over all vertices; 0 = 200 */
     size_t max_steps;     /* budget of local steps (vertex moves); 0 = no budget beyond sweeps */
     double tolerance;     /* stop when a sweep lowers the energy by less than this fraction;
@@ -30,7 +38,8 @@ typedef struct sk_mips_opts {
      * energy (*) in mips.c (a_t the cotangent numerator, b_t twice the parameter area), solved
      * with CHOLMOD; step length at most 0.9 of the largest flip-free step (roots of each
      * triangle's signed-area quadratic), then backtracking on the total energy. Each global step
-     * is followed by sweeps_per_global local sweeps. 0 = none (local steps only). */
+     * is followed by sweeps_per_global local sweeps. 0 (the default) or SK_MIPS_NONE = none
+     * (local steps only). */
     size_t global_steps;
     size_t sweeps_per_global; /* 0 = 1 */
     bool frozen_model;        /* factorize the model at the first global step and reuse it for
@@ -39,6 +48,7 @@ typedef struct sk_mips_opts {
                                  default: a new factorization every global step */
 } sk_mips_opts;
 
+/* What sk_param_mips did (plain values, nothing to free). */
 typedef struct sk_mips_stats {
     size_t sweeps;
     size_t steps;          /* local steps taken (attempted vertex moves) */
@@ -49,16 +59,21 @@ typedef struct sk_mips_stats {
     double global_seconds; /* time in global steps (assembly, factorization, line search) */
 } sk_mips_stats;
 
-/* MIPS energy of uv (2 per vertex) over the alive triangles of mesh; *inverted counts triangles
- * with non-positive parameter area (their energy is not added). Fails on non-triangle faces and
- * on triangles that are degenerate in 3D (MIPS is undefined there). */
-sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
-                         sk_error *err);
+/* MIPS energy of uv (2 per vertex) over the alive triangles of mesh into *energy; *inverted
+ * counts triangles with non-positive parameter area (their energy is not added). Neither output
+ * may be NULL. Fails (SK_ERR_TOPOLOGY) on non-triangle faces and on triangles that are degenerate
+ * in 3D (MIPS is undefined there). */
+SK_API sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
+                                sk_error *err);
 
-/* Lowers the MIPS energy of uv (2 per vertex, a flip-free start) by local steps in random order.
- * Fails with SK_ERR_ARG if the start has an inverted triangle. */
-sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
-                        sk_mips_stats *stats, sk_error *err);
+/* Lowers the MIPS energy of uv (2 * num_vertices doubles, in and out; a flip-free start) by local
+ * steps in random order. opts and stats may be NULL. Fails with SK_ERR_ARG if the start has an
+ * inverted triangle; SK_WARN_FLIPS (uv complete) if the result has one (not expected). With a free boundary the energy
+ * is invariant under similarities and the scale of uv would drift: uv is rescaled by powers of
+ * two during the optimization (exact, so the result is the same) and comes back with the larger
+ * side of its bounding box in [1, 2), translated to the origin if it had drifted far from it. */
+SK_API sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
+                               sk_mips_stats *stats, sk_error *err);
 
 #ifdef __cplusplus
 }

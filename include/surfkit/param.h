@@ -2,7 +2,8 @@
  *
  * A parametrization is a per-vertex array uv of 2 * mesh->num_vertices doubles (u, v of vertex i
  * at uv[2i], uv[2i+1]); deleted and isolated vertices get (0, 0). Copy it into mesh->uvs to write
- * an OBJ with vt or a PLY with u v.
+ * an OBJ with vt or a PLY with s t. Each method leaves uv at its own scale (the unit circle, the
+ * unit square, LSCM's pins); sk_param_normalize maps it into the unit square.
  *
  * Fixed-boundary methods (the boundary is mapped to a convex polygon, then every interior vertex
  * is an affine combination of its neighbours: sum_j w_ij (u_i - u_j) = 0, eq. (1) of Hormann,
@@ -18,6 +19,8 @@
  *   SK_PARAM_LSCM        least squares conformal maps (Levy et al.) with two pinned boundary
  *                        vertices (the two farthest apart, or opts->pins), Cholesky.
  * With a convex boundary, Tutte, Floater and mean value give a bijection (no flipped triangle).
+ * MIPS (non-linear, hierarchical or flat) is in mips.h and hierarchical.h; one call for every
+ * method, with the defaults and legality checks, is sk_parametrize in parametrize.h.
  */
 #ifndef SURFKIT_PARAM_H
 #define SURFKIT_PARAM_H
@@ -32,22 +35,37 @@ extern "C" {
 #endif
 
 typedef enum {
-    SK_PARAM_TUTTE = 0,
+    SK_PARAM_DEFAULT = 0, /* Floater (sk_param_linear, sk_param_weights, sk_parametrize) */
+    SK_PARAM_TUTTE,
     SK_PARAM_FLOATER,
     SK_PARAM_MEAN_VALUE,
     SK_PARAM_HARMONIC,
-    SK_PARAM_LSCM
+    SK_PARAM_LSCM,
+    SK_PARAM_MIPS         /* hierarchical (or flat) MIPS: sk_parametrize only (parametrize.h) */
 } sk_param_method;
 
-const char *sk_param_method_name(sk_param_method m); /* "tutte", "floater", "mvc", ... */
-/* Parses those names (and "mean-value", "cotangent"); returns false when unknown. */
-bool sk_param_method_parse(const char *name, sk_param_method *m);
+/* "tutte", "floater", "mvc", "harmonic", "lscm", "mips" ("floater" for SK_PARAM_DEFAULT,
+ * "unknown" else); static storage, never NULL. */
+SK_API const char *sk_param_method_name(sk_param_method m);
+/* Parses those names (and "barycentric", "shape-preserving", "mean-value", "cotangent"); name
+ * may be NULL; returns false (and leaves *m) when unknown. */
+SK_API bool sk_param_method_parse(const char *name, sk_param_method *m);
 
+/* One boundary vocabulary for every parametrizer. Which shapes a call accepts is said at the
+ * call; SK_ERR_ARG for the others. */
 typedef enum {
-    SK_BOUNDARY_CIRCLE = 0, /* unit circle, counter-clockwise */
-    SK_BOUNDARY_SQUARE,     /* unit square [0,1]^2, corners on four boundary vertices */
-    SK_BOUNDARY_GIVEN       /* keep the boundary uv already in the uv array */
+    SK_BOUNDARY_DEFAULT = 0, /* the method's own: the circle for the fixed-boundary methods
+                                (Tutte, Floater, mean value, harmonic), free for LSCM and MIPS */
+    SK_BOUNDARY_CIRCLE,      /* fixed on the unit circle, counter-clockwise */
+    SK_BOUNDARY_SQUARE,      /* fixed on the unit square [0,1]^2, corners on four boundary vertices */
+    SK_BOUNDARY_FREE,        /* natural boundary (LSCM, MIPS) */
+    SK_BOUNDARY_GIVEN        /* fixed where the uv array already has it */
 } sk_boundary_shape;
+
+/* "default", "circle", "square", "free", "given" ("unknown" else); static storage. */
+SK_API const char *sk_boundary_shape_name(sk_boundary_shape shape);
+/* Parses "circle", "square", "free", "given"; name may be NULL; false when unknown. */
+SK_API bool sk_boundary_shape_parse(const char *name, sk_boundary_shape *shape);
 
 typedef enum {
     SK_SPACING_CHORD = 0, /* by chord length along the boundary loop */
@@ -55,7 +73,7 @@ typedef enum {
 } sk_boundary_spacing;
 
 typedef struct sk_boundary_opts {
-    sk_boundary_shape shape;
+    sk_boundary_shape shape;     /* 0 = the method's default (above) */
     sk_boundary_spacing spacing;
     /* Square: the four corner vertices in boundary order (counter-clockwise in uv); when
      * has_corners is false they are the boundary vertices closest to quarter arc length. */
@@ -73,18 +91,20 @@ typedef enum {
                               a coarser level's solution); stops at `tolerance` or the budget */
 } sk_linear_solver;
 
+/* Options of the linear methods; zero-initialized means every default. */
 typedef struct sk_param_opts {
-    sk_param_method method;
-    sk_boundary_opts boundary; /* ignored by LSCM */
+    sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
+    sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
     sk_linear_solver solver;   /* LSCM is always direct */
     double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10 */
     size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000 */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
-    sk_progress_fn progress;
+    sk_progress_fn progress;   /* may be NULL; non-zero return cancels (SK_ERR_CANCELLED) */
     void *progress_user;
 } sk_param_opts;
 
+/* What a linear method did (plain values; times in seconds). */
 typedef struct sk_param_stats {
     size_t vertices, interior, boundary, faces;
     sk_solve_stats solve;   /* direct solver details (n, nnz, factor nnz, phase seconds) */
@@ -99,34 +119,47 @@ typedef struct sk_param_stats {
 /* Checks that the mesh is a triangulated disk: triangles only, one component, one boundary loop,
  * Euler characteristic 1, no degenerate (zero-area) triangle. Otherwise SK_ERR_TOPOLOGY with a
  * message saying what the mesh is ("closed surface of genus 2: cut it to a disk first"). */
-sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
+SK_API sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
 
-/* Writes uv of the boundary vertices (only) for the circle or square map. */
-sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
-                            sk_error *err);
+/* Writes uv of the boundary vertices (only) for the circle (also SK_BOUNDARY_DEFAULT) or square
+ * map; SK_BOUNDARY_GIVEN leaves uv as it is; SK_BOUNDARY_FREE is SK_ERR_ARG (no map). opts may be
+ * NULL (circle, chord spacing). */
+SK_API sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
+                                   sk_error *err);
 
 /* Per half-edge weights w[h] = w_ij for i = from(h), j = to(h), over mesh->num_halfedges
  * entries; defined for half-edges leaving interior vertices (others 0). Floater and mean value
  * are normalised to sum 1 per vertex; Tutte is 1, harmonic (cot alpha + cot beta) / 2. */
-sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
+SK_API sk_status sk_param_weights(const sk_mesh *mesh, sk_param_method method, double *w, sk_error *err);
 
 /* Solves sum_j w_ij (u_i - u_j) = 0 for every free vertex, the others (fixed[i] != 0; NULL means
  * the boundary vertices) keeping their uv. `symmetric` says w_ij = w_ji (then the fixed
  * vertices are eliminated into the right-hand side and the matrix is symmetric positive
  * definite: Cholesky), else LU. u and v are solved together (two right-hand sides). With
  * opts->solver == SK_LINEAR_GAUSS_SEIDEL the free uv given are the starting guess. */
-sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
-                                 const uint8_t *fixed, const sk_param_opts *opts, double *uv,
-                                 sk_param_stats *stats, sk_error *err);
+SK_API sk_status sk_param_solve_weights(const sk_mesh *mesh, const double *w, bool symmetric,
+                                        const uint8_t *fixed, const sk_param_opts *opts, double *uv,
+                                        sk_param_stats *stats, sk_error *err);
 
 /* The whole method: check, boundary map, weights, solve. uv has 2 * num_vertices doubles (with
- * SK_BOUNDARY_GIVEN its boundary entries are inputs). */
-sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
-                          sk_param_stats *stats, sk_error *err);
+ * SK_BOUNDARY_GIVEN its boundary entries are inputs), at the method's own scale. opts may be NULL
+ * (Floater, circle); stats may be NULL. SK_ERR_ARG for SK_PARAM_MIPS or a free boundary with a
+ * fixed-boundary method. */
+SK_API sk_status sk_param_linear(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                                 sk_param_stats *stats, sk_error *err);
 
-/* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM). */
-sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
-                        sk_param_stats *stats, sk_error *err);
+/* LSCM alone (also reached through sk_param_linear with SK_PARAM_LSCM); opts and stats may be
+ * NULL. uv at the scale the two pins set (see sk_param_normalize). */
+SK_API sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *uv,
+                               sk_param_stats *stats, sk_error *err);
+
+/* Maps uv (2 * mesh->num_vertices doubles, changed in place) into the unit square by one
+ * uniform scale and a translation (the aspect ratio is kept): the bounding box of the vertices
+ * of the alive faces gets its lower-left corner at (0, 0) and its larger side 1, so every such
+ * uv lies in [0, 1]^2 (exactly: no rounding outside). Deleted and isolated vertices keep their
+ * value. Every metric below is invariant under this map. SK_ERR_NUMERIC when a uv is not
+ * finite or all of them are one point; a mesh without faces is left as it is. */
+SK_API sk_status sk_param_normalize(const sk_mesh *mesh, double *uv, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Metrics
@@ -134,8 +167,9 @@ sk_status sk_param_lscm(const sk_mesh *mesh, const sk_param_opts *opts, double *
 
 /* Sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear, exact
  * for all finite doubles (error-bounded filter, then exact expansion arithmetic). */
-int sk_orient2d(const double a[2], const double b[2], const double c[2]);
+SK_API int sk_orient2d(const double a[2], const double b[2], const double c[2]);
 
+/* Distortion of a parametrization; every value is invariant under a similarity of uv. */
 typedef struct sk_param_metrics {
     size_t faces;
     size_t flipped;        /* triangles with clockwise or zero-area uv (exact orientation test) */
@@ -152,14 +186,15 @@ typedef struct sk_param_metrics {
     double area_uv;        /* signed uv area (sum over triangles) */
 } sk_param_metrics;
 
-sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
-                                   sk_error *err);
+/* Fills *m (not NULL) for uv (2 * num_vertices doubles) over the alive triangles of mesh. */
+SK_API sk_status sk_param_metrics_compute(const sk_mesh *mesh, const double *uv, sk_param_metrics *m,
+                                          sk_error *err);
 
 /* Per face (num_faces entries; deleted / non-triangle faces get 0): conformal distortion
  * sigma1/sigma2 (inf for zero uv area) and orientation (+1, -1, 0 from sk_orient2d). Either
  * output may be NULL. */
-sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
-                                   int8_t *orientation, sk_error *err);
+SK_API sk_status sk_param_face_distortion(const sk_mesh *mesh, const double *uv, double *conformal,
+                                          int8_t *orientation, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,6 @@
 /* Pictures with cairo: UV layouts coloured by distortion, and a checkerboard textured view of
  * the 3D mesh. PNG or SVG chosen by the file extension (.png, .svg); files are written
- * atomically. */
+ * atomically. Every call takes (what to draw..., path, opts, err); opts may be NULL (defaults). */
 #ifndef SURFKIT_RENDER_H
 #define SURFKIT_RENDER_H
 
@@ -29,22 +29,22 @@ typedef struct sk_render_opts {
 
 /* The UV layout: triangles coloured by conformal distortion (legend on the right), flipped
  * triangles filled in magenta with a thick outline, edges in thin grey, boundary in black. */
-sk_status sk_render_uv(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
-                       const char *path, sk_error *err);
+SK_API sk_status sk_render_uv(const sk_mesh *mesh, const double *uv, const char *path,
+                              const sk_render_opts *opts, sk_error *err);
 
 /* The 3D mesh seen along opts->view (orthographic, z-buffered), textured with a checkerboard
  * in uv and shaded by the angle to the view (PNG only). */
-sk_status sk_render_checker(const sk_mesh *mesh, const double *uv, const sk_render_opts *opts,
-                            const char *path, sk_error *err);
+SK_API sk_status sk_render_checker(const sk_mesh *mesh, const double *uv, const char *path,
+                                   const sk_render_opts *opts, sk_error *err);
 
 /* Pictures of the smooth surface (cairo, PNG, orthographic flat shading) */
 /* The triangle/quad configuration: triangles grey, quads blue, deleted edges red, problem
  * vertices marked. */
-sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
-                                 const sk_render_opts *opts, sk_error *err);
+SK_API sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
+                                        const sk_render_opts *opts, sk_error *err);
 /* A flat-shaded picture of a triangle soup (e.g. the tessellated surface). */
-sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
-                           sk_error *err);
+SK_API sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
+                                  sk_error *err);
 
 /* A scalar field over a surface (e.g. the distance to another surface, sk_bvh_distance). */
 typedef double (*sk_field_fn)(void *user, const double p[3]);
@@ -54,9 +54,9 @@ typedef double (*sk_field_fn)(void *user, const double p[3]);
  * scale, magenta beyond it; scale <= 0 uses the largest value drawn. A legend shows the scale
  * under `label` (e.g. "distance to the surface"). PNG, written atomically. SK_ERR_TOPOLOGY when a
  * face index is out of range. */
-sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, double scale,
-                          const char *label, const sk_render_opts *opts, const char *path,
-                          sk_error *err);
+SK_API sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, double scale,
+                                 const char *label, const char *path, const sk_render_opts *opts,
+                                 sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -8,12 +8,10 @@
  *
  * and a baseline: PN triangles (Vlachos et al. 2001, cubic, only C0 across edges).
  *
- * Patch parametrisation. Triangle of degree n (4 for VC1, 3 for PN): control points b_ijk,
- * i + j + k = n, i belonging to corners[0], j to corners[1], k to corners[2], stored by rows
- * k = 0..n, inside a row by j = 0..n-k; the point at (u, v) has barycentric coordinates
- * (1 - u - v, u, v). Bicubic quad: b[i + 4 j], i = 0..3 from corners[0] to corners[1] (u),
- * j = 0..3 from corners[0] to corners[3] (v); corners are in counter-clockwise order seen from the
- * side the normals point to. */
+ * The surface is a patch set (include/surfkit/bezier.h): one patch per face of the configuration
+ * mesh, patch f for face f (its tag), corner ids = the face's vertex ids in counter-clockwise
+ * order seen from the side the normals point to, corner 0 = from(f_halfedge[f]). Triangles have
+ * degree 4 (VC1) or 3 (PN), quads are bicubic tensor patches. */
 #ifndef SURFKIT_SMOOTH_H
 #define SURFKIT_SMOOTH_H
 
@@ -54,8 +52,8 @@ typedef struct sk_edge_deletion_stats {
  * array of 2 * deleted_edges vertex ids (the deleted edges' end points). Fails with
  * SK_ERR_TOPOLOGY for faces that are not triangles and for a closed component with an odd number of
  * even vertices (equivalently an odd number of vertices, by Euler's formula: no solution exists). */
-sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t **deleted,
-                           sk_edge_deletion_stats *stats, sk_error *err);
+SK_API sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t **deleted,
+                                  sk_edge_deletion_stats *stats, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * The smooth surface
@@ -74,15 +72,6 @@ typedef struct sk_smooth_opts {
     sk_progress_fn progress;
     void *progress_user;
 } sk_smooth_opts;
-
-typedef enum { SK_SMOOTH_TRIANGLE = 3, SK_SMOOTH_QUAD = 4 } sk_smooth_patch_kind;
-
-typedef struct sk_smooth_patch {
-    uint8_t kind;        /* SK_SMOOTH_TRIANGLE or SK_SMOOTH_QUAD */
-    uint8_t degree;      /* triangles 4 (VC1) or 3 (PN); quads 3 */
-    uint32_t first;      /* index of the first control point in sk_smooth.points */
-    uint32_t corners[4]; /* vertex ids, counter-clockwise; corners[3] = SK_INVALID for triangles */
-} sk_smooth_patch;
 
 typedef struct sk_smooth_stats {
     sk_edge_deletion_stats deletion;
@@ -106,10 +95,7 @@ typedef struct sk_smooth {
     sk_smooth_scheme scheme;
     sk_mesh *config;           /* the triangle/quad mesh the patches sit on (one patch per face) */
     double *normals;           /* unit normal per vertex of config */
-    size_t num_patches;
-    sk_smooth_patch *patches;         /* patch f belongs to face f of config */
-    size_t num_points;
-    double *points;            /* 3 per control point */
+    sk_patch_set surface;      /* patch f belongs to face f of config */
     size_t num_deleted;        /* deleted edges ... */
     uint32_t *deleted;         /* ... as 2 vertex ids each */
     size_t num_problems;       /* vertices with a failed system or violated angle bound */
@@ -122,22 +108,9 @@ typedef struct sk_smooth {
  * closed component without allow_split), SK_ERR_NUMERIC (an edge whose normals make a cubic
  * boundary curve impossible, named in the message), SK_ERR_CANCELLED. Vertices whose angle bounds
  * are violated or whose system failed are listed in problems; the surface is still returned. */
-sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts, sk_smooth **out,
-                          sk_error *err);
-void sk_smooth_destroy(sk_smooth **smooth);
-
-/* Evaluates patch p at (u, v) by de Casteljau: position, first derivatives and unit normal (each
- * output may be NULL). */
-void sk_smooth_eval(const sk_smooth *s, size_t p, double u, double v, double pos[3], double du[3],
-                   double dv[3], double normal[3]);
-
-/* The patches as generic Bezier patches (include/surfkit/bezier.h) for the CAD writers, with the
- * config's vertex ids as corner ids; *out is malloc'ed (free it). */
-sk_status sk_smooth_to_patches(const sk_smooth *s, sk_patch **out, size_t *count, sk_error *err);
-
-/* Tessellates every patch into an n x n grid (triangles: n^2 triangles, quads: 2 n^2), welded along
- * patch boundaries, with the exact patch normals; the result is a triangle soup with normals. */
-sk_status sk_smooth_tessellate(const sk_smooth *s, unsigned n, sk_soup **out, sk_error *err);
+SK_API sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts, sk_smooth **out,
+                                 sk_error *err);
+SK_API void sk_smooth_destroy(sk_smooth **smooth);
 
 /* ---------------------------------------------------------------------------------------------
  * Continuity report
@@ -165,8 +138,8 @@ typedef struct sk_continuity_report {
     bool pass_g1, pass_gap;           /* against the tolerances */
 } sk_continuity_report;
 
-sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
-                               sk_continuity_report *rep, sk_error *err);
+SK_API sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
+                                      sk_continuity_report *rep, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -31,11 +31,11 @@ typedef struct sk_triplets {
     double *values;
 } sk_triplets;
 
-sk_status sk_triplets_reserve(sk_triplets *t, size_t capacity, sk_error *err);
+SK_API sk_status sk_triplets_reserve(sk_triplets *t, size_t capacity, sk_error *err);
 /* Appends one entry (grows as needed); SK_ERR_NOMEM on failure. */
-sk_status sk_triplets_add(sk_triplets *t, uint32_t row, uint32_t col, double value);
-void sk_triplets_clear(sk_triplets *t); /* count = 0, keeps the memory */
-void sk_triplets_free(sk_triplets *t);
+SK_API sk_status sk_triplets_add(sk_triplets *t, uint32_t row, uint32_t col, double value);
+SK_API void sk_triplets_clear(sk_triplets *t); /* count = 0, keeps the memory */
+SK_API void sk_triplets_free(sk_triplets *t);
 
 typedef enum {
     SK_SPARSE_FULL = 0, /* keep every entry */
@@ -58,14 +58,14 @@ typedef struct sk_sparse {
 } sk_sparse;
 
 /* Builds the matrix; duplicates summed, out-of-range indices rejected with SK_ERR_ARG. */
-sk_status sk_sparse_from_triplets(size_t n, const sk_triplets *t, sk_sparse_storage storage,
-                                  sk_sparse **out, sk_error *err);
+SK_API sk_status sk_sparse_from_triplets(size_t n, const sk_triplets *t, sk_sparse_storage storage,
+                                         sk_sparse **out, sk_error *err);
 /* Refills values from triplets with the same (row, col) sequence as the build; only the values
  * may differ. */
-sk_status sk_sparse_update_values(sk_sparse *a, const sk_triplets *t, sk_error *err);
+SK_API sk_status sk_sparse_update_values(sk_sparse *a, const sk_triplets *t, sk_error *err);
 /* y = A x (a lower-stored matrix acts as the full symmetric one). */
-void sk_sparse_multiply(const sk_sparse *a, const double *x, double *y);
-void sk_sparse_destroy(sk_sparse **a);
+SK_API void sk_sparse_multiply(const sk_sparse *a, const double *x, double *y);
+SK_API void sk_sparse_destroy(sk_sparse **a);
 
 typedef enum {
     SK_SOLVER_CHOLESKY = 0, /* CHOLMOD; the matrix must be SK_SPARSE_LOWER and positive definite */
@@ -85,20 +85,20 @@ typedef struct sk_solve_stats {
 typedef struct sk_solver sk_solver;
 
 /* Analyses the pattern of a (fill-reducing ordering, symbolic factorization). */
-sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **out,
-                           sk_error *err);
+SK_API sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **out,
+                                  sk_error *err);
 /* Numeric factorization of a; may be called again with new values on the same pattern.
  * Fails with SK_ERR_NUMERIC when the matrix is not positive definite (Cholesky) or singular. */
-sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err);
+SK_API sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err);
 /* Solves A X = B for nrhs right-hand sides stored column after column (n * nrhs doubles each);
  * x and b may not alias. */
-sk_status sk_solver_solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk_error *err);
-void sk_solver_stats(const sk_solver *s, sk_solve_stats *stats);
-void sk_solver_destroy(sk_solver **s);
+SK_API sk_status sk_solver_solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk_error *err);
+SK_API void sk_solver_stats(const sk_solver *s, sk_solve_stats *stats);
+SK_API void sk_solver_destroy(sk_solver **s);
 
 /* Convenience: create + factorize + solve, stats filled (may be NULL). */
-sk_status sk_sparse_solve(const sk_sparse *a, sk_solver_kind kind, size_t nrhs, const double *b,
-                          double *x, sk_solve_stats *stats, sk_error *err);
+SK_API sk_status sk_sparse_solve(const sk_sparse *a, sk_solver_kind kind, size_t nrhs, const double *b,
+                                 double *x, sk_solve_stats *stats, sk_error *err);
 
 
 

@@ -24,8 +24,8 @@ typedef struct sk_subdiv_opts {
  * / n; interior odd vertices 3/8 (a + b) + 1/8 (c + d); boundary even 3/4 v + 1/8 (b0 + b1);
  * boundary odd (a + b) / 2. Midpoint: old vertices stay, new ones at edge midpoints. Normals and
  * uvs, when present, are carried linearly (midpoints) in both schemes. */
-sk_status sk_mesh_subdivide(const sk_mesh *mesh, const sk_subdiv_opts *opts, sk_mesh **out,
-                            sk_error *err);
+SK_API sk_status sk_mesh_subdivide(const sk_mesh *mesh, const sk_subdiv_opts *opts, sk_mesh **out,
+                                   sk_error *err);
 
 #ifdef __cplusplus
 }

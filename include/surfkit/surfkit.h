@@ -15,6 +15,7 @@
 #include "surfkit/render.h"
 #include "surfkit/mips.h"
 #include "surfkit/hierarchical.h"
+#include "surfkit/parametrize.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
 #include "surfkit/deviation.h"

@@ -24,14 +24,14 @@ typedef struct sk_view_opts {
 } sk_view_opts;
 
 /* True when the library was built with three.js (scripts/setup.sh fetches it from npm). */
-bool sk_view_available(void);
+SK_API bool sk_view_available(void);
 
 /* Writes the viewer page of mesh (faces of any size, split into fans) to path (atomically).
  * uv (2 per vertex of mesh, may be NULL) adds the checkerboard and distortion layers; smooth (may
  * be NULL; built over the same vertices) adds the surface layers and the surface's distance to
  * the mesh. SK_ERR_ARG when the library has no viewer (sk_view_available), SK_ERR_NOMEM, SK_ERR_IO. */
-sk_status sk_view_write(const sk_mesh *mesh, const double *uv, const sk_smooth *smooth,
-                        const sk_view_opts *opts, const char *path, sk_error *err);
+SK_API sk_status sk_view_write(const sk_mesh *mesh, const double *uv, const sk_smooth *smooth,
+                               const sk_view_opts *opts, const char *path, sk_error *err);
 
 #ifdef __cplusplus
 }

@@ -23,7 +23,7 @@ const char *sk_status_string(sk_status status)
 
 const char *sk_version(void)
 {
-    return "0.1.0";
+    return SK_VERSION_STRING;
 }
 
 sk_status sk__fail(sk_error *err, sk_status status, const char *fmt, ...)

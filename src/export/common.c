@@ -73,46 +73,23 @@ void sk__export_time(const sk_export_opts *opts, char out[32])
     strftime(out, 32, "%Y-%m-%dT%H:%M:%S", &tm);
 }
 
-double sk__patches_max_coord(const sk_patch *patches, size_t count)
+double sk__patches_max_coord(const sk_patch_set *patches)
 {
     double m = 0.0;
-    for (size_t i = 0; i < count; ++i)
-        for (unsigned k = 0; k < 3 * sk_patch_num_points(&patches[i]); ++k)
-            m = fmax(m, fabs(patches[i].cp[k]));
+    for (size_t i = 0; i < patches->count; ++i) {
+        const double *cp = sk_patch_cp(patches, i);
+        for (unsigned k = 0; k < 3 * sk_patch_num_points(&patches->patches[i]); ++k)
+            m = fmax(m, fabs(cp[k]));
+    }
     return m;
 }
 
-sk_status sk_export_tensor_patches(const sk_patch *patches, size_t count,
-                                   const sk_export_opts *opts, sk_patch **out, size_t *out_count,
-                                   sk_error *err)
+sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_opts *opts,
+                                   sk_patch_set *out, sk_error *err)
 {
-    bool degenerate = opts && opts->degenerate_triangles;
-    size_t n = 0;
-    for (size_t i = 0; i < count; ++i)
-        n += patches[i].kind == SK_PATCH_TRIANGLE && !degenerate ? 3 : 1;
-    sk_patch *t = sk__malloc_array(n, sizeof *t);
-    if (!t)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    size_t k = 0;
-    sk_status st = SK_OK;
-    for (size_t i = 0; i < count && st == SK_OK; ++i) {
-        const sk_patch *p = &patches[i];
-        if (p->kind == SK_PATCH_TENSOR) {
-            t[k++] = *p;
-        } else if (degenerate) {
-            st = sk_patch_triangle_to_degenerate_tensor(p, &t[k++], err);
-        } else {
-            st = sk_patch_split_triangle(p, &t[k], err);
-            k += 3;
-        }
-    }
-    if (st) {
-        free(t);
-        return st;
-    }
-    *out = t;
-    *out_count = n;
-    return SK_OK;
+    if (!patches || !out)
+        return sk__fail(err, SK_ERR_ARG, "sk_export_tensor_patches: NULL argument");
+    return sk_patch_set_to_tensor(patches, opts && opts->degenerate_triangles, out, err);
 }
 
 void sk__buf_put(sk__buf *b, const char *s, size_t n)

@@ -27,7 +27,7 @@ const char *sk__fmt_real(char buf[32], double x);
 void sk__export_time(const sk_export_opts *opts, char out[32]);
 
 /* Largest absolute coordinate of the control points. */
-double sk__patches_max_coord(const sk_patch *patches, size_t count);
+double sk__patches_max_coord(const sk_patch_set *patches);
 
 #endif
 

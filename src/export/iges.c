@@ -74,24 +74,26 @@ static void pack_string(packer *p, const char *s, char delim)
     pack(p, buf, delim);
 }
 
-sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count,
+sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
                          const sk_export_opts *opts, sk_export_stats *stats, sk_error *err)
 {
     const sk__unit *unit = sk__unit_lookup(opts ? opts->units : NULL);
     if (!unit)
         return sk__fail(err, SK_ERR_ARG, "unknown unit '%s'", opts->units);
-    sk_patch *t = NULL;
-    size_t nt = 0;
-    sk_status st = sk_export_tensor_patches(patches, count, opts, &t, &nt, err);
-    if (st)
+    sk_patch_set ts = {0};
+    sk_status st = sk_export_tensor_patches(patches, opts, &ts, err);
+    if (st) {
+        sk_patch_set_free(&ts);
         return st;
+    }
+    size_t nt = ts.count;
     const char *name = opts && opts->name ? opts->name : "surfkit";
     char when[32], stamp[32];
     sk__export_time(opts, when);
     /* IGES dates: 15HYYYYMMDD.HHNNSS */
     snprintf(stamp, sizeof stamp, "%.4s%.2s%.2s.%.2s%.2s%.2s", when, when + 5, when + 8, when + 11,
              when + 14, when + 17);
-    double maxc = sk__patches_max_coord(t, nt);
+    double maxc = sk__patches_max_coord(&ts);
 
     sk__buf out = {0}, dsec = {0}, psec = {0};
     size_t s_seq = 0, g_seq = 0, d_seq = 0, p_seq = 0;
@@ -129,7 +131,8 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
     pack_flush(&g);
 
     for (size_t i = 0; i < nt; ++i) {
-        const sk_patch *p = &t[i];
+        const sk_patch *p = &ts.patches[i];
+        const double *cp = sk_patch_cp(&ts, i);
         unsigned du = p->degree, dv = p->degree_v;
         size_t de = 2 * i + 1, first = p_seq + 1;
         packer pp = {.b = &psec, .section = 'P', .seq = &p_seq, .width = 64, .de = de};
@@ -152,7 +155,7 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
         for (unsigned j = 0; j <= dv; ++j) /* first index (u) varies fastest */
             for (unsigned a = 0; a <= du; ++a)
                 for (int x = 0; x < 3; ++x)
-                    pack_real(&pp, p->cp[3 * (j * (du + 1) + a) + (unsigned)x], ',');
+                    pack_real(&pp, cp[3 * sk_tensor_index(du, a, j) + (unsigned)x], ',');
         pack_real(&pp, 0.0, ',');
         pack_real(&pp, 1.0, ',');
         pack_real(&pp, 0.0, ',');
@@ -183,6 +186,6 @@ sk_status sk_export_iges(const char *path, const sk_patch *patches, size_t count
     sk__buf_free(&out);
     sk__buf_free(&dsec);
     sk__buf_free(&psec);
-    free(t);
+    sk_patch_set_free(&ts);
     return st;
 }

@@ -175,8 +175,11 @@ static void halve(const double *cp, unsigned n, double *left, double *right)
     }
 }
 
-static void face(writer *w, const sk_patch *p, const size_t *loop, size_t nloop, size_t *face_id)
+static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *loop, size_t nloop,
+                 size_t *face_id)
 {
+    const sk_patch *p = &set->patches[pi];
+    const double *cp = sk_patch_cp(set, pi);
     unsigned du = p->degree, dv = p->degree_v;
     size_t *ids = malloc((du + 1) * (dv + 1) * sizeof(size_t));
     if (!ids) {
@@ -184,13 +187,13 @@ static void face(writer *w, const sk_patch *p, const size_t *loop, size_t nloop,
         return;
     }
     for (unsigned k = 0; k < (du + 1) * (dv + 1); ++k)
-        ids[k] = point(w, p->cp + 3 * k);
+        ids[k] = point(w, cp + 3 * k);
     size_t surf = w->next++;
     sk__buf_printf(w->b, "#%zu=B_SPLINE_SURFACE_WITH_KNOTS('',%u,%u,(", surf, du, dv);
     for (unsigned i = 0; i <= du; ++i) { /* outer list along u (s), inner along v (t) */
         sk__buf_puts(w->b, i ? ",(" : "(");
         for (unsigned j = 0; j <= dv; ++j)
-            sk__buf_printf(w->b, "%s#%zu", j ? "," : "", ids[j * (du + 1) + i]);
+            sk__buf_printf(w->b, "%s#%zu", j ? "," : "", ids[sk_tensor_index(du, i, j)]);
         sk__buf_puts(w->b, ")");
     }
     sk__buf_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,.F.,(%u,%u),(%u,%u),(0.,1.),(0.,1.),"
@@ -219,76 +222,39 @@ static void step_string(sk__buf *b, const char *s)
     sk__buf_puts(b, "'");
 }
 
-sk_status sk_export_step(const char *path, const sk_patch *patches, size_t count,
-                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err)
+static void write_header(sk__buf *out, const char *path, const char *name, const char *when,
+                         const sk__unit *unit)
 {
-    const sk__unit *unit = sk__unit_lookup(opts ? opts->units : NULL);
-    if (!unit)
-        return sk__fail(err, SK_ERR_ARG, "unknown unit '%s'", opts->units);
-    for (size_t i = 0; i < count; ++i)
-        for (unsigned c = 0; c < sk_patch_num_corners(&patches[i]); ++c)
-            if (patches[i].corner_ids[c] == SK_INVALID)
-                return sk__fail(err, SK_ERR_ARG, "patch %zu has no corner ids: STEP export needs "
-                                "them to share edges", i);
-    const char *name = opts && opts->name ? opts->name : "surfkit";
-    char when[32];
-    sk__export_time(opts, when);
-    sk__buf out = {0};
-    writer w = {.b = &out, .next = 1};
-    map split = {0};
-    size_t *faces = NULL, nfaces = 0;
-    sk_status st = SK_OK;
-
-    /* sides next to a triangle are split at their midpoints */
-    for (size_t i = 0; i < count && !w.nomem; ++i) {
-        if (patches[i].kind != SK_PATCH_TRIANGLE)
-            continue;
-        for (unsigned c = 0; c < 3; ++c) {
-            bool created;
-            if (!map_get(&split, edge_key(K_FULL, patches[i].corner_ids[c],
-                                          patches[i].corner_ids[(c + 1) % 3]), &created))
-                w.nomem = true;
-        }
-    }
-    size_t nt = 0;
-    for (size_t i = 0; i < count; ++i)
-        nt += patches[i].kind == SK_PATCH_TRIANGLE ? 3 : 1;
-    faces = malloc((nt ? nt : 1) * sizeof *faces);
-    if (!faces || w.nomem) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-
-    sk__buf_puts(&out, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit VC1 surface: Bezier "
+    sk__buf_puts(out, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit VC1 surface: Bezier "
                        "patches as B-spline surfaces'),'2;1');\nFILE_NAME(");
-    step_string(&out, sk__basename(path));
-    sk__buf_printf(&out, ",'%s',('surfkit'),('surfkit'),'surfkit 0.1.0','surfkit','');\n", when);
-    sk__buf_puts(&out, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\n"
+    step_string(out, sk__basename(path));
+    sk__buf_printf(out, ",'%s',('surfkit'),('surfkit'),'surfkit 0.1.0','surfkit','');\n", when);
+    sk__buf_puts(out, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\n"
                        "DATA;\n");
-    sk__buf_puts(&out, "#1=APPLICATION_CONTEXT('core data for automotive mechanical design "
+    sk__buf_puts(out, "#1=APPLICATION_CONTEXT('core data for automotive mechanical design "
                        "processes');\n"
                        "#2=APPLICATION_PROTOCOL_DEFINITION('international standard',"
                        "'automotive_design',2000,#1);\n"
                        "#3=PRODUCT_CONTEXT('',#1,'mechanical');\n#4=PRODUCT(");
-    step_string(&out, name);
-    sk__buf_puts(&out, ",");
-    step_string(&out, name);
-    sk__buf_puts(&out, ",'',(#3));\n"
+    step_string(out, name);
+    sk__buf_puts(out, ",");
+    step_string(out, name);
+    sk__buf_puts(out, ",'',(#3));\n"
                        "#5=PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#4));\n"
                        "#6=PRODUCT_DEFINITION_FORMATION('','',#4);\n"
                        "#7=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');\n"
                        "#8=PRODUCT_DEFINITION('design','',#6,#7);\n"
                        "#9=PRODUCT_DEFINITION_SHAPE('','',#8);\n");
     if (unit->step_unit)
-        sk__buf_printf(&out, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
+        sk__buf_printf(out, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
                        unit->step_prefix ? unit->step_prefix : "$", unit->step_unit);
     else
-        sk__buf_printf(&out, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
+        sk__buf_printf(out, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
                              "#21=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%.6g),#20);\n"
                              "#22=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
                              "#10=(CONVERSION_BASED_UNIT('%s',#21)LENGTH_UNIT()NAMED_UNIT(#22));\n",
                        unit->metres, unit->iges_name);
-    sk__buf_puts(&out, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
+    sk__buf_puts(out, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
                        "#12=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n"
                        "#13=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#10,"
                        "'distance_accuracy_value','confusion accuracy');\n"
@@ -297,69 +263,129 @@ sk_status sk_export_step(const char *path, const sk_patch *patches, size_t count
                        "'',''));\n"
                        "#15=CARTESIAN_POINT('',(0.,0.,0.));\n#16=DIRECTION('',(0.,0.,1.));\n"
                        "#17=DIRECTION('',(1.,0.,0.));\n#18=AXIS2_PLACEMENT_3D('',#15,#16,#17);\n");
-    w.next = 30;
+}
 
-    for (size_t i = 0; i < count && !w.nomem; ++i) {
-        const sk_patch *p = &patches[i];
-        const uint32_t *c = p->corner_ids;
-        double cp[3 * (SK_PATCH_MAX_DEGREE + 1)], l[3 * (SK_PATCH_MAX_DEGREE + 1)],
-            r[3 * (SK_PATCH_MAX_DEGREE + 1)], q[3];
-        size_t loop[8], nl = 0;
-        if (p->kind == SK_PATCH_TENSOR) {
-            size_t vid[4];
-            for (unsigned k = 0; k < 4; ++k) {
-                sk_patch_edge_point(p, k, 0.0, q);
-                vid[k] = vertex(&w, (key){K_VERTEX, c[k], 0}, q);
-            }
-            for (unsigned k = 0; k < 4; ++k) {
-                uint32_t a = c[k], b = c[(k + 1) % 4];
-                unsigned deg = sk_patch_edge_curve(p, k, cp);
-                bool is_split = map_find(&split, edge_key(K_FULL, a, b));
-                if (!is_split) {
-                    loop[nl++] = oriented_edge(&w, edge_key(K_FULL, a, b), vid[k], vid[(k + 1) % 4],
-                                               cp, deg);
-                } else {
-                    halve(cp, deg, l, r);
-                    size_t mid = vertex(&w, edge_key(K_MID, a, b), r);
-                    loop[nl++] = oriented_edge(&w, (key){K_HALF, a, b}, vid[k], mid, l, deg);
-                    loop[nl++] = oriented_edge(&w, (key){K_HALF, b, a}, mid, vid[(k + 1) % 4], r,
-                                               deg);
-                }
-            }
-            if (!w.nomem)
-                face(&w, p, loop, nl, &faces[nfaces++]);
-            continue;
-        }
-        sk_patch sub[3];
-        if ((st = sk_patch_split_triangle(p, sub, err)))
-            goto done;
-        size_t vc[3], vm[3];
-        for (unsigned k = 0; k < 3; ++k) {
-            sk_patch_edge_point(&sub[k], 0, 0.0, q);
-            vc[k] = vertex(&w, (key){K_VERTEX, c[k], 0}, q);
-        }
-        for (unsigned k = 0; k < 3; ++k) { /* midpoint of side k (corner k -> k+1) */
-            sk_patch_edge_point(&sub[k], 1, 0.0, q);
-            vm[k] = vertex(&w, edge_key(K_MID, c[k], c[(k + 1) % 3]), q);
-        }
-        sk_patch_edge_point(&sub[0], 2, 0.0, q);
-        size_t vg = vertex(&w, (key){K_CENTROID, (uint32_t)i, 0}, q);
-        for (unsigned k = 0; k < 3 && !w.nomem; ++k) {
-            unsigned kp = (k + 2) % 3;
-            uint32_t A = c[k], B = c[(k + 1) % 3], C = c[kp];
-            unsigned deg;
-            nl = 0;
-            deg = sk_patch_edge_curve(&sub[k], 0, cp); /* A -> mid(A,B) */
-            loop[nl++] = oriented_edge(&w, (key){K_HALF, A, B}, vc[k], vm[k], cp, deg);
-            deg = sk_patch_edge_curve(&sub[k], 1, cp); /* mid(A,B) -> centroid */
-            loop[nl++] = oriented_edge(&w, (key){K_INNER, (uint32_t)i, k}, vm[k], vg, cp, deg);
-            deg = sk_patch_edge_curve(&sub[k], 2, cp); /* centroid -> mid(C,A) */
-            loop[nl++] = oriented_edge(&w, (key){K_INNER, (uint32_t)i, kp}, vg, vm[kp], cp, deg);
-            deg = sk_patch_edge_curve(&sub[k], 3, cp); /* mid(C,A) -> A */
-            loop[nl++] = oriented_edge(&w, (key){K_HALF, A, C}, vm[kp], vc[k], cp, deg);
-            face(&w, &sub[k], loop, nl, &faces[nfaces++]);
+/* The face of tensor patch i: its sides are the mesh edges between its corner ids, each in two
+ * halves where a triangle uses it (split). */
+static void tensor_face(writer *w, const map *split, const sk_patch_set *set, size_t i,
+                        size_t *face_id)
+{
+    const uint32_t *c = set->patches[i].corner_ids;
+    double cp[3 * (SK_PATCH_MAX_DEGREE + 1)], l[3 * (SK_PATCH_MAX_DEGREE + 1)],
+        r[3 * (SK_PATCH_MAX_DEGREE + 1)], q[3];
+    size_t loop[8], nl = 0, vid[4];
+    for (unsigned k = 0; k < 4; ++k) {
+        sk_patch_edge_point(set, i, k, 0.0, q);
+        vid[k] = vertex(w, (key){K_VERTEX, c[k], 0}, q);
+    }
+    for (unsigned k = 0; k < 4; ++k) {
+        uint32_t a = c[k], b = c[(k + 1) % 4];
+        unsigned deg = sk_patch_edge_curve(set, i, k, cp);
+        if (!map_find(split, edge_key(K_FULL, a, b))) {
+            loop[nl++] = oriented_edge(w, edge_key(K_FULL, a, b), vid[k], vid[(k + 1) % 4], cp, deg);
+        } else {
+            halve(cp, deg, l, r);
+            size_t mid = vertex(w, edge_key(K_MID, a, b), r);
+            loop[nl++] = oriented_edge(w, (key){K_HALF, a, b}, vid[k], mid, l, deg);
+            loop[nl++] = oriented_edge(w, (key){K_HALF, b, a}, mid, vid[(k + 1) % 4], r, deg);
         }
     }
+    if (!w->nomem)
+        face(w, set, i, loop, nl, face_id);
+}
+
+/* The three faces of triangle i (split at its centroid and edge midpoints; scratch holds the
+ * sub-patches). */
+static sk_status triangle_faces(writer *w, const sk_patch_set *set, size_t i,
+                                sk_patch_set *scratch, size_t face_ids[3], sk_error *err)
+{
+    const uint32_t *c = set->patches[i].corner_ids;
+    double cp[3 * (SK_PATCH_MAX_DEGREE + 1)], q[3];
+    size_t loop[4];
+    sk_patch_set_clear(scratch);
+    sk_status st = sk_patch_split_triangle(set, i, scratch, err);
+    if (st)
+        return st;
+    size_t vc[3], vm[3];
+    for (unsigned k = 0; k < 3; ++k) {
+        sk_patch_edge_point(scratch, k, 0, 0.0, q);
+        vc[k] = vertex(w, (key){K_VERTEX, c[k], 0}, q);
+    }
+    for (unsigned k = 0; k < 3; ++k) { /* midpoint of side k (corner k -> k+1) */
+        sk_patch_edge_point(scratch, k, 1, 0.0, q);
+        vm[k] = vertex(w, edge_key(K_MID, c[k], c[(k + 1) % 3]), q);
+    }
+    sk_patch_edge_point(scratch, 0, 2, 0.0, q);
+    size_t vg = vertex(w, (key){K_CENTROID, (uint32_t)i, 0}, q);
+    for (unsigned k = 0; k < 3 && !w->nomem; ++k) {
+        unsigned kp = (k + 2) % 3;
+        uint32_t A = c[k], B = c[(k + 1) % 3], C = c[kp];
+        unsigned deg = sk_patch_edge_curve(scratch, k, 0, cp); /* A -> mid(A,B) */
+        loop[0] = oriented_edge(w, (key){K_HALF, A, B}, vc[k], vm[k], cp, deg);
+        deg = sk_patch_edge_curve(scratch, k, 1, cp); /* mid(A,B) -> centroid */
+        loop[1] = oriented_edge(w, (key){K_INNER, (uint32_t)i, k}, vm[k], vg, cp, deg);
+        deg = sk_patch_edge_curve(scratch, k, 2, cp); /* centroid -> mid(C,A) */
+        loop[2] = oriented_edge(w, (key){K_INNER, (uint32_t)i, kp}, vg, vm[kp], cp, deg);
+        deg = sk_patch_edge_curve(scratch, k, 3, cp); /* mid(C,A) -> A */
+        loop[3] = oriented_edge(w, (key){K_HALF, A, C}, vm[kp], vc[k], cp, deg);
+        face(w, scratch, k, loop, 4, &face_ids[k]);
+    }
+    return SK_OK;
+}
+
+sk_status sk_export_step(const char *path, const sk_patch_set *patches,
+                         const sk_export_opts *opts, sk_export_stats *stats, sk_error *err)
+{
+    const sk__unit *unit = sk__unit_lookup(opts ? opts->units : NULL);
+    if (!unit)
+        return sk__fail(err, SK_ERR_ARG, "unknown unit '%s'", opts->units);
+    for (size_t i = 0; i < patches->count; ++i)
+        for (unsigned c = 0; c < sk_patch_num_corners(&patches->patches[i]); ++c)
+            if (patches->patches[i].corner_ids[c] == SK_INVALID)
+                return sk__fail(err, SK_ERR_ARG, "patch %zu has no corner ids: STEP export needs "
+                                "them to share edges", i);
+    const char *name = opts && opts->name ? opts->name : "surfkit";
+    char when[32];
+    sk__export_time(opts, when);
+    sk__buf out = {0};
+    writer w = {.b = &out, .next = 1};
+    map split = {0};
+    sk_patch_set sub = {0};
+    size_t *faces = NULL, nfaces = 0;
+    sk_status st = SK_OK;
+
+    /* sides next to a triangle are split at their midpoints */
+    for (size_t i = 0; i < patches->count && !w.nomem; ++i) {
+        const sk_patch *p = &patches->patches[i];
+        if (p->kind != SK_PATCH_TRIANGLE)
+            continue;
+        for (unsigned c = 0; c < 3; ++c) {
+            bool created;
+            if (!map_get(&split, edge_key(K_FULL, p->corner_ids[c], p->corner_ids[(c + 1) % 3]),
+                         &created))
+                w.nomem = true;
+        }
+    }
+    size_t nt = 0;
+    for (size_t i = 0; i < patches->count; ++i)
+        nt += patches->patches[i].kind == SK_PATCH_TRIANGLE ? 3 : 1;
+    faces = malloc((nt ? nt : 1) * sizeof *faces);
+    if (!faces || w.nomem) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+
+    write_header(&out, path, name, when, unit);
+    w.next = 30;
+
+    for (size_t i = 0; i < patches->count && !w.nomem && st == SK_OK; ++i) {
+        if (patches->patches[i].kind == SK_PATCH_TENSOR)
+            tensor_face(&w, &split, patches, i, &faces[nfaces++]);
+        else if ((st = triangle_faces(&w, patches, i, &sub, &faces[nfaces], err)) == SK_OK)
+            nfaces += 3;
+    }
+    if (st)
+        goto done;
     if (w.nomem) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -388,6 +414,7 @@ sk_status sk_export_step(const char *path, const sk_patch *patches, size_t count
     }
 done:
     free(faces);
+    sk_patch_set_free(&sub);
     free(split.e);
     free(w.vertices.e);
     free(w.edges.e);

@@ -6,7 +6,8 @@
  * elements are skipped. Element order is free: face indices are checked against the declared
  * vertex count. Trailing bytes after the last element of a binary file are ignored.
  *
- * Writing: float64 x y z [nx ny nz] [u v]; faces as `list uchar int vertex_indices` (uint count
+ * Writing: float64 x y z [nx ny nz] [s t] (the texture coordinate names Blender and MeshLab
+ * read; they ignore u v); faces as `list uchar int vertex_indices` (uint count
  * when a face has more than 255 vertices, uint indices beyond 2^31 vertices). */
 #include "io/io_internal.h"
 
@@ -630,7 +631,7 @@ void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool as
     if (normals)
         sk__out_str(o, "property double nx\nproperty double ny\nproperty double nz\n");
     if (uvs)
-        sk__out_str(o, "property double u\nproperty double v\n");
+        sk__out_str(o, "property double s\nproperty double t\n");
     sk__out_str(o, "element face ");
     sk__out_uint(o, s->num_faces);
     sk__out_str(o, wide_count ? "\nproperty list uint " : "\nproperty list uchar ");

@@ -89,6 +89,10 @@ sk_status sk_param_boundary(const sk_mesh *m, const sk_boundary_opts *opts, doub
         o = *opts;
     if (o.shape == SK_BOUNDARY_GIVEN)
         return SK_OK;
+    if (o.shape == SK_BOUNDARY_DEFAULT)
+        o.shape = SK_BOUNDARY_CIRCLE;
+    if (o.shape == SK_BOUNDARY_FREE)
+        return sk__fail(err, SK_ERR_ARG, "a free boundary has no boundary map");
     uint32_t *loop = NULL;
     size_t nb = 0;
     sk_status st = ccw_loop(m, &loop, &nb, err);

@@ -9,11 +9,13 @@
 const char *sk_param_method_name(sk_param_method m)
 {
     switch (m) {
+    case SK_PARAM_DEFAULT: return "floater";
     case SK_PARAM_TUTTE: return "tutte";
     case SK_PARAM_FLOATER: return "floater";
     case SK_PARAM_MEAN_VALUE: return "mvc";
     case SK_PARAM_HARMONIC: return "harmonic";
     case SK_PARAM_LSCM: return "lscm";
+    case SK_PARAM_MIPS: return "mips";
     }
     return "unknown";
 }
@@ -25,11 +27,29 @@ bool sk_param_method_parse(const char *name, sk_param_method *m)
         {"floater", SK_PARAM_FLOATER},    {"shape-preserving", SK_PARAM_FLOATER},
         {"mvc", SK_PARAM_MEAN_VALUE},     {"mean-value", SK_PARAM_MEAN_VALUE},
         {"harmonic", SK_PARAM_HARMONIC},  {"cotangent", SK_PARAM_HARMONIC},
-        {"lscm", SK_PARAM_LSCM},
+        {"lscm", SK_PARAM_LSCM},          {"mips", SK_PARAM_MIPS},
     };
     for (size_t i = 0; name && i < sizeof names / sizeof names[0]; ++i)
         if (!strcmp(name, names[i].name)) {
             *m = names[i].m;
+            return true;
+        }
+    return false;
+}
+
+static const char *const boundary_names[] = {"default", "circle", "square", "free", "given"};
+
+const char *sk_boundary_shape_name(sk_boundary_shape shape)
+{
+    return (unsigned)shape < sizeof boundary_names / sizeof boundary_names[0]
+               ? boundary_names[shape] : "unknown";
+}
+
+bool sk_boundary_shape_parse(const char *name, sk_boundary_shape *shape)
+{
+    for (size_t i = 1; name && i < sizeof boundary_names / sizeof boundary_names[0]; ++i)
+        if (!strcmp(name, boundary_names[i])) {
+            *shape = (sk_boundary_shape)i;
             return true;
         }
     return false;

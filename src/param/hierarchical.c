@@ -1,5 +1,5 @@
-/* Hierarchical parametrization (Hormann, Greiner, Campagna, section 4) and the conventional flat
- * MIPS optimization it is measured against (Table 1). */
+/* Hierarchical parametrization (Hormann, Greiner, Campagna, section 4): the level loop. The repair
+ * after an insertion is in kernel_repair.c, the flat method of Table 1 in mips_flat.c. */
 #include "surfkit/hierarchical.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -10,152 +10,118 @@
 #include <string.h>
 
 
-/* True when every triangle around v is counter-clockwise with the MIPS margin at v. */
-static bool ring_ok(const sk_mesh *m, const double *uv, uint32_t v, const double x[2])
+/* The options with their defaults filled in. */
+typedef struct schedule {
+    size_t sweeps_cap, gsteps, gmax, gsweeps, max_steps, finest_sweeps;
+    double tol, work, growth;
+    bool fixed;
+    uint64_t seed;
+} schedule;
+
+static schedule schedule_from(const sk_hparam_opts *o)
 {
-    uint32_t h0 = m->v_halfedge[v], h = h0;
-    if (h0 == SK_INVALID)
-        return true;
-    do {
-        if (m->h_face[h] != SK_INVALID) {
-            uint32_t a = m->h_vertex[h], b = m->h_vertex[m->h_next[h]];
-            if (!sk__mips_corner_ok(x, uv + 2 * (size_t)a, uv + 2 * (size_t)b))
-                return false;
-        }
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return true;
+    schedule c;
+    c.sweeps_cap = o->sweeps_per_level ? o->sweeps_per_level : 400;
+    c.tol = o->tolerance == 0.0 ? 1e-5 : o->tolerance;
+    c.fixed = o->boundary.shape != SK_BOUNDARY_DEFAULT && o->boundary.shape != SK_BOUNDARY_FREE;
+    c.gsteps = o->global_steps == SK_MIPS_NONE ? 0 : o->global_steps ? o->global_steps : 3;
+    c.gmax = o->global_max_vertices ? o->global_max_vertices : 25000;
+    c.work = o->level_work > 0.0 ? o->level_work : c.gsteps ? 2.0 : 5.0;
+    c.gsweeps = o->sweeps_per_global ? o->sweeps_per_global : 2;
+    c.growth = o->min_growth > 0.0 ? o->min_growth : 2.0;
+    c.max_steps = o->max_steps;
+    c.finest_sweeps = o->finest_sweeps;
+    c.seed = o->seed;
+    return c;
 }
 
-/* Moves v to the centroid of the kernel of its one ring: the convex polygon where every triangle
- * (v, a, b) around v is counter-clockwise, i.e. the intersection of the half-planes left of each
- * opposite edge a -> b, found by clipping a large box (Sutherland-Hodgman). Returns false when the
- * kernel is empty (or too thin for the margin). */
-static bool move_into_kernel(const sk_mesh *m, double *uv, uint32_t v)
+/* For a fixed boundary: per level, the input vertex of each level vertex (levels [0, L)). */
+static sk_status finest_ids(const sk_hierarchy *hier, size_t L, uint32_t **finest_id, sk_error *err)
 {
-    enum { CAP = 256 };
-    double poly[2][CAP][2];
-    int n = 0, cur = 0;
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    uint32_t h0 = m->v_halfedge[v], h = h0;
-    do {
-        const double *q = uv + 2 * (size_t)m->h_vertex[h];
-        for (int k = 0; k < 2; ++k) {
-            lo[k] = fmin(lo[k], q[k]);
-            hi[k] = fmax(hi[k], q[k]);
+    for (size_t l = L; l-- > 0;) {
+        size_t nv = sk_hierarchy_level_info(hier, l).vertices;
+        finest_id[l] = sk__malloc_array(nv ? nv : 1, sizeof(uint32_t));
+        if (!finest_id[l])
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        if (l == L - 1) {
+            for (size_t v = 0; v < nv; ++v)
+                finest_id[l][v] = (uint32_t)v;
+        } else {
+            const uint32_t *map = sk_hierarchy_vertex_map(hier, l);
+            size_t nf = sk_hierarchy_level_info(hier, l + 1).vertices;
+            for (size_t f = 0; f < nf; ++f)
+                if (map[f] != SK_INVALID)
+                    finest_id[l][map[f]] = finest_id[l + 1][f];
         }
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    double pad = (hi[0] - lo[0]) + (hi[1] - lo[1]) + 1e-300;
-    double box[4][2] = {{lo[0] - pad, lo[1] - pad}, {hi[0] + pad, lo[1] - pad},
-                        {hi[0] + pad, hi[1] + pad}, {lo[0] - pad, hi[1] + pad}};
-    for (n = 0; n < 4; ++n)
-        memcpy(poly[0][n], box[n], sizeof box[n]);
-    h = h0;
-    do {
-        if (m->h_face[h] != SK_INVALID) {
-            const double *a = uv + 2 * (size_t)m->h_vertex[h];
-            const double *b = uv + 2 * (size_t)m->h_vertex[m->h_next[h]];
-            double e[2] = {b[0] - a[0], b[1] - a[1]};
-            int nn = 0;
-            for (int i = 0; i < n && nn < CAP - 1; ++i) {
-                const double *p = poly[cur][i], *q = poly[cur][(i + 1) % n];
-                double sp = e[0] * (p[1] - a[1]) - e[1] * (p[0] - a[0]);
-                double sq = e[0] * (q[1] - a[1]) - e[1] * (q[0] - a[0]);
-                if (sp > 0)
-                    memcpy(poly[1 - cur][nn++], p, 2 * sizeof(double));
-                if ((sp > 0) != (sq > 0) && sp != sq) {
-                    double t = sp / (sp - sq);
-                    poly[1 - cur][nn][0] = p[0] + t * (q[0] - p[0]);
-                    poly[1 - cur][nn][1] = p[1] + t * (q[1] - p[1]);
-                    nn++;
-                }
-            }
-            n = nn;
-            cur = 1 - cur;
-            if (n < 3)
-                return false;
-        }
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    double area = 0.0, c[2] = {0.0, 0.0};
-    for (int i = 0; i < n; ++i) {
-        const double *p = poly[cur][i], *q = poly[cur][(i + 1) % n];
-        double w = p[0] * q[1] - q[0] * p[1];
-        area += w;
-        c[0] += (p[0] + q[0]) * w;
-        c[1] += (p[1] + q[1]) * w;
     }
-    if (!(area > 0.0))
-        return false;
-    c[0] /= 3.0 * area;
-    c[1] /= 3.0 * area;
-    if (!ring_ok(m, uv, v, c))
-        return false;
-    memcpy(uv + 2 * (size_t)v, c, sizeof c);
-    return true;
+    return SK_OK;
 }
 
-/* Makes every triangle flip-free by moving the vertices of inverted triangles into the kernels of
- * their one rings, a few rounds; returns the number of moves, or -1 when some remain inverted. */
-static long repair(const sk_mesh *m, double *uv)
+/* MIPS on level l of L (nv vertices, nfine on the input): the sweep schedule, global steps on
+ * small levels, the step budget (the coarser levels together use at most half of it, so that the
+ * input level is always optimized however small the budget), and the skipping of levels that
+ * grew too little. *last_opt is the vertex count of the last optimized level. */
+static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, size_t L,
+                                size_t nfine, size_t steps_so_far, size_t *last_opt, double *uv,
+                                sk_mips_stats *ms, sk_error *err)
 {
-    long moved = 0;
-    for (int round = 0; round < 8; ++round) {
-        size_t bad = 0;
-        /* a scan over the faces (sequential memory); only the vertices of a face that fails the
-         * margin somewhere get the one-ring test and, if needed, the move */
-        for (uint32_t f = 0; f < m->num_faces; ++f) {
-            if (m->f_deleted[f])
-                continue;
-            uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];
-            uint32_t w[3] = {sk_from(m, h), sk_from(m, hb), sk_from(m, hc)};
-            const double *q[3] = {uv + 2 * (size_t)w[0], uv + 2 * (size_t)w[1], uv + 2 * (size_t)w[2]};
-            if (sk__mips_corner_ok(q[0], q[1], q[2]) && sk__mips_corner_ok(q[1], q[2], q[0]) &&
-                sk__mips_corner_ok(q[2], q[0], q[1]))
-                continue;
-            for (int k = 0; k < 3; ++k) {
-                if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))
-                    continue;
-                bad++;
-                moved += move_into_kernel(m, uv, w[k]);
-            }
-        }
-        if (!bad)
-            return moved;
-    }
-    return -1;
-}
-
-static sk_status linear_start(const sk_mesh *m, sk_mips_boundary boundary, const double *given,
-                              double *uv, sk_error *err)
-{
-    sk_param_opts po = {0};
-    po.method = SK_PARAM_FLOATER;
-    if (given) { /* fixed boundary from the finest level */
-        po.boundary.shape = SK_BOUNDARY_GIVEN;
-        memcpy(uv, given, 2 * m->num_vertices * sizeof(double));
-    } else {
-        po.boundary.shape = boundary == SK_MIPS_BOUNDARY_SQUARE ? SK_BOUNDARY_SQUARE
-                                                                : SK_BOUNDARY_CIRCLE;
-    }
-    return sk_param_linear(m, &po, uv, NULL, err);
-}
-
-sk_status sk_param_mips_flat(const sk_mesh *mesh, sk_mips_boundary boundary, size_t max_steps,
-                             double tolerance, uint64_t seed, double *uv, sk_mips_stats *stats,
-                             sk_error *err)
-{
-    sk_status st = linear_start(mesh, boundary, NULL, uv, err);
-    if (st)
-        return st;
+    size_t nv = m->num_vertices;
     sk_mips_opts mo = {0};
-    mo.fixed_boundary = boundary != SK_MIPS_BOUNDARY_FREE;
-    mo.max_steps = max_steps;
-    mo.max_sweeps = max_steps ? (size_t)-1 : 0; /* a budget, or the default sweeps */
-    mo.tolerance = tolerance;
-    mo.seed = seed;
-    return sk_param_mips(mesh, &mo, uv, stats, err);
+    mo.boundary = c->fixed ? SK_BOUNDARY_GIVEN : SK_BOUNDARY_FREE;
+    double want = ceil(c->work * (double)nfine / (double)(nv ? nv : 1));
+    mo.max_sweeps = want < (double)c->sweeps_cap ? (size_t)want : c->sweeps_cap;
+    if (l + 1 == L && c->finest_sweeps)
+        mo.max_sweeps = c->finest_sweeps;
+    mo.tolerance = c->tol;
+    mo.seed = c->seed + l;
+    if (c->gsteps && nv <= c->gmax) {
+        mo.global_steps = c->gsteps;
+        mo.sweeps_per_global = c->gsweeps;
+        mo.frozen_model = true;
+        if (mo.max_sweeps < c->gsteps * c->gsweeps)
+            mo.max_sweeps = c->gsteps * c->gsweeps;
+    }
+    memset(ms, 0, sizeof *ms);
+    bool skip = l + 1 < L && nv > c->gmax && *last_opt &&
+                (double)nv < c->growth * (double)*last_opt;
+    size_t limit = c->max_steps && l + 1 < L ? c->max_steps / 2 : c->max_steps;
+    sk_status st = SK_OK;
+    if (skip) { /* insertion and repair only: optimized with the next levels */
+        ms->energy = NAN;
+        return SK_OK;
+    }
+    if (limit && steps_so_far >= limit) { /* budget spent: only measure */
+        size_t inv = 0;
+        st = sk_mips_energy(m, uv, &ms->energy, &inv, err);
+    } else {
+        mo.max_steps = limit ? limit - steps_so_far : 0;
+        st = sk_param_mips(m, &mo, uv, ms, err);
+    }
+    *last_opt = nv;
+    return st;
+}
+
+/* Level l > 0 after the insertion: the fixed boundary put back, the inverted one rings repaired;
+ * a repair that fails re-solves the level with the linear start (counted in *fallbacks). Returns
+ * the repaired vertex count in *repaired. */
+static sk_status repair_level(const sk_mesh *m, const schedule *c, const sk_boundary_opts *bo,
+                              const double *level_fixed, double *uv, size_t *repaired,
+                              size_t *fallbacks, sk_error *err)
+{
+    size_t nv = m->num_vertices;
+    if (c->fixed)
+        for (size_t v = 0; v < nv; ++v)
+            if (sk_is_boundary_v(m, (uint32_t)v))
+                memcpy(uv + 2 * v, level_fixed + 2 * v, 2 * sizeof(double));
+    long moved = sk__mips_repair(m, uv);
+    *repaired = 0;
+    if (moved < 0) {
+        /* no kernel to move into: restart this level from a linear map (never silent) */
+        (*fallbacks)++;
+        return sk__mips_linear_start(m, bo, c->fixed ? level_fixed : NULL, uv, err);
+    }
+    *repaired = (size_t)moved;
+    return SK_OK;
 }
 
 sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts, double *uv,
@@ -164,15 +130,13 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     sk_hparam_opts o = {0};
     if (opts)
         o = *opts;
-    size_t sweeps_cap = o.sweeps_per_level ? o.sweeps_per_level : 400;
-
-    double tol = o.tolerance == 0.0 ? 1e-5 : o.tolerance;
-    bool fixed = o.boundary != SK_MIPS_BOUNDARY_FREE;
-    size_t gsteps = o.global_steps == (size_t)-1 ? 0 : o.global_steps ? o.global_steps : 3;
-    size_t gmax = o.global_max_vertices ? o.global_max_vertices : 25000;
-    double work = o.level_work > 0.0 ? o.level_work : gsteps ? 2.0 : 5.0;
-    size_t gsweeps = o.sweeps_per_global ? o.sweeps_per_global : 2;
-    double growth = o.min_growth > 0.0 ? o.min_growth : 2.0;
+    schedule c = schedule_from(&o);
+    sk_boundary_opts bo = o.boundary; /* the fixed boundary's map, or the coarsest level's start */
+    if (!c.fixed)
+        bo.shape = SK_BOUNDARY_CIRCLE;
+    if (bo.shape == SK_BOUNDARY_GIVEN)
+        return sk__fail(err, SK_ERR_ARG, "hierarchical MIPS maps the boundary itself: circle, "
+                        "square or free, not given");
     size_t last_opt = 0;
     double t0 = sk_seconds();
     sk_hparam_stats s;
@@ -191,8 +155,9 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         goto done;
     s.hierarchy_seconds = sk_seconds() - t0;
     size_t L = sk_hierarchy_num_levels(hier);
-    if (L > SK_HPARAM_MAX_LEVELS) {
-        st = sk__fail(err, SK_ERR_ARG, "%zu hierarchy levels (at most %d)", L, SK_HPARAM_MAX_LEVELS);
+    s.levels = sk__calloc_array(L ? L : 1, sizeof *s.levels);
+    if (!s.levels) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
     s.num_levels = L;
@@ -207,7 +172,7 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    if (fixed) {
+    if (c.fixed) {
         /* the boundary of every level is fixed where the finest boundary map puts it */
         fixed_uv = sk__calloc_array(2 * nfine, sizeof(double));
         level_fixed = sk__malloc_array(2 * nfine, sizeof(double));
@@ -216,28 +181,9 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
             goto done;
         }
-        sk_boundary_opts bo = {0};
-        bo.shape = o.boundary == SK_MIPS_BOUNDARY_SQUARE ? SK_BOUNDARY_SQUARE : SK_BOUNDARY_CIRCLE;
-        if ((st = sk_param_boundary(mesh, &bo, fixed_uv, err)))
+        if ((st = sk_param_boundary(mesh, &bo, fixed_uv, err)) ||
+            (st = finest_ids(hier, L, finest_id, err)))
             goto done;
-        for (size_t l = L; l-- > 0;) {
-            size_t nv = sk_hierarchy_level_info(hier, l).vertices;
-            finest_id[l] = sk__malloc_array(nv ? nv : 1, sizeof(uint32_t));
-            if (!finest_id[l]) {
-                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-                goto done;
-            }
-            if (l == L - 1) {
-                for (size_t v = 0; v < nv; ++v)
-                    finest_id[l][v] = (uint32_t)v;
-            } else {
-                const uint32_t *map = sk_hierarchy_vertex_map(hier, l);
-                size_t nf = sk_hierarchy_level_info(hier, l + 1).vertices;
-                for (size_t f = 0; f < nf; ++f)
-                    if (map[f] != SK_INVALID)
-                        finest_id[l][map[f]] = finest_id[l + 1][f];
-            }
-        }
     }
 
     if ((st = sk_mesh_copy(sk_hierarchy_coarsest(hier), &m, err)))
@@ -255,61 +201,19 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             next = t;
         }
         size_t nv = m->num_vertices;
-        if (fixed)
+        if (c.fixed)
             for (size_t v = 0; v < nv; ++v)
                 memcpy(level_fixed + 2 * v, fixed_uv + 2 * (size_t)finest_id[l][v], 2 * sizeof(double));
-        if (l == 0) {
-            if ((st = linear_start(m, o.boundary, fixed ? level_fixed : NULL, cur, err)))
-                goto done;
-        } else {
-            if (fixed)
-                for (size_t v = 0; v < nv; ++v)
-                    if (sk_is_boundary_v(m, (uint32_t)v))
-                        memcpy(cur + 2 * v, level_fixed + 2 * v, 2 * sizeof(double));
-            long moved = repair(m, cur);
-            if (moved < 0) {
-                /* no kernel to move into: restart this level from a linear map (never silent) */
-                s.fallbacks++;
-                if ((st = linear_start(m, o.boundary, fixed ? level_fixed : NULL, cur, err)))
-                    goto done;
-                moved = 0;
-            }
-            lv->repaired = (size_t)moved;
-            s.repaired += (size_t)moved;
-        }
-        sk_mips_opts mo = {0};
-        mo.fixed_boundary = fixed;
-        double want = ceil(work * (double)nfine / (double)(nv ? nv : 1));
-        mo.max_sweeps = want < (double)sweeps_cap ? (size_t)want : sweeps_cap;
-        if (l + 1 == L && o.finest_sweeps)
-            mo.max_sweeps = o.finest_sweeps;
-        mo.tolerance = tol;
-        mo.seed = o.seed + l;
-        if (gsteps && nv <= gmax) {
-            mo.global_steps = gsteps;
-            mo.sweeps_per_global = gsweeps;
-            mo.frozen_model = true;
-            if (mo.max_sweeps < gsteps * gsweeps)
-                mo.max_sweeps = gsteps * gsweeps;
-        }
-        sk_mips_stats ms = {0};
-        bool skip = l + 1 < L && nv > gmax && last_opt && (double)nv < growth * (double)last_opt;
-        /* with a step budget the coarser levels together use at most half of it, so that the
-         * input level is always optimized however small the budget */
-        size_t limit = o.max_steps && l + 1 < L ? o.max_steps / 2 : o.max_steps;
-        if (skip) { /* insertion and repair only: optimized with the next levels */
-            ms.energy = NAN;
-        } else if (limit && s.steps >= limit) { /* budget spent: only measure */
-            size_t inv = 0;
-            if ((st = sk_mips_energy(m, cur, &ms.energy, &inv, err)))
-                goto done;
-        } else {
-            mo.max_steps = limit ? limit - s.steps : 0;
-            if ((st = sk_param_mips(m, &mo, cur, &ms, err)))
-                goto done;
-        }
-        if (!skip)
-            last_opt = nv;
+        if (l == 0)
+            st = sk__mips_linear_start(m, &bo, c.fixed ? level_fixed : NULL, cur, err);
+        else
+            st = repair_level(m, &c, &bo, level_fixed, cur, &lv->repaired, &s.fallbacks, err);
+        if (st)
+            goto done;
+        s.repaired += lv->repaired;
+        sk_mips_stats ms;
+        if ((st = optimize_level(m, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
+            goto done;
         lv->vertices = nv;
         lv->faces = m->num_faces;
         lv->steps = ms.steps;
@@ -339,5 +243,15 @@ done:
     sk_hierarchy_destroy(&hier);
     if (stats)
         *stats = s;
+    else
+        sk_hparam_stats_release(&s);
     return st;
+}
+
+void sk_hparam_stats_release(sk_hparam_stats *stats)
+{
+    if (!stats)
+        return;
+    free(stats->levels);
+    memset(stats, 0, sizeof *stats);
 }

@@ -207,10 +207,18 @@ sk_status sk_param_linear(const sk_mesh *m, const sk_param_opts *opts, double *u
         o = *opts;
     sk_param_stats s;
     memset(&s, 0, sizeof s);
+    if (o.method == SK_PARAM_DEFAULT)
+        o.method = SK_PARAM_FLOATER;
     if (o.method == SK_PARAM_LSCM) {
         sk_status st = sk_param_lscm(m, &o, uv, stats, err);
         return st;
     }
+    if (o.method == SK_PARAM_MIPS)
+        return sk__fail(err, SK_ERR_ARG, "MIPS is not a linear method: use sk_parametrize or "
+                        "sk_param_hierarchical");
+    if (o.boundary.shape == SK_BOUNDARY_FREE)
+        return sk__fail(err, SK_ERR_ARG, "%s has a fixed boundary: a free boundary needs LSCM "
+                        "or MIPS", sk_param_method_name(o.method));
     double t0 = sk_seconds();
     double *w = NULL;
     sk_status st = sk_param_check_disk(m, err);

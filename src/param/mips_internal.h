@@ -1,8 +1,14 @@
-/* Shared between the MIPS optimizer and the hierarchical driver. */
+/* Shared between the MIPS energy (mips_energy.c), its global step (mips_global.c), the sweep driver
+ * (mips.c), the kernel repair (kernel_repair.c) and the hierarchical and flat drivers. */
 #ifndef SK_MIPS_INTERNAL_H
 #define SK_MIPS_INTERNAL_H
 
+#include "surfkit/param.h"
+#include "surfkit/solve.h"
+
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
 
 /* A parameter triangle counts as inverted when twice its signed area is below this fraction of
  * the product of its two edge lengths at a corner (sine of the angle there < 1e-12): the MIPS
@@ -17,5 +23,83 @@ static inline bool sk__mips_corner_ok(const double x[2], const double qj[2], con
     double lj = dj[0] * dj[0] + dj[1] * dj[1], lk = dk[0] * dk[0] + dk[1] * dk[1];
     return b > 0.0 && b * b > SK_MIPS_MIN_SINE * SK_MIPS_MIN_SINE * lj * lk;
 }
+
+/* What a local step at vertex i needs of one incident triangle (i, j, k), stored per vertex
+ * contiguously so that a step touches one run of memory plus the neighbours' uv. */
+typedef struct sk__mips_corner {
+    uint32_t j, k;     /* the other two vertices, counter-clockwise */
+    double ci, cj, ck; /* cotangents of the 3D angles at i, j, k */
+} sk__mips_corner;
+
+/* The mesh as the optimizer sees it: triangles, 3D cotangents, per-vertex corner records. */
+typedef struct sk__mips_ctx {
+    size_t nv, nt;
+    uint32_t *tri;      /* 3 vertex ids per triangle (ccw) */
+    double *cot;        /* cotangent of the 3D angle at each corner */
+    uint32_t *vt_start; /* vertex -> its corner records (CSR) */
+    sk__mips_corner *rec;
+    uint8_t *movable;
+} sk__mips_ctx;
+
+/* Global-step state: the model's pattern and factorization and the work arrays. */
+typedef struct sk__mips_global {
+    bool frozen;  /* factorize once, at the first step (the model at the start of the level) */
+    bool factored;
+    bool refactor; /* the frozen model did poorly (line search cut the step): factorize again */
+    int since_factor; /* steps on the current factorization (a frozen model serves at most 3) */
+    int scale_exp;    /* uv was scaled by 2^scale_exp since the factorization (renormalize): the
+                         model then scales by 2^-2scale_exp, its direction is corrected */
+    sk_sparse *P;
+    sk_solver *solver;
+    uint32_t *nb_start, *nb; /* per vertex: sorted movable neighbours w > v */
+    double *g, *d, *x0;
+} sk__mips_global;
+
+/* --- mips_energy.c ---------------------------------------------------------------------------- */
+
+/* Builds the context of the alive triangles of m (SK_ERR_TOPOLOGY on a non-triangle face or one
+ * degenerate in 3D); with fixed_boundary the boundary vertices are not movable. */
+sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err);
+void sk__mips_ctx_free(sk__mips_ctx *c);
+
+/* Sum of the energy (*) over the triangles around v with v at position x; +inf outside the
+ * kernel. With g, H non-NULL also the gradient and the Hessian (xx, xy, yy) with respect to x. */
+double sk__mips_ring_energy(const sk__mips_ctx *c, uint32_t v, const double *uv, const double x[2],
+                            double g[2], double H[3]);
+/* One damped Newton step at v with backtracking inside the kernel; returns the energy decrease. */
+double sk__mips_local_step(const sk__mips_ctx *c, uint32_t v, double *uv);
+/* Sum over the triangles; *inverted (may be NULL) counts those not positively oriented (their
+ * energy is not added). */
+double sk__mips_total_energy(const sk__mips_ctx *c, const double *uv, size_t *inverted);
+/* Sum with every corner checked against the local steps' margin (+inf if any fails). */
+double sk__mips_total_energy_strict(const sk__mips_ctx *c, const double *uv);
+/* Rescales uv by a power of two 2^e so that the larger side of the bounding box lies in [1, 2)
+ * (and moves a far-off box to the origin); returns e. */
+int sk__mips_renormalize(const sk__mips_ctx *c, double *uv);
+
+/* --- mips_global.c ---------------------------------------------------------------------------- */
+
+/* Pattern and symbolic analysis of the model P; frozen: factorize once, reuse for 3 steps. */
+sk_status sk__mips_global_init(sk__mips_global *G, const sk__mips_ctx *c, bool frozen,
+                               sk_error *err);
+void sk__mips_global_free(sk__mips_global *G);
+/* One global step from uv (energy e0, finite); returns the new energy (<= e0; uv unchanged when
+ * no decrease was found); a solver failure is returned in *st. */
+double sk__mips_global_step(sk__mips_global *G, const sk__mips_ctx *c, double *uv, double e0,
+                            sk_status *st, sk_error *err);
+
+/* --- kernel_repair.c -------------------------------------------------------------------------- */
+
+/* Makes every triangle of m flip-free (with the margin above) by moving the vertices of inverted
+ * triangles to the centroids of the kernels of their one rings, a few rounds; returns the number
+ * of moves, or -1 when some triangle remains inverted. */
+long sk__mips_repair(const sk_mesh *m, double *uv);
+
+/* --- mips_flat.c ------------------------------------------------------------------------------ */
+
+/* Floater's parametrization as a MIPS start: with given (non-NULL) its boundary uv are kept (copied
+ * into uv first), else the boundary is mapped as boundary says (circle by default). */
+sk_status sk__mips_linear_start(const sk_mesh *m, const sk_boundary_opts *boundary,
+                                const double *given, double *uv, sk_error *err);
 
 #endif

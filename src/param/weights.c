@@ -50,9 +50,11 @@ sk_status sk_param_weights(const sk_mesh *m, sk_param_method method, double *w, 
     switch (method) {
     case SK_PARAM_TUTTE: sk__weights_tutte(m, w); return SK_OK;
     case SK_PARAM_HARMONIC: sk__weights_harmonic(m, w); return SK_OK;
+    case SK_PARAM_DEFAULT:
     case SK_PARAM_FLOATER: return sk__weights_floater(m, w, err);
     case SK_PARAM_MEAN_VALUE: sk__weights_mean_value(m, w); return SK_OK;
-    case SK_PARAM_LSCM: break;
+    case SK_PARAM_LSCM:
+    case SK_PARAM_MIPS: break;
     }
     return sk__fail(err, SK_ERR_ARG, "method %s has no edge weights", sk_param_method_name(method));
 }

@@ -15,8 +15,8 @@ static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigne
                                                               : CAIRO_STATUS_WRITE_ERROR;
 }
 
-sk_status sk_render_checker(const sk_mesh *m, const double *uv, const sk_render_opts *opts,
-                            const char *path, sk_error *err)
+sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path,
+                            const sk_render_opts *opts, sk_error *err)
 {
     sk_render_opts o = {0};
     if (opts)

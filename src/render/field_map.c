@@ -155,7 +155,7 @@ static void colour(sk__raster *r, const gbuffer *g, const double *val, double sc
 }
 
 sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, double scale,
-                          const char *label, const sk_render_opts *opts, const char *path,
+                          const char *label, const char *path, const sk_render_opts *opts,
                           sk_error *err)
 {
     sk_render_opts o = {0};

@@ -42,8 +42,8 @@ static void ramp(double t, double rgb[3])
 static const double FLIP_RGB[3] = {1.0, 0.0, 1.0}; /* magenta */
 
 
-sk_status sk_render_uv(const sk_mesh *m, const double *uv, const sk_render_opts *opts,
-                       const char *path, sk_error *err)
+sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
+                       const sk_render_opts *opts, sk_error *err)
 {
     sk_render_opts o = {0};
     if (opts)

@@ -126,7 +126,8 @@ static sk_status from_smooth(const sk_smooth *s, const sk_mesh *mesh, unsigned n
 {
     sk_soup *soup = NULL, *ms = NULL;
     sk_bvh *bvh = NULL;
-    sk_status st = sk_smooth_tessellate(s, n, &soup, err);
+    const sk_patch_set *set = &s->surface;
+    sk_status st = sk_patch_set_tessellate(set, n, &soup, err);
     if (!st)
         st = sk_mesh_to_soup(mesh, &ms, err);
     if (!st)
@@ -136,8 +137,8 @@ static sk_status from_smooth(const sk_smooth *s, const sk_mesh *mesh, unsigned n
     a->nv = soup->num_vertices;
     a->nt = soup->num_faces;
     size_t nseg = 0;
-    for (size_t p = 0; p < s->num_patches; ++p)
-        nseg += (size_t)s->patches[p].kind * 2 * n;
+    for (size_t p = 0; p < set->count; ++p)
+        nseg += (size_t)sk_patch_num_corners(&set->patches[p]) * 2 * n;
     a->pos = sk__malloc_array(3 * a->nv + 1, sizeof *a->pos);
     a->nrm = sk__malloc_array(3 * a->nv + 1, sizeof *a->nrm);
     a->dist = sk__malloc_array(a->nv + 1, sizeof *a->dist);
@@ -161,26 +162,16 @@ static sk_status from_smooth(const sk_smooth *s, const sk_mesh *mesh, unsigned n
     for (size_t t = 0; t < a->nt; ++t) /* the tessellation is all triangles */
         for (int k = 0; k < 3; ++k)
             a->tri[3 * t + k] = soup->face_indices[soup->face_offsets[t] + (size_t)k];
-    /* patch edges as 2n segments each: triangles (u, 0), (1 - t, t), (0, 1 - t); quads the
-     * four sides of the unit square */
-    for (size_t p = 0; p < s->num_patches; ++p) {
-        int sides = s->patches[p].kind;
-        for (int e = 0; e < sides; ++e)
-            for (unsigned i = 0; i < 2 * n; ++i) {
-                for (int end = 0; end < 2; ++end) {
-                    double t = (double)(i + (unsigned)end) / (2.0 * n), u, v, q[3];
-                    if (sides == 3)
-                        u = e == 0 ? t : e == 1 ? 1 - t : 0, v = e == 0 ? 0 : e == 1 ? t : 1 - t;
-                    else
-                        u = e == 0 ? t : e == 1 ? 1 : e == 2 ? 1 - t : 0,
-                        v = e == 0 ? 0 : e == 1 ? t : e == 2 ? 1 : 1 - t;
-                    sk_smooth_eval(s, p, u, v, q, NULL, NULL, NULL);
+    /* patch edges as 2n segments each */
+    for (size_t p = 0; p < set->count; ++p)
+        for (unsigned e = 0; e < sk_patch_num_corners(&set->patches[p]); ++e)
+            for (unsigned i = 0; i < 2 * n; ++i, ++a->nlines)
+                for (unsigned end = 0; end < 2; ++end) {
+                    double q[3];
+                    sk_patch_edge_point(set, p, e, (double)(i + end) / (2.0 * n), q);
                     for (int k = 0; k < 3; ++k)
-                        a->lines[6 * a->nlines + 3 * (size_t)end + (size_t)k] = (float)q[k];
+                        a->lines[6 * a->nlines + 3 * end + (size_t)k] = (float)q[k];
                 }
-                ++a->nlines;
-            }
-    }
 done:
     sk_bvh_destroy(&bvh);
     sk_soup_destroy(&soup);

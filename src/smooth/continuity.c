@@ -20,10 +20,10 @@ static int side_of(const sk_mesh *m, uint32_t f, uint32_t h)
     return i;
 }
 
-static void corner_param(int kind, int i, double *u, double *v)
+static void corner_param(int kind, unsigned i, double *u, double *v)
 {
     static const double tu[4] = {0, 1, 1, 0}, tv[4] = {0, 0, 1, 1};
-    if (kind == SK_SMOOTH_TRIANGLE) {
+    if (kind == SK_PATCH_TRIANGLE) {
         *u = i == 1 ? 1.0 : 0.0;
         *v = i == 2 ? 1.0 : 0.0;
     } else {
@@ -61,10 +61,10 @@ typedef struct side_rows {
 
 static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
 {
-    const sk_smooth_patch *pa = s->patches + f;
-    const double *b = s->points + 3 * (size_t)pa->first;
+    const sk_patch *pa = &s->surface.patches[f];
+    const double *b = sk_patch_cp(&s->surface, f);
     r->kind = pa->kind;
-    if (pa->kind == SK_SMOOTH_TRIANGLE) {
+    if (pa->kind == SK_PATCH_TRIANGLE) {
         int n = pa->degree;
         r->n = n;
         for (int t = 0; t <= n; ++t) {
@@ -78,22 +78,26 @@ static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
                 J0[(c + side) % 3] = I0[c];
                 J1[(c + side) % 3] = I1[c];
             }
-            memcpy(r->row0[t], b + 3 * sk__tri_index(n, J0[1], J0[2]), 3 * sizeof(double));
+            memcpy(r->row0[t], b + 3 * sk_tri_index((unsigned)n, (unsigned)J0[1], (unsigned)J0[2]),
+                   3 * sizeof(double));
             if (t < n)
-                memcpy(r->row1[t], b + 3 * sk__tri_index(n, J1[1], J1[2]), 3 * sizeof(double));
+                memcpy(r->row1[t],
+                       b + 3 * sk_tri_index((unsigned)n, (unsigned)J1[1], (unsigned)J1[2]),
+                       3 * sizeof(double));
         }
     } else {
         r->n = 3;
         for (int t = 0; t <= 3; ++t) {
-            int i0, j0, i1, j1; /* (i, j) of net index i + 4 j on the side and one row inwards */
+            unsigned i0, j0, i1, j1; /* (i, j) of the net on the side and one row inwards */
+            unsigned u = (unsigned)t;
             switch (side) {
-            case 0: i0 = t, j0 = 0, i1 = t, j1 = 1; break;
-            case 1: i0 = 3, j0 = t, i1 = 2, j1 = t; break;
-            case 2: i0 = 3 - t, j0 = 3, i1 = 3 - t, j1 = 2; break;
-            default: i0 = 0, j0 = 3 - t, i1 = 1, j1 = 3 - t; break;
+            case 0: i0 = u, j0 = 0, i1 = u, j1 = 1; break;
+            case 1: i0 = 3, j0 = u, i1 = 2, j1 = u; break;
+            case 2: i0 = 3 - u, j0 = 3, i1 = 3 - u, j1 = 2; break;
+            default: i0 = 0, j0 = 3 - u, i1 = 1, j1 = 3 - u; break;
             }
-            memcpy(r->row0[t], b + 3 * (i0 + 4 * j0), 3 * sizeof(double));
-            memcpy(r->row1[t], b + 3 * (i1 + 4 * j1), 3 * sizeof(double));
+            memcpy(r->row0[t], b + 3 * sk_tensor_index(3, i0, j0), 3 * sizeof(double));
+            memcpy(r->row1[t], b + 3 * sk_tensor_index(3, i1, j1), 3 * sizeof(double));
         }
     }
 }
@@ -112,7 +116,7 @@ static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
     for (int j = 0; j < n; ++j)
         for (int c = 0; c < 3; ++c)
             T[c] += B1[j] * (r->row0[j + 1][c] - r->row0[j][c]);
-    if (r->kind == SK_SMOOTH_TRIANGLE) {
+    if (r->kind == SK_PATCH_TRIANGLE) {
         for (int j = 0; j < n; ++j)
             for (int c = 0; c < 3; ++c)
                 X[c] += B1[j] * (r->row1[j][c] - r->row0[j][c]);
@@ -169,13 +173,13 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
 static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out)
 {
     const sk_mesh *m = s->config;
-    const sk_smooth_patch *pa = s->patches + p;
-    for (int i = 0; i < pa->kind; ++i) {
+    const sk_patch *pa = &s->surface.patches[p];
+    for (unsigned i = 0; i < sk_patch_num_corners(pa); ++i) {
         double u, v, x[3], n[3];
         corner_param(pa->kind, i, &u, &v);
-        sk_smooth_eval(s, p, u, v, x, NULL, NULL, n);
-        const double *V = m->positions + 3 * (size_t)pa->corners[i];
-        const double *N = s->normals + 3 * (size_t)pa->corners[i];
+        sk_patch_eval(&s->surface, p, u, v, x, NULL, NULL, n);
+        const double *V = m->positions + 3 * (size_t)pa->corner_ids[i];
+        const double *N = s->normals + 3 * (size_t)pa->corner_ids[i];
         b->max_verr = fmax(b->max_verr, sk__dist3(x, V));
         b->max_nerr = fmax(b->max_nerr, sk__norm3(n) == 0.0 ? 180.0 : sk__angle3(n, N) * RAD2DEG);
     }
@@ -194,7 +198,7 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     double tol_gap = opts && opts->max_gap > 0 ? opts->max_gap : 0.005;
     const sk_mesh *m = s->config;
     memset(rep, 0, sizeof *rep);
-    long ne = (long)sk_num_edges(m), np = (long)s->num_patches;
+    long ne = (long)sk_num_edges(m), np = (long)s->surface.count;
     long neb = (ne + BLOCK - 1) / BLOCK, npb = (np + BLOCK - 1) / BLOCK;
     edge_block *eb = sk__malloc_array((size_t)neb + 1, sizeof *eb);
     patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);

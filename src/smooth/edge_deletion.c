@@ -198,70 +198,89 @@ static void merge_across_edge(sk_mesh *m, uint32_t e)
     m->num_deleted_faces++;
 }
 
-sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_out,
-                           sk_edge_deletion_stats *stats, sk_error *err)
+/* The state of one run: per-vertex and per-edge arrays, the paths, the statistics. */
+typedef struct ed_state {
+    const sk_mesh *m;
+    size_t nv, ne, nf;
+    uint8_t *even, *bnd; /* per vertex: even interior vertex, boundary vertex */
+    uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
+    uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
+    uint32_t *comp, *queue, *dist, *src, *pred, *partner;
+    uint32_t *remaining; /* even vertices not yet paired */
+    size_t nrem;
+    cand *cands;
+    size_t nc, cap_c;
+    path_store ps;
+    sk_edge_deletion_stats st;
+} ed_state;
+
+static sk_status ed_alloc(ed_state *S, sk_error *err)
 {
-    sk_edge_deletion_stats st0;
-    memset(&st0, 0, sizeof st0);
-    sk_status st = SK_OK;
-    size_t nv = m->num_vertices, ne = sk_num_edges(m), nf = m->num_faces;
-    uint8_t *even = NULL, *bnd = NULL, *dcnt = NULL, *forbid = NULL;
-    uint32_t *comp = NULL, *queue = NULL, *dist = NULL, *src = NULL, *pred = NULL, *partner = NULL;
-    uint32_t *remaining = NULL, *fq = NULL, *deleted = NULL;
-    cand *cands = NULL;
-    path_store ps = {0};
-    sk_mesh *res = NULL;
-    *out = NULL;
-    if (deleted_out)
-        *deleted_out = NULL;
+    size_t nv = S->nv, ne = S->ne;
+    S->even = calloc(nv ? nv : 1, 1);
+    S->bnd = calloc(nv ? nv : 1, 1);
+    S->comp = sk__malloc_array(nv + 1, sizeof *S->comp);
+    S->queue = sk__malloc_array(nv + 1, sizeof *S->queue);
+    S->dist = sk__malloc_array(nv + 1, sizeof *S->dist);
+    S->src = sk__malloc_array(nv + 1, sizeof *S->src);
+    S->pred = sk__malloc_array(nv + 1, sizeof *S->pred);
+    S->partner = sk__malloc_array(nv + 1, sizeof *S->partner);
+    S->remaining = sk__malloc_array(nv + 1, sizeof *S->remaining);
+    S->dcnt = calloc(ne ? ne : 1, 1);
+    S->forbid = calloc(ne ? ne : 1, 1);
+    if (!S->even || !S->bnd || !S->comp || !S->queue || !S->dist || !S->src || !S->pred ||
+        !S->partner || !S->remaining || !S->dcnt || !S->forbid)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+    return SK_OK;
+}
 
-    for (size_t f = 0; f < nf; ++f)
-        if (!m->f_deleted[f] && sk_mesh_face_size(m, (uint32_t)f) != 3)
-            return sk__fail(err, SK_ERR_TOPOLOGY,
-                            "edge deletion needs a triangle mesh, face %zu has %zu sides", f,
-                            sk_mesh_face_size(m, (uint32_t)f));
-    even = calloc(nv ? nv : 1, 1);
-    bnd = calloc(nv ? nv : 1, 1);
-    comp = sk__malloc_array(nv + 1, sizeof *comp);
-    queue = sk__malloc_array(nv + 1, sizeof *queue);
-    dist = sk__malloc_array(nv + 1, sizeof *dist);
-    src = sk__malloc_array(nv + 1, sizeof *src);
-    pred = sk__malloc_array(nv + 1, sizeof *pred);
-    partner = sk__malloc_array(nv + 1, sizeof *partner);
-    remaining = sk__malloc_array(nv + 1, sizeof *remaining);
-    dcnt = calloc(ne ? ne : 1, 1);
-    forbid = calloc(ne ? ne : 1, 1);
-    if (!even || !bnd || !comp || !queue || !dist || !src || !pred || !partner || !remaining ||
-        !dcnt || !forbid) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
-        goto done;
-    }
+static void ed_free(ed_state *S)
+{
+    free(S->even);
+    free(S->bnd);
+    free(S->dcnt);
+    free(S->forbid);
+    free(S->comp);
+    free(S->queue);
+    free(S->dist);
+    free(S->src);
+    free(S->pred);
+    free(S->partner);
+    free(S->remaining);
+    free(S->cands);
+    free(S->ps.v);
+    free(S->ps.start);
+}
 
-    /* even vertices and components (for the counting argument) */
-    size_t nrem = 0;
-    for (uint32_t v = 0; v < nv; ++v) {
-        comp[v] = SK_INVALID;
-        partner[v] = SK_INVALID;
+/* The even interior vertices (the N of section 3 are half their number), the boundary vertices,
+ * and the edges whose deletion would make a quad corner above SK_MAX_QUAD_CORNER_DEG (avoided by
+ * the paths; an even vertex with every edge forbidden keeps its best one). */
+static void find_even_vertices(ed_state *S)
+{
+    const sk_mesh *m = S->m;
+    S->nrem = 0;
+    for (uint32_t v = 0; v < S->nv; ++v) {
+        S->comp[v] = SK_INVALID;
+        S->partner[v] = SK_INVALID;
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
             continue;
-        bnd[v] = sk_is_boundary_v(m, v);
-        if (!bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0) {
-            even[v] = 1;
-            remaining[nrem++] = v;
+        S->bnd[v] = sk_is_boundary_v(m, v);
+        if (!S->bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0) {
+            S->even[v] = 1;
+            S->remaining[S->nrem++] = v;
         }
     }
-    st0.even_vertices = nrem;
-    for (uint32_t e = 0; e < ne; ++e)
+    S->st.even_vertices = S->nrem;
+    for (uint32_t e = 0; e < S->ne; ++e)
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, e))
-            forbid[e] = deletion_corner(m, e) > SK_MAX_QUAD_CORNER_DEG;
-    /* an even vertex with every edge forbidden keeps its best one */
-    for (size_t i = 0; i < nrem; ++i) {
-        uint32_t v = remaining[i], h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
+            S->forbid[e] = deletion_corner(m, e) > SK_MAX_QUAD_CORNER_DEG;
+    for (size_t i = 0; i < S->nrem; ++i) {
+        uint32_t v = S->remaining[i], h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
         double best_c = 1e300;
         bool any = false;
         do {
             uint32_t e = sk_edge(h);
-            any |= !forbid[e];
+            any |= !S->forbid[e];
             double c = deletion_corner(m, e);
             if (c < best_c) {
                 best_c = c;
@@ -270,194 +289,228 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             h = sk_cw_out(m, h);
         } while (h != h0 && !any);
         if (!any && best != SK_INVALID) {
-            forbid[best] = 0;
-            st0.forced_edges++;
+            S->forbid[best] = 0;
+            S->st.forced_edges++;
         }
     }
-    st0.lower_bound = (nrem + 1) / 2;
-    for (uint32_t s = 0; s < nv; ++s) {
-        if (comp[s] != SK_INVALID || m->v_deleted[s] || m->v_halfedge[s] == SK_INVALID)
+    S->st.lower_bound = (S->nrem + 1) / 2;
+}
+
+/* The counting argument: a closed component needs an even number of even vertices. */
+static sk_status check_parity(ed_state *S, sk_error *err)
+{
+    const sk_mesh *m = S->m;
+    for (uint32_t s = 0; s < S->nv; ++s) {
+        if (S->comp[s] != SK_INVALID || m->v_deleted[s] || m->v_halfedge[s] == SK_INVALID)
             continue;
         size_t qh = 0, qt = 0, n_even = 0, n_vert = 0;
         bool has_boundary = false;
-        comp[s] = s;
-        queue[qt++] = s;
+        S->comp[s] = s;
+        S->queue[qt++] = s;
         while (qh < qt) {
-            uint32_t v = queue[qh++];
-            n_even += even[v];
+            uint32_t v = S->queue[qh++];
+            n_even += S->even[v];
             n_vert++;
-            has_boundary |= bnd[v];
+            has_boundary |= S->bnd[v];
             uint32_t h0 = m->v_halfedge[v], h = h0;
             do {
                 uint32_t w = sk_to(m, h);
-                if (comp[w] == SK_INVALID) {
-                    comp[w] = s;
-                    queue[qt++] = w;
+                if (S->comp[w] == SK_INVALID) {
+                    S->comp[w] = s;
+                    S->queue[qt++] = w;
                 }
                 h = sk_cw_out(m, h);
             } while (h != h0);
         }
-        if (!has_boundary && (n_even & 1u)) {
-            st = sk__fail(err, SK_ERR_TOPOLOGY,
-                          "closed component of vertex %u: %zu vertices, odd, so its %zu even "
-                          "vertices are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot "
-                          "be paired; no edge deletion exists (--allow-split splits an edge)",
-                          s, n_vert, n_even);
-            goto done;
-        }
+        if (!has_boundary && (n_even & 1u))
+            return sk__fail(err, SK_ERR_TOPOLOGY,
+                            "closed component of vertex %u: %zu vertices, odd, so its %zu even "
+                            "vertices are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot "
+                            "be paired; no edge deletion exists (--allow-split splits an edge)",
+                            s, n_vert, n_even);
     }
+    return SK_OK;
+}
 
-    /* Algorithm Initialise */
-    for (uint32_t v = 0; v < nv; ++v)
-        dist[v] = SK_INVALID;
-    size_t cap_c = 0, nc = 0;
+static bool push_cand(ed_state *S, cand c)
+{
+    if (S->nc == S->cap_c) {
+        size_t cap = S->cap_c ? 2 * S->cap_c : 4096;
+        cand *p = sk__realloc_array(S->cands, cap, sizeof *p);
+        if (!p)
+            return false;
+        S->cands = p;
+        S->cap_c = cap;
+    }
+    S->cands[S->nc++] = c;
+    return true;
+}
+
+/* One round of Initialise, the search: breadth-first from every unpaired even vertex at once,
+ * over edges that are not forbidden; a meeting edge of two searches, or a boundary vertex a search
+ * reaches, is a candidate of length dist(u) + dist(v) + 1 (resp. dist). */
+static sk_status initialise_search(ed_state *S, sk_error *err)
+{
+    const sk_mesh *m = S->m;
+    size_t qh = 0, qt = 0;
+    for (uint32_t v = 0; v < S->nv; ++v)
+        S->dist[v] = SK_INVALID;
+    for (size_t i = 0; i < S->nrem; ++i) {
+        uint32_t v = S->remaining[i];
+        S->dist[v] = 0;
+        S->src[v] = v;
+        S->pred[v] = SK_INVALID;
+        S->queue[qt++] = v;
+    }
+    S->nc = 0;
+    while (qh < qt) {
+        uint32_t v = S->queue[qh++];
+        if (S->bnd[v])
+            continue; /* boundary vertices end paths, the search does not pass them */
+        uint32_t h0 = m->v_halfedge[v], h = h0;
+        do {
+            uint32_t w = sk_to(m, h);
+            bool ok = true;
+            if (S->forbid[sk_edge(h)]) {
+                /* avoided */
+            } else if (S->dist[w] == SK_INVALID) {
+                S->dist[w] = S->dist[v] + 1;
+                S->src[w] = S->src[v];
+                S->pred[w] = v;
+                S->queue[qt++] = w;
+                if (S->bnd[w])
+                    ok = push_cand(S, (cand){S->dist[w], w, SK_INVALID});
+            } else if (S->src[w] != S->src[v] && !S->bnd[w] && v < w) {
+                /* a meeting edge is seen from its endpoint expanded last (the other one was
+                 * reached already, by another search); v < w keeps one of the two sightings */
+                ok = push_cand(S, (cand){S->dist[v] + S->dist[w] + 1, v, w});
+            }
+            if (!ok)
+                return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+    return SK_OK;
+}
+
+/* One round of Initialise, the pairing: candidates shortest first while both ends are unpaired;
+ * each pairing stores its path (a ... u, then v ... b). Returns the number of pairs made, or -1
+ * when out of memory. */
+static long initialise_pair(ed_state *S)
+{
+    path_store *ps = &S->ps;
+    qsort(S->cands, S->nc, sizeof *S->cands, cand_cmp);
+    long paired = 0;
+    for (size_t i = 0; i < S->nc; ++i) {
+        cand c = S->cands[i];
+        uint32_t a = S->src[c.u], b = c.v == SK_INVALID ? SK_INVALID : S->src[c.v];
+        if (S->partner[a] != SK_INVALID || (b != SK_INVALID && S->partner[b] != SK_INVALID))
+            continue;
+        size_t first = ps->nv;
+        for (uint32_t x = c.u; x != SK_INVALID; x = S->pred[x])
+            if (!ps_push_vertex(ps, x))
+                return -1;
+        for (size_t i0 = first, i1 = ps->nv - 1; i0 < i1; ++i0, --i1) {
+            uint32_t t = ps->v[i0];
+            ps->v[i0] = ps->v[i1];
+            ps->v[i1] = t;
+        }
+        if (b != SK_INVALID)
+            for (uint32_t x = c.v; x != SK_INVALID; x = S->pred[x])
+                if (!ps_push_vertex(ps, x))
+                    return -1;
+        if (!ps_close_path(ps))
+            return -1;
+        S->st.path_edges += ps->nv - first - 1;
+        S->partner[a] = b == SK_INVALID ? c.u : b;
+        if (b != SK_INVALID) {
+            S->partner[b] = a;
+            S->st.pairs++;
+        } else {
+            S->st.boundary_paths++;
+        }
+        ++paired;
+    }
+    return paired;
+}
+
+/* Algorithm Initialise (section 3): pair the even vertices (or connect them to the boundary) by
+ * growing distances until searches meet; rounds repeat with the vertices still unpaired. */
+static sk_status initialise(ed_state *S, sk_error *err)
+{
     bool relaxed_forbid = false;
-    while (nrem > 0) {
-        st0.initialise_rounds++;
-        size_t qh = 0, qt = 0;
-        for (uint32_t v = 0; v < nv; ++v)
-            dist[v] = SK_INVALID;
-        for (size_t i = 0; i < nrem; ++i) {
-            uint32_t v = remaining[i];
-            dist[v] = 0;
-            src[v] = v;
-            pred[v] = SK_INVALID;
-            queue[qt++] = v;
-        }
-        nc = 0;
-        while (qh < qt) {
-            uint32_t v = queue[qh++];
-            if (bnd[v])
-                continue; /* boundary vertices end paths, the search does not pass them */
-            uint32_t h0 = m->v_halfedge[v], h = h0;
-            do {
-                uint32_t w = sk_to(m, h);
-                if (forbid[sk_edge(h)]) {
-                    h = sk_cw_out(m, h);
-                    continue;
-                }
-                if (dist[w] == SK_INVALID) {
-                    dist[w] = dist[v] + 1;
-                    src[w] = src[v];
-                    pred[w] = v;
-                    queue[qt++] = w;
-                    if (bnd[w]) {
-                        if (nc == cap_c) {
-                            cap_c = cap_c ? 2 * cap_c : 4096;
-                            cand *c = sk__realloc_array(cands, cap_c, sizeof *c);
-                            if (!c) {
-                                st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
-                                goto done;
-                            }
-                            cands = c;
-                        }
-                        cands[nc++] = (cand){dist[w], w, SK_INVALID};
-                    }
-                } else if (src[w] != src[v] && !bnd[w] && v < w) {
-                    if (nc == cap_c) {
-                        cap_c = cap_c ? 2 * cap_c : 4096;
-                        cand *c = sk__realloc_array(cands, cap_c, sizeof *c);
-                        if (!c) {
-                            st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
-                            goto done;
-                        }
-                        cands = c;
-                    }
-                    cands[nc++] = (cand){dist[v] + dist[w] + 1, v, w};
-                }
-                h = sk_cw_out(m, h);
-            } while (h != h0);
-        }
-        /* a meeting edge is seen from its endpoint expanded last (the other one was reached
-         * already, by another search); v < w keeps one of the two sightings */
-        qsort(cands, nc, sizeof *cands, cand_cmp);
-        size_t paired = 0;
-        for (size_t i = 0; i < nc; ++i) {
-            cand c = cands[i];
-            uint32_t a = src[c.u], b = c.v == SK_INVALID ? SK_INVALID : src[c.v];
-            if (partner[a] != SK_INVALID || (b != SK_INVALID && partner[b] != SK_INVALID))
-                continue;
-            /* the path: a ... u (reversed pred chain), then v ... b */
-            size_t first = ps.nv;
-            for (uint32_t x = c.u; x != SK_INVALID; x = pred[x])
-                if (!ps_push_vertex(&ps, x))
-                    goto nomem;
-            for (size_t i0 = first, i1 = ps.nv - 1; i0 < i1; ++i0, --i1) {
-                uint32_t t = ps.v[i0];
-                ps.v[i0] = ps.v[i1];
-                ps.v[i1] = t;
-            }
-            if (b != SK_INVALID)
-                for (uint32_t x = c.v; x != SK_INVALID; x = pred[x])
-                    if (!ps_push_vertex(&ps, x))
-                        goto nomem;
-            if (!ps_close_path(&ps))
-                goto nomem;
-            st0.path_edges += ps.nv - first - 1;
-            partner[a] = b == SK_INVALID ? c.u : b;
-            if (b != SK_INVALID) {
-                partner[b] = a;
-                st0.pairs++;
-            } else {
-                st0.boundary_paths++;
-            }
-            ++paired;
-        }
+    while (S->nrem > 0) {
+        S->st.initialise_rounds++;
+        sk_status st = initialise_search(S, err);
+        if (st)
+            return st;
+        long paired = initialise_pair(S);
+        if (paired < 0)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
         size_t k = 0;
-        for (size_t i = 0; i < nrem; ++i)
-            if (partner[remaining[i]] == SK_INVALID)
-                remaining[k++] = remaining[i];
-        nrem = k;
-        if (paired == 0 && nrem > 0 && !relaxed_forbid) {
+        for (size_t i = 0; i < S->nrem; ++i)
+            if (S->partner[S->remaining[i]] == SK_INVALID)
+                S->remaining[k++] = S->remaining[i];
+        S->nrem = k;
+        if (paired == 0 && S->nrem > 0 && !relaxed_forbid) {
             /* the avoided edges cut some even vertex off: allow them all */
-            memset(forbid, 0, ne);
+            memset(S->forbid, 0, S->ne);
             relaxed_forbid = true;
             continue;
         }
-        if (paired == 0 && nrem > 0) {
-            st = sk__fail(err, SK_ERR_TOPOLOGY,
-                          "edge deletion: even vertex %u cannot be paired (no even partner or "
-                          "boundary reachable)", remaining[0]);
-            goto done;
-        }
+        if (paired == 0 && S->nrem > 0)
+            return sk__fail(err, SK_ERR_TOPOLOGY,
+                            "edge deletion: even vertex %u cannot be paired (no even partner or "
+                            "boundary reachable)", S->remaining[0]);
     }
+    return SK_OK;
+}
 
-    /* Reduce Path on every path, then the union with cancellation of shared edges (2a) */
-    for (size_t p = 0; p < ps.np; ++p) {
-        uint32_t *pv = ps.v + ps.start[p];
-        size_t n = reduce_path(m, forbid, pv, ps.start[p + 1] - ps.start[p], &st0.reductions);
+/* Algorithm Reduce Path on every path, then the union of the paths with cancellation of shared
+ * edges (Delete Even Edges, case (2a)); edges joining two boundary vertices are dropped (boundary
+ * vertices may stay even). */
+static sk_status reduce_paths(ed_state *S, sk_error *err)
+{
+    const sk_mesh *m = S->m;
+    const path_store *ps = &S->ps;
+    for (size_t p = 0; p < ps->np; ++p) {
+        uint32_t *pv = ps->v + ps->start[p];
+        size_t n = reduce_path(m, S->forbid, pv, ps->start[p + 1] - ps->start[p],
+                               &S->st.reductions);
         for (size_t i = 0; i + 1 < n; ++i) {
             uint32_t h = find_halfedge(m, pv[i], pv[i + 1]);
-            if (h == SK_INVALID) {
-                st = sk__fail(err, SK_ERR_NUMERIC, "edge deletion: internal error, broken path");
-                goto done;
-            }
+            if (h == SK_INVALID)
+                return sk__fail(err, SK_ERR_NUMERIC, "edge deletion: internal error, broken path");
             uint32_t e = sk_edge(h);
-            if (dcnt[e])
-                st0.shared_edges++;
-            dcnt[e] ^= 1u;
+            if (S->dcnt[e])
+                S->st.shared_edges++;
+            S->dcnt[e] ^= 1u;
         }
     }
-    /* edges joining two boundary vertices are never needed (boundary vertices may stay even) */
-    for (uint32_t e = 0; e < ne; ++e)
-        if (dcnt[e] && bnd[sk_from(m, 2 * e)] && bnd[sk_to(m, 2 * e)])
-            dcnt[e] = 0;
+    for (uint32_t e = 0; e < S->ne; ++e)
+        if (S->dcnt[e] && S->bnd[sk_from(m, 2 * e)] && S->bnd[sk_to(m, 2 * e)])
+            S->dcnt[e] = 0;
+    return SK_OK;
+}
 
-    /* (2b): triangles holding two (or three) deleted edges */
-    fq = sk__malloc_array(nf + 1, sizeof *fq);
-    if (!fq)
-        goto nomem;
-    size_t nq = 0;
+/* Algorithm Delete Even Edges, case (2b): a triangle holding two deleted edges gets its third edge
+ * deleted instead (three: none). The faces are processed as a stack and re-pushed when an edge of
+ * theirs changes (bounded by the strict decrease of the deleted set). */
+static sk_status delete_even_edges(ed_state *S, sk_error *err)
+{
+    const sk_mesh *m = S->m;
+    size_t nf = S->nf, nq = 0, cap_q = nf + 1;
+    uint32_t *fq = sk__malloc_array(nf + 1, sizeof *fq);
+    uint8_t *inq = calloc(nf ? nf : 1, 1);
+    sk_status st = SK_OK;
+    if (!fq || !inq) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+        goto done;
+    }
     for (uint32_t f = 0; f < nf; ++f)
         if (!m->f_deleted[f])
             fq[nq++] = f;
-    /* process as a stack; faces are re-pushed when an edge of theirs changes (bounded by the strict
-     * decrease of the deleted set) */
-    uint8_t *inq = calloc(nf ? nf : 1, 1);
-    if (!inq)
-        goto nomem;
     memset(inq, 1, nf);
-    size_t cap_q = nf + 1;
     while (nq > 0) {
         uint32_t f = fq[--nq];
         inq[f] = 0;
@@ -467,74 +520,91 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
         h[2] = m->h_next[h[1]];
         int cnt = 0, which[3];
         for (int i = 0; i < 3; ++i)
-            if (dcnt[sk_edge(h[i])])
+            if (S->dcnt[sk_edge(h[i])])
                 which[cnt++] = i;
         if (cnt < 2)
             continue;
-        st0.triangle_fixes++;
+        S->st.triangle_fixes++;
         if (cnt == 3) {
             for (int i = 0; i < 3; ++i)
-                dcnt[sk_edge(h[i])] = 0;
+                S->dcnt[sk_edge(h[i])] = 0;
         } else {
             int third = 3 - which[0] - which[1];
             uint32_t et = sk_edge(h[third]);
-            dcnt[sk_edge(h[which[0]])] = 0;
-            dcnt[sk_edge(h[which[1]])] = 0;
-            if (!sk_is_boundary_e(m, et) && !(bnd[sk_from(m, 2 * et)] && bnd[sk_to(m, 2 * et)])) {
-                dcnt[et] = 1;
-                st0.forced_edges += forbid[et];
+            S->dcnt[sk_edge(h[which[0]])] = 0;
+            S->dcnt[sk_edge(h[which[1]])] = 0;
+            if (!sk_is_boundary_e(m, et) &&
+                !(S->bnd[sk_from(m, 2 * et)] && S->bnd[sk_to(m, 2 * et)])) {
+                S->dcnt[et] = 1;
+                S->st.forced_edges += S->forbid[et];
             }
         }
         /* re-check the neighbouring faces */
         for (int i = 0; i < 3; ++i) {
             uint32_t g = m->h_face[sk_opp(h[i])];
-            if (g != SK_INVALID && !inq[g]) {
-                if (nq == cap_q) {
-                    cap_q *= 2;
-                    uint32_t *q2 = sk__realloc_array(fq, cap_q, sizeof *q2);
-                    if (!q2) {
-                        free(inq);
-                        goto nomem;
-                    }
-                    fq = q2;
+            if (g == SK_INVALID || inq[g])
+                continue;
+            if (nq == cap_q) {
+                cap_q *= 2;
+                uint32_t *q2 = sk__realloc_array(fq, cap_q, sizeof *q2);
+                if (!q2) {
+                    st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+                    goto done;
                 }
-                inq[g] = 1;
-                fq[nq++] = g;
+                fq = q2;
             }
+            inq[g] = 1;
+            fq[nq++] = g;
         }
     }
+done:
+    free(fq);
     free(inq);
+    return st;
+}
 
-    /* verify: every interior vertex odd, every triangle at most one deleted edge */
+/* Every interior vertex is odd now; returns the number of deleted edges. */
+static sk_status verify_odd(ed_state *S, sk_error *err)
+{
+    const sk_mesh *m = S->m;
     size_t nd = 0;
-    for (uint32_t e = 0; e < ne; ++e)
-        nd += dcnt[e];
-    for (uint32_t v = 0; v < nv; ++v) {
-        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || bnd[v])
+    for (uint32_t e = 0; e < S->ne; ++e)
+        nd += S->dcnt[e];
+    for (uint32_t v = 0; v < S->nv; ++v) {
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || S->bnd[v])
             continue;
         size_t faces = 0;
         uint32_t h0 = m->v_halfedge[v], h = h0;
         do {
-            faces += 1 - dcnt[sk_edge(h)];
+            faces += 1 - S->dcnt[sk_edge(h)];
             h = sk_cw_out(m, h);
         } while (h != h0);
-        if ((faces & 1u) == 0) {
-            st = sk__fail(err, SK_ERR_NUMERIC,
-                          "edge deletion: internal error, vertex %u is still even", v);
-            goto done;
-        }
+        if ((faces & 1u) == 0)
+            return sk__fail(err, SK_ERR_NUMERIC,
+                            "edge deletion: internal error, vertex %u is still even", v);
     }
-    st0.deleted_edges = nd;
+    S->st.deleted_edges = nd;
+    return SK_OK;
+}
 
-    /* the triangle/quad mesh */
-    if ((st = sk_mesh_copy(m, &res, err)) != SK_OK)
+/* The triangle/quad mesh: m with the deleted edges merged away, and their end points. */
+static sk_status build_config(ed_state *S, sk_mesh **out, uint32_t **deleted_out, sk_error *err)
+{
+    const sk_mesh *m = S->m;
+    sk_mesh *res = NULL;
+    size_t nd = S->st.deleted_edges;
+    uint32_t *deleted = NULL;
+    sk_status st = sk_mesh_copy(m, &res, err);
+    if (st)
         goto done;
     deleted = sk__malloc_array(2 * nd + 1, sizeof *deleted);
-    if (!deleted)
-        goto nomem;
+    if (!deleted) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+        goto done;
+    }
     nd = 0;
-    for (uint32_t e = 0; e < ne; ++e) {
-        if (!dcnt[e])
+    for (uint32_t e = 0; e < S->ne; ++e) {
+        if (!S->dcnt[e])
             continue;
         deleted[2 * nd] = sk_from(m, 2 * e);
         deleted[2 * nd + 1] = sk_to(m, 2 * e);
@@ -545,9 +615,9 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
         goto done;
     for (uint32_t f = 0; f < res->num_faces; ++f) {
         if (sk_mesh_face_size(res, f) == 3)
-            st0.triangles++;
+            S->st.triangles++;
         else
-            st0.quads++;
+            S->st.quads++;
     }
     *out = res;
     res = NULL;
@@ -555,29 +625,46 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
         *deleted_out = deleted;
         deleted = NULL;
     }
-    if (stats)
-        *stats = st0;
-    sk__ok(err);
-    goto done;
-nomem:
-    st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
 done:
-    free(even);
-    free(bnd);
-    free(dcnt);
-    free(forbid);
-    free(comp);
-    free(queue);
-    free(dist);
-    free(src);
-    free(pred);
-    free(partner);
-    free(remaining);
-    free(fq);
-    free(cands);
     free(deleted);
-    free(ps.v);
-    free(ps.start);
     sk_mesh_destroy(&res);
+    return st;
+}
+
+/* Algorithm Delete Even Edges of Cottin & van Damme (section 3) in the steps of the paper:
+ * Initialise (pairs and their paths), Reduce Path, the union with cases (2a) and (2b). */
+sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_out,
+                           sk_edge_deletion_stats *stats, sk_error *err)
+{
+    *out = NULL;
+    if (deleted_out)
+        *deleted_out = NULL;
+    for (size_t f = 0; f < m->num_faces; ++f)
+        if (!m->f_deleted[f] && sk_mesh_face_size(m, (uint32_t)f) != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY,
+                            "edge deletion needs a triangle mesh, face %zu has %zu sides", f,
+                            sk_mesh_face_size(m, (uint32_t)f));
+    ed_state S = {.m = m, .nv = m->num_vertices, .ne = sk_num_edges(m), .nf = m->num_faces};
+    sk_status st = ed_alloc(&S, err);
+    if (st == SK_OK) {
+        find_even_vertices(&S);
+        st = check_parity(&S, err);
+    }
+    if (st == SK_OK)
+        st = initialise(&S, err);
+    if (st == SK_OK)
+        st = reduce_paths(&S, err);
+    if (st == SK_OK)
+        st = delete_even_edges(&S, err);
+    if (st == SK_OK)
+        st = verify_odd(&S, err);
+    if (st == SK_OK)
+        st = build_config(&S, out, deleted_out, err);
+    if (st == SK_OK) {
+        if (stats)
+            *stats = S.st;
+        sk__ok(err);
+    }
+    ed_free(&S);
     return st;
 }

@@ -3,6 +3,7 @@
 #define SK_SMOOTH_INTERNAL_H
 
 #include "surfkit/smooth.h"
+#include "bezier/bezier_internal.h"
 
 /* Degree-elevation factor Delta of eq. (1): 3/4 for a (quartic) triangle, 1 for a bicubic quad. */
 static inline double sk__delta(size_t face_size) { return face_size == 3 ? 0.75 : 1.0; }
@@ -49,35 +50,21 @@ int sk__vsys_solve(sk__vsys *s);
  * corner around the vertex (n_edges pairs if closed, n_edges - 1 else). */
 void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
 
-/* Control point storage of one patch. */
-/* Bernstein basis B_i^n(t), i = 0..n, into B, and dB_i^n/dt into dB unless it is NULL
- * (bezier.c). */
-void sk__bernstein(unsigned n, double t, double *B, double *dB);
-
-static inline size_t sk__tri_index(int n, int j, int k) { return (size_t)(k * (n + 1) - k * (k - 1) / 2 + j); }
-static inline size_t sk__patch_points(int kind, int degree)
-{
-    return kind == SK_SMOOTH_QUAD ? 16u : (size_t)((degree + 1) * (degree + 2) / 2);
-}
-
-/* Regularity certificates of patch p from the cross products g_ij = du_i x dv_j of the u- and
- * v-differences of its control net:
- *  - cone_regular: the cone test of Ginkel, Peters, Umlauf (Lemma 3): the cone spanned by the g_ij
- *    excludes 0 (then the patch has no singular point and its normals stay inside the cone);
- *  - sampling_certified: every g_ij is non-zero with g_ij . ref > 0, with a margin that proves that
- *    the sampled check of the continuity report (|du x dv| > 1e-10 scale and (du x dv) . ref > 0,
- *    scale = |du| |dv| at the centre) passes at every parameter, so sampling can be skipped. */
-void sk__patch_certify(const sk_smooth *s, size_t p, const double ref[3], double scale,
-                       bool *cone_regular, bool *sampling_certified);
-
 /* The regularity test of the continuity report: true when patch p has a vanishing normal
  * (|du x dv| <= 1e-10 |du| |dv| at the centre) or a normal turned away from the sum of its corner
  * normals, found on a grid of 9 x 9 parameters (triangles: the 45 with u + v <= 1) unless the
- * control net certifies it regular everywhere (sk__patch_certify). cone_regular (may be NULL):
+ * control net certifies it regular everywhere (sk__patch_certify, src/bezier). cone_regular (may be NULL):
  * the Ginkel-Peters-Umlauf cone test. */
 bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
 
-/* PN triangles on the triangle mesh s->config with normals s->normals (fills patches/points). */
+/* Parity split (parity_split.c): every closed component of m with an odd number of vertices gets
+ * its longest edge split at the midpoint of its wire frame curve (normals there: the mean of the
+ * end normals made orthogonal to the curve). *out is the new mesh with its normals in
+ * *out_normals, or NULL when no component needs a split; *splits counts them. */
+sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_mesh **out,
+                                   double **out_normals, size_t *splits, sk_error *err);
+
+/* PN triangles on the triangle mesh s->config with normals s->normals (fills s->surface). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);
 
 #endif

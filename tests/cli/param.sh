@@ -19,7 +19,8 @@ for k in faces flipped mips_sum mips_mean conformal_mean area_log_mean boundary_
 done
 grep -q '"flipped": *0' "$TMP/r.json" || fail "flipped not 0"
 "$BIN" param "$M/patch-01.off" -o "$TMP/p.ply" --method lscm --ascii -q || fail "lscm ply"
-grep -q 'property double u' "$TMP/p.ply" || fail "PLY lacks u"
+grep -q 'property double s' "$TMP/p.ply" || fail "PLY lacks s"
+grep -q 'property double t' "$TMP/p.ply" || fail "PLY lacks t"
 "$BIN" param "$M/patch-01.off" -o "$TMP/p.obj" --method harmonic --boundary square --json | grep -q '"boundary": "square"' || fail "json"
 
 "$BIN" param "$M/eight.off" -o "$TMP/e.obj" 2> "$TMP/err"; rc=$?

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# surfkit smooth: VC1 on the sphere (report keys, jump at rounding level, outputs written), PN
+# surfkit smooth: VC1 on the sphere (report keys, jump at rounding level, outputs written, a closed
+# tessellation), PN
 # baseline with degree-level jumps, odd closed mesh refused (exit 1) and handled with --allow-split.
 set -u
 bin=$1 shared=$3 tmp=$4
@@ -19,6 +20,11 @@ assert r["max_normal_jump_deg"] < 1e-7, r
 assert r["singular_patches"] == 0 and r["quads"] == r["deleted_edges"] == 75
 PY
 grep -q '^vn ' "$tmp/s.obj" || fail "no normals in the OBJ"
+# the tessellation of the closed sphere is watertight: one component, no boundary edge
+"$bin" info "$tmp/s.obj" > "$tmp/info.txt" || fail "info on the tessellation"
+grep -Eq '^ +edges +[0-9]+ \(0 on the boundary\)' "$tmp/info.txt" &&
+  grep -Eq '^ +components +1$' "$tmp/info.txt" && grep -Eq '^ +defects +none' "$tmp/info.txt" ||
+  fail "sphere tessellation not closed: $(cat "$tmp/info.txt")"
 [ -s "$tmp/l.png" ] && [ -s "$tmp/s.png" ] && [ -s "$tmp/p.json" ] || fail "missing outputs"
 "$bin" smooth "$m/sphere.off" --scheme pn --json -q > "$tmp/pn.json" || fail "pn exit"
 python3 -c "import json,sys; r=json.load(open('$tmp/pn.json')); assert r['max_normal_jump_deg'] > 0.3" ||

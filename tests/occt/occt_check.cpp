@@ -45,7 +45,7 @@ extern "C" {
 #include "surfkit/surfkit.h"
 }
 
-static bool build_patches(const sk_mesh *m, bool flat, std::vector<sk_patch> &out, std::string &why);
+static bool build_patches(const sk_mesh *m, bool flat, sk_patch_set &out, std::string &why);
 
 namespace {
 
@@ -96,7 +96,7 @@ bool load(const std::string &path, bool step, TopoDS_Shape &shape, bool &clean)
     return !shape.IsNull();
 }
 
-result check(const std::string &path, bool step, const std::vector<sk_patch> &tensor, double size)
+result check(const std::string &path, bool step, const sk_patch_set &tensor, double size)
 {
     result res;
     TopoDS_Shape shape;
@@ -107,14 +107,14 @@ result check(const std::string &path, bool step, const std::vector<sk_patch> &te
     for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next())
         faces.push_back(TopoDS::Face(ex.Current()));
     res.faces = faces.size();
-    for (size_t i = 0; i < faces.size() && i < tensor.size(); ++i) {
+    for (size_t i = 0; i < faces.size() && i < tensor.count; ++i) {
         Handle(Geom_Surface) s = BRep_Tool::Surface(faces[i]);
         for (int a = 0; a <= 4; ++a)
             for (int b = 0; b <= 4; ++b) {
                 /* non-dyadic parameters, so that no rounding coincidence hides a difference */
                 double u = (a + 0.3) / 4.6, v = (b + 0.7) / 4.9, q[3];
                 gp_Pnt p = s->Value(u, v);
-                sk_patch_eval(&tensor[i], u, v, q, nullptr, nullptr, nullptr);
+                sk_patch_eval(&tensor, i, u, v, q, nullptr, nullptr, nullptr);
                 double d = std::sqrt((p.X() - q[0]) * (p.X() - q[0]) + (p.Y() - q[1]) * (p.Y() - q[1]) +
                                      (p.Z() - q[2]) * (p.Z() - q[2]));
                 res.max_dev = std::max(res.max_dev, d / size);
@@ -219,7 +219,7 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "occt_check: %s\n", err.message);
         return 1;
     }
-    std::vector<sk_patch> patches;
+    sk_patch_set patches = {};
     std::string why;
     if (!build_patches(mesh, flat, patches, why)) {
         std::fprintf(stderr, "occt_check: %s: %s\n", mesh_path.c_str(), why.c_str());
@@ -240,18 +240,17 @@ int main(int argc, char **argv)
         opts.name = name.c_str();
         std::string path = outdir + "/" + name + vr.ext;
         sk_export_stats st = {};
-        sk_status s = vr.step ? sk_export_step(path.c_str(), patches.data(), patches.size(), &opts, &st, &err)
-                              : sk_export_iges(path.c_str(), patches.data(), patches.size(), &opts, &st, &err);
+        sk_status s = vr.step ? sk_export_step(path.c_str(), &patches, &opts, &st, &err)
+                              : sk_export_iges(path.c_str(), &patches, &opts, &st, &err);
         if (s != SK_OK) {
             std::fprintf(stderr, "occt_check: export %s: %s\n", path.c_str(), err.message);
             return 1;
         }
-        sk_patch *t = nullptr;
-        size_t nt = 0;
-        sk_export_tensor_patches(patches.data(), patches.size(), &opts, &t, &nt, &err);
-        std::vector<sk_patch> tensor(t, t + nt);
-        std::free(t);
+        sk_patch_set tensor = {};
+        sk_export_tensor_patches(&patches, &opts, &tensor, &err);
+        size_t nt = tensor.count;
         result r = check(path, vr.step, tensor, size);
+        sk_patch_set_free(&tensor);
         std::vector<std::string> bad;
         if (!r.load_ok)
             bad.push_back("fail messages on load");
@@ -285,48 +284,48 @@ int main(int argc, char **argv)
             std::printf("    %s: %s\n", path.c_str(), b.c_str());
         failures += !bad.empty();
     }
+    sk_patch_set_free(&patches);
     sk_mesh_destroy(&mesh);
     return failures ? 1 : 0;
 }
 
 // Flat patches: linear triangles (degree 4) and bilinear quads (bicubic), corner ids = vertices.
-static bool build_flat(const sk_mesh *m, std::vector<sk_patch> &out)
+static bool build_flat(const sk_mesh *m, sk_patch_set &out)
 {
-    for (uint32_t f = 0; f < m->num_faces; ++f) {
+    sk_patch_set lin = {};
+    bool ok = true;
+    for (uint32_t f = 0; f < m->num_faces && ok; ++f) {
         if (m->f_deleted[f])
             continue;
         size_t n = sk_mesh_face_size(m, f);
-        if (n != 3 && n != 4)
-            return false;
-        sk_patch lin = {};
+        if (n != 3 && n != 4) {
+            ok = false;
+            break;
+        }
         uint32_t h = m->f_halfedge[f];
         uint32_t ids[4];
         for (size_t k = 0; k < n; ++k, h = m->h_next[h])
             ids[k] = sk_from(m, h);
+        double cp[4 * 3];
         if (n == 3) {
-            lin.kind = SK_PATCH_TRIANGLE;
-            lin.degree = 1;
             const unsigned idx[3] = {sk_tri_index(1, 0, 0), sk_tri_index(1, 1, 0), sk_tri_index(1, 0, 1)};
             for (int k = 0; k < 3; ++k)
-                std::memcpy(lin.cp + 3 * idx[k], m->positions + 3 * ids[k], 3 * sizeof(double));
+                std::memcpy(cp + 3 * idx[k], m->positions + 3 * ids[k], 3 * sizeof(double));
         } else {
-            lin.kind = SK_PATCH_TENSOR;
-            lin.degree = lin.degree_v = 1;
             const unsigned idx[4] = {0, 1, 3, 2}; // (0,0) (1,0) (1,1) (0,1)
             for (int k = 0; k < 4; ++k)
-                std::memcpy(lin.cp + 3 * idx[k], m->positions + 3 * ids[k], 3 * sizeof(double));
+                std::memcpy(cp + 3 * idx[k], m->positions + 3 * ids[k], 3 * sizeof(double));
         }
-        sk_patch p;
-        if (sk_patch_elevate(&lin, n == 3 ? 4 : 3, n == 3 ? 0 : 3, &p, nullptr) != SK_OK)
-            return false;
-        for (size_t k = 0; k < 4; ++k)
-            p.corner_ids[k] = k < n ? ids[k] : SK_INVALID;
-        out.push_back(p);
+        sk_patch_set_clear(&lin);
+        ok = sk_patch_set_add(&lin, n == 3 ? SK_PATCH_TRIANGLE : SK_PATCH_TENSOR, 1, 1, cp, ids,
+                              nullptr, nullptr) == SK_OK &&
+             sk_patch_elevate(&lin, 0, n == 3 ? 4 : 3, n == 3 ? 0 : 3, &out, nullptr) == SK_OK;
     }
-    return true;
+    sk_patch_set_free(&lin);
+    return ok;
 }
 
-static bool build_patches(const sk_mesh *m, bool flat, std::vector<sk_patch> &out, std::string &why)
+static bool build_patches(const sk_mesh *m, bool flat, sk_patch_set &out, std::string &why)
 {
     if (flat) {
         if (!build_flat(m, out)) {
@@ -341,14 +340,8 @@ static bool build_patches(const sk_mesh *m, bool flat, std::vector<sk_patch> &ou
         why = err.message;
         return false;
     }
-    sk_patch *ps = nullptr;
-    size_t n = 0;
-    bool ok = sk_smooth_to_patches(s, &ps, &n, &err) == SK_OK;
-    if (ok)
-        out.assign(ps, ps + n);
-    else
-        why = err.message;
-    std::free(ps);
+    out = s->surface; // take the surface over
+    s->surface = sk_patch_set{};
     sk_smooth_destroy(&s);
-    return ok;
+    return true;
 }

@@ -156,6 +156,43 @@ static void test_errors(void **state)
     iot_bad("plyx\n", "m.ply", SK_FORMAT_PLY, "m.ply:1:");
 }
 
+/* Given each spelling of the texture coordinates (s t as Blender and MeshLab write, u v,
+ * texture_u texture_v), when read, then the uvs are the file's; and a soup with uvs is written
+ * with s t and reads back the same. */
+static void test_uv_spellings(void **state)
+{
+    (void)state;
+    const char *names[][2] = {{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}};
+    for (int k = 0; k < 3; ++k) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nproperty float %s\nproperty float %s\nelement face 1\n"
+                 "property list uchar int vertex_indices\nend_header\n"
+                 "0 0 0 0.25 0.5\n1 0 0 1 0.125\n0 1 0 0 1\n3 0 1 2\n",
+                 names[k][0], names[k][1]);
+        sk_soup *s = iot_parse(text, "uv.ply", SK_FORMAT_PLY);
+        assert_non_null(s->uvs);
+        iot_assert_vec(s->uvs, (double[]){0.25, 0.5, 1, 0.125, 0, 1}, 6);
+        sk_write_opts wo = {.format = SK_FORMAT_PLY, .ascii = k == 0};
+        void *data = NULL;
+        size_t size = 0;
+        assert_int_equal(sk_soup_write_memory(s, &wo, &data, &size, NULL), SK_OK);
+        char hdr[512] = {0}; /* the header, NUL-terminated */
+        memcpy(hdr, data, size < sizeof hdr - 1 ? size : sizeof hdr - 1);
+        char *hdr_end = strstr(hdr, "end_header");
+        assert_non_null(hdr_end);
+        *hdr_end = '\0';
+        assert_non_null(strstr(hdr, "property double s\nproperty double t\n"));
+        assert_null(strstr(hdr, "property double u\n"));
+        sk_soup *r = iot_parse_n(data, size, "back.ply", SK_FORMAT_PLY);
+        iot_assert_vec(r->uvs, s->uvs, 6);
+        sk_soup_destroy(&r);
+        free(data);
+        sk_soup_destroy(&s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -163,6 +200,7 @@ int main(void)
         cmocka_unit_test(test_binary_le),
         cmocka_unit_test(test_binary_be),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_uv_spellings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

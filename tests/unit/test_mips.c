@@ -112,7 +112,7 @@ static void given_fixed_boundary_then_boundary_stays_and_energy_never_rises(void
     memcpy(uv0, uv, 2 * nv * sizeof(double));
     double prev = INFINITY;
     for (int round = 0; round < 5; ++round) {
-        sk_mips_opts o = {.fixed_boundary = true, .max_sweeps = 1, .seed = (uint64_t)round};
+        sk_mips_opts o = {.boundary = SK_BOUNDARY_GIVEN, .max_sweeps = 1, .seed = (uint64_t)round};
         sk_mips_stats s;
         assert_int_equal(sk_param_mips(m, &o, uv, &s, NULL), SK_OK);
         assert_true(s.energy <= s.energy_start);

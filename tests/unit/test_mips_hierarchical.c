@@ -49,7 +49,7 @@ static void given_disk_meshes_when_global_blocks_then_energy_never_rises_and_no_
             double *uv = floater_start(m);
             double prev = INFINITY;
             for (int round = 0; round < 6; ++round) {
-                sk_mips_opts o = {.fixed_boundary = fixed, .global_steps = 1,
+                sk_mips_opts o = {.boundary = fixed ? SK_BOUNDARY_GIVEN : SK_BOUNDARY_FREE, .global_steps = 1,
                                   .sweeps_per_global = 1, .max_sweeps = 1, .tolerance = -1,
                                   .seed = (uint64_t)round};
                 sk_mips_stats s;
@@ -86,7 +86,7 @@ static void given_every_disk_mesh_and_seeds_when_hierarchical_then_no_flip(void 
                 if (mode == 1)
                     o.global_steps = (size_t)-1; /* the paper's method */
                 if (mode == 2)
-                    o.boundary = SK_MIPS_BOUNDARY_CIRCLE;
+                    o.boundary.shape = SK_BOUNDARY_CIRCLE;
                 sk_hparam_stats s;
                 sk_error err;
                 if (sk_param_hierarchical(m, &o, uv, &s, &err))
@@ -101,6 +101,7 @@ static void given_every_disk_mesh_and_seeds_when_hierarchical_then_no_flip(void 
                 for (size_t l = 0; l < s.num_levels; ++l)
                     if (!isnan(s.levels[l].energy))
                         assert_true(s.levels[l].energy >= 2.0 * (double)s.levels[l].faces * (1 - 1e-12));
+                sk_hparam_stats_release(&s);
             }
         free(uv);
         sk_mesh_destroy(&m);
@@ -130,6 +131,7 @@ static void given_planar_disk_when_global_steps_free_boundary_then_2_per_triangl
     assert_int_equal(sk_param_hierarchical(m, &ho, uv, &hs, NULL), SK_OK);
     if (fabs(hs.energy - opt) > 1e-9 * opt)
         fail_msg("hierarchical: energy %.15g, optimum %.15g", hs.energy, opt);
+    sk_hparam_stats_release(&hs);
     assert_int_equal(flips(m, uv), 0);
     free(uv);
     sk_mesh_destroy(&m);
@@ -155,16 +157,19 @@ static void given_three_meshes_when_equal_budget_then_hierarchical_beats_convent
         assert_int_equal(hs.steps, budget);
         assert_int_equal(flips(m, uv), 0);
         sk_mips_stats cs;
-        sk_status st = sk_param_mips_flat(m, SK_MIPS_BOUNDARY_FREE, hs.steps, -1.0, 1, uv, &cs, NULL);
+        sk_mips_flat_opts fo = {.max_steps = hs.steps, .tolerance = -1.0, .seed = 1};
+        sk_status st = sk_param_mips_flat(m, &fo, uv, &cs, NULL);
         assert_int_equal(st, SK_OK);
         assert_int_equal(cs.steps, hs.steps);
         if (!(hs.energy < cs.energy))
             fail_msg("%s: hierarchical %.6f, conventional %.6f at %zu steps", names[i], hs.energy,
                      cs.energy, budget);
         /* and the default (with global steps) is better still */
+        sk_hparam_stats_release(&hs);
         sk_hparam_opts d = {.seed = 1};
         assert_int_equal(sk_param_hierarchical(m, &d, uv, &hs, NULL), SK_OK);
         assert_true(hs.energy < cs.energy);
+        sk_hparam_stats_release(&hs);
         free(uv);
         sk_mesh_destroy(&m);
     }

@@ -1,0 +1,126 @@
+/* Repair after an insertion (Hormann, Greiner, Campagna, section 3): a vertex inserted at its
+ * barycentric coordinates can leave triangles of its one ring inverted; it is moved to the
+ * centroid of the kernel of its one ring, the region where every triangle around it is
+ * counter-clockwise. */
+#include "core/internal.h"
+#include "param/mips_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* True when every triangle around v is counter-clockwise with the MIPS margin at v. */
+static bool ring_ok(const sk_mesh *m, const double *uv, uint32_t v, const double x[2])
+{
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    if (h0 == SK_INVALID)
+        return true;
+    do {
+        if (m->h_face[h] != SK_INVALID) {
+            uint32_t a = m->h_vertex[h], b = m->h_vertex[m->h_next[h]];
+            if (!sk__mips_corner_ok(x, uv + 2 * (size_t)a, uv + 2 * (size_t)b))
+                return false;
+        }
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return true;
+}
+
+/* Moves v to the centroid of the kernel of its one ring: the convex polygon where every triangle
+ * (v, a, b) around v is counter-clockwise, i.e. the intersection of the half-planes left of each
+ * opposite edge a -> b, found by clipping a large box (Sutherland-Hodgman). Returns false when the
+ * kernel is empty (or too thin for the margin). */
+static bool move_into_kernel(const sk_mesh *m, double *uv, uint32_t v)
+{
+    enum { CAP = 256 };
+    double poly[2][CAP][2];
+    int n = 0, cur = 0;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    do {
+        const double *q = uv + 2 * (size_t)m->h_vertex[h];
+        for (int k = 0; k < 2; ++k) {
+            lo[k] = fmin(lo[k], q[k]);
+            hi[k] = fmax(hi[k], q[k]);
+        }
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    double pad = (hi[0] - lo[0]) + (hi[1] - lo[1]) + 1e-300;
+    double box[4][2] = {{lo[0] - pad, lo[1] - pad}, {hi[0] + pad, lo[1] - pad},
+                        {hi[0] + pad, hi[1] + pad}, {lo[0] - pad, hi[1] + pad}};
+    for (n = 0; n < 4; ++n)
+        memcpy(poly[0][n], box[n], sizeof box[n]);
+    h = h0;
+    do {
+        if (m->h_face[h] != SK_INVALID) {
+            const double *a = uv + 2 * (size_t)m->h_vertex[h];
+            const double *b = uv + 2 * (size_t)m->h_vertex[m->h_next[h]];
+            double e[2] = {b[0] - a[0], b[1] - a[1]};
+            int nn = 0;
+            for (int i = 0; i < n && nn < CAP - 1; ++i) {
+                const double *p = poly[cur][i], *q = poly[cur][(i + 1) % n];
+                double sp = e[0] * (p[1] - a[1]) - e[1] * (p[0] - a[0]);
+                double sq = e[0] * (q[1] - a[1]) - e[1] * (q[0] - a[0]);
+                if (sp > 0)
+                    memcpy(poly[1 - cur][nn++], p, 2 * sizeof(double));
+                if ((sp > 0) != (sq > 0) && sp != sq) {
+                    double t = sp / (sp - sq);
+                    poly[1 - cur][nn][0] = p[0] + t * (q[0] - p[0]);
+                    poly[1 - cur][nn][1] = p[1] + t * (q[1] - p[1]);
+                    nn++;
+                }
+            }
+            n = nn;
+            cur = 1 - cur;
+            if (n < 3)
+                return false;
+        }
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    double area = 0.0, c[2] = {0.0, 0.0};
+    for (int i = 0; i < n; ++i) {
+        const double *p = poly[cur][i], *q = poly[cur][(i + 1) % n];
+        double w = p[0] * q[1] - q[0] * p[1];
+        area += w;
+        c[0] += (p[0] + q[0]) * w;
+        c[1] += (p[1] + q[1]) * w;
+    }
+    if (!(area > 0.0))
+        return false;
+    c[0] /= 3.0 * area;
+    c[1] /= 3.0 * area;
+    if (!ring_ok(m, uv, v, c))
+        return false;
+    memcpy(uv + 2 * (size_t)v, c, sizeof c);
+    return true;
+}
+
+/* Makes every triangle flip-free by moving the vertices of inverted triangles into the kernels of
+ * their one rings, a few rounds; returns the number of moves, or -1 when some remain inverted. */
+long sk__mips_repair(const sk_mesh *m, double *uv)
+{
+    long moved = 0;
+    for (int round = 0; round < 8; ++round) {
+        size_t bad = 0;
+        /* a scan over the faces (sequential memory); only the vertices of a face that fails the
+         * margin somewhere get the one-ring test and, if needed, the move */
+        for (uint32_t f = 0; f < m->num_faces; ++f) {
+            if (m->f_deleted[f])
+                continue;
+            uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];
+            uint32_t w[3] = {sk_from(m, h), sk_from(m, hb), sk_from(m, hc)};
+            const double *q[3] = {uv + 2 * (size_t)w[0], uv + 2 * (size_t)w[1], uv + 2 * (size_t)w[2]};
+            if (sk__mips_corner_ok(q[0], q[1], q[2]) && sk__mips_corner_ok(q[1], q[2], q[0]) &&
+                sk__mips_corner_ok(q[2], q[0], q[1]))
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))
+                    continue;
+                bad++;
+                moved += move_into_kernel(m, uv, w[k]);
+            }
+        }
+        if (!bad)
+            return moved;
+    }
+    return -1;
+}

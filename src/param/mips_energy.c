@@ -1,0 +1,284 @@
+/* MIPS energy and its local minimisation (Hormann & Greiner; Hormann, Greiner, Campagna sec. 4).
+ *
+ * With c_e the cotangent of the 3D angle opposite edge e of a triangle of area A and q the
+ * parameter points, the Dirichlet identity gives |J|_F^2 = (1 / 2A) sum_e c_e |dq_e|^2 and
+ * det J = A_uv / A, so
+ *
+ *     E_t = sigma1/sigma2 + sigma2/sigma1 = |J|_F^2 / det J = sum_e c_e |dq_e|^2 / (2 A_uv).   (*)
+ *
+ * As a function of one vertex q_i this is a convex quadratic over a positive linear function
+ * (c_j + c_k = sin(theta_i) / (sin theta_j sin theta_k) > 0), hence convex on the kernel of the
+ * one ring: a damped Newton step with backtracking that never leaves the kernel converges. */
+#include "surfkit/mips.h"
+#include "core/internal.h"
+#include "core/vec.h"
+#include "param/mips_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void sk__mips_ctx_free(sk__mips_ctx *c)
+{
+    free(c->tri);
+    free(c->cot);
+    free(c->vt_start);
+    free(c->rec);
+    free(c->movable);
+}
+
+sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
+{
+    memset(c, 0, sizeof *c);
+    size_t nf = m->num_faces, nv = m->num_vertices, nt = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        if (sk_mesh_face_size(m, (uint32_t)f) != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle: MIPS needs a "
+                            "triangle mesh", f);
+        nt++;
+    }
+    c->nv = nv;
+    c->nt = nt;
+    c->tri = sk__malloc_array(3 * nt, sizeof(uint32_t));
+    c->cot = sk__malloc_array(3 * nt, sizeof(double));
+    c->vt_start = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    c->rec = sk__malloc_array(3 * nt, sizeof(sk__mips_corner));
+    c->movable = sk__malloc_array(nv, 1);
+    if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable) {
+        sk__mips_ctx_free(c);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    size_t t = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            c->tri[3 * t + k] = sk_from(m, h);
+        const double *p[3];
+        for (int k = 0; k < 3; ++k)
+            p[k] = m->positions + 3 * (size_t)c->tri[3 * t + k];
+        /* one normal per triangle: cot at corner k = (e1 . e2) / |e1 x e2| with the same
+         * |e1 x e2| = 2A at every corner */
+        double e[3][3], x[3]; /* e[k] = p[k+1] - p[k] */
+        for (int k = 0; k < 3; ++k)
+            sk__sub3(e[k], p[(k + 1) % 3], p[k]);
+        sk__cross3(x, e[0], e[2]);
+        double s = sk__norm3(x), lmax = 0.0;
+        for (int k = 0; k < 3; ++k)
+            lmax = fmax(lmax, sk__dot3(e[k], e[k]));
+        if (!(s > 1e-14 * lmax + 1e-300))
+            goto degenerate;
+        for (int k = 0; k < 3; ++k) /* corner k: edges e[k] and -e[k+2] */
+            c->cot[3 * t + k] = -sk__dot3(e[k], e[(k + 2) % 3]) / s;
+        for (int k = 0; k < 3; ++k)
+            c->vt_start[c->tri[3 * t + k] + 1]++;
+        ++t;
+        continue;
+    degenerate:
+        sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is degenerate in 3D (zero area): MIPS is "
+                 "undefined there; remove it first", f);
+        sk__mips_ctx_free(c);
+        return SK_ERR_TOPOLOGY;
+    }
+    for (size_t v = 0; v < nv; ++v)
+        c->vt_start[v + 1] += c->vt_start[v];
+    uint32_t *fill = sk__malloc_array(nv + 1, sizeof(uint32_t));
+    if (!fill) {
+        sk__mips_ctx_free(c);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(fill, c->vt_start, (nv + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < 3 * nt; ++i) {
+        size_t t3 = i - i % 3, k = i % 3;
+        sk__mips_corner r = {c->tri[t3 + (k + 1) % 3], c->tri[t3 + (k + 2) % 3], c->cot[t3 + k],
+                        c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3]};
+        c->rec[fill[c->tri[i]]++] = r;
+    }
+    free(fill);
+    for (size_t v = 0; v < nv; ++v)
+        c->movable[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
+                        !(fixed_boundary && sk_is_boundary_v(m, (uint32_t)v));
+    return SK_OK;
+}
+
+/* Energy (*) of triangle t; +inf if its parameter triangle is not positively oriented. */
+static double tri_energy(const sk__mips_ctx *c, size_t t, const double *uv)
+{
+    const uint32_t *v = c->tri + 3 * t;
+    const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *d = uv + 2 * (size_t)v[2];
+    double ab[2] = {b[0] - a[0], b[1] - a[1]}, ad[2] = {d[0] - a[0], d[1] - a[1]};
+    double bd[2] = {d[0] - b[0], d[1] - b[1]};
+    double twice = sk__cross2(ab, ad);
+    if (!(twice > 0.0))
+        return INFINITY;
+    const double *ct = c->cot + 3 * t;
+    return (ct[0] * sk__dot2(bd, bd) + ct[1] * sk__dot2(ad, ad) + ct[2] * sk__dot2(ab, ab)) / twice;
+}
+
+/* Sum of (*) over the triangles around v with v at position x; +inf outside the kernel.
+ * With g, H non-NULL also the gradient and Hessian with respect to x. */
+double sk__mips_ring_energy(const sk__mips_ctx *c, uint32_t v, const double *uv, const double x[2],
+                          double g[2], double H[3])
+{
+    double e = 0.0;
+    if (g) {
+        g[0] = g[1] = 0.0;
+        H[0] = H[1] = H[2] = 0.0;
+    }
+    for (uint32_t i = c->vt_start[v]; i < c->vt_start[v + 1]; ++i) {
+        const sk__mips_corner *r = c->rec + i;
+        const double *qj = uv + 2 * (size_t)r->j, *qk = uv + 2 * (size_t)r->k;
+        double ci = r->ci, cj = r->cj, ck = r->ck;
+        double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
+        double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
+        /* b = 2 A_uv = (qj - x) x (qk - x), linear in x with gradient perp(qk - qj) */
+        if (!sk__mips_corner_ok(x, qj, qk))
+            return INFINITY;
+        double b = sk__cross2(dj, dk);
+        /* a = ck |x - qj|^2 + cj |x - qk|^2 + ci |qj - qk|^2 (edge opposite each corner) */
+        double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
+        e += a / b;
+        if (g) {
+            double ga[2] = {2.0 * (ck * dj[0] + cj * dk[0]), 2.0 * (ck * dj[1] + cj * dk[1])};
+            double gb[2] = {-jk[1], jk[0]};
+            double ha = 2.0 * (cj + ck);
+            double ib = 1.0 / b, ib2 = ib * ib, ib3 = ib2 * ib;
+            g[0] += ga[0] * ib - a * gb[0] * ib2;
+            g[1] += ga[1] * ib - a * gb[1] * ib2;
+            /* H = Ha / b - (ga gb^T + gb ga^T) / b^2 + 2 a gb gb^T / b^3 */
+            H[0] += ha * ib - 2.0 * ga[0] * gb[0] * ib2 + 2.0 * a * gb[0] * gb[0] * ib3;
+            H[1] += -(ga[0] * gb[1] + gb[0] * ga[1]) * ib2 + 2.0 * a * gb[0] * gb[1] * ib3;
+            H[2] += ha * ib - 2.0 * ga[1] * gb[1] * ib2 + 2.0 * a * gb[1] * gb[1] * ib3;
+        }
+    }
+    return e;
+}
+
+/* One local step at v: damped Newton with backtracking inside the kernel. Returns the energy
+ * decrease (>= 0). */
+double sk__mips_local_step(const sk__mips_ctx *c, uint32_t v, double *uv)
+{
+    double *x = uv + 2 * (size_t)v;
+    double g[2], H[3];
+    double e0 = sk__mips_ring_energy(c, v, uv, x, g, H);
+    if (!isfinite(e0))
+        return 0.0;
+    double det = H[0] * H[2] - H[1] * H[1];
+    double d[2];
+    if (det > 0.0 && H[0] > 0.0) {
+        d[0] = -(H[2] * g[0] - H[1] * g[1]) / det;
+        d[1] = -(-H[1] * g[0] + H[0] * g[1]) / det;
+    } else { /* not expected (the local problem is convex); fall back to gradient descent */
+        double s = 1.0 / (fabs(H[0]) + fabs(H[2]) + 1e-300);
+        d[0] = -s * g[0];
+        d[1] = -s * g[1];
+    }
+    double slope = g[0] * d[0] + g[1] * d[1];
+    if (!(slope < 0.0))
+        return 0.0;
+    double t = 1.0;
+    for (int it = 0; it < 40; ++it, t *= 0.5) {
+        double y[2] = {x[0] + t * d[0], x[1] + t * d[1]};
+        double e = sk__mips_ring_energy(c, v, uv, y, NULL, NULL);
+        if (e <= e0 + 1e-4 * t * slope) { /* Armijo; +inf (left the kernel) fails it */
+            x[0] = y[0];
+            x[1] = y[1];
+            return e0 - e;
+        }
+    }
+    return 0.0;
+}
+
+double sk__mips_total_energy(const sk__mips_ctx *c, const double *uv, size_t *inverted)
+{
+    double e = 0.0;
+    size_t bad = 0;
+    for (size_t t = 0; t < c->nt; ++t) {
+        double et = tri_energy(c, t, uv);
+        if (isfinite(et))
+            e += et;
+        else
+            bad++;
+    }
+    if (inverted)
+        *inverted = bad;
+    return e;
+}
+
+/* Total energy with every corner checked against the margin of the local steps (+inf if any
+ * triangle is inverted or too thin). */
+double sk__mips_total_energy_strict(const sk__mips_ctx *c, const double *uv)
+{
+    long nt = (long)c->nt;
+    double e = 0.0;
+    int bad = 0;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) reduction(+ : e) reduction(| : bad) if (nt > 100000)
+#endif
+    for (long t = 0; t < nt; ++t) {
+        const uint32_t *v = c->tri + 3 * t;
+        const double *p0 = uv + 2 * (size_t)v[0], *p1 = uv + 2 * (size_t)v[1], *p2 = uv + 2 * (size_t)v[2];
+        if (!sk__mips_corner_ok(p0, p1, p2) || !sk__mips_corner_ok(p1, p2, p0) ||
+            !sk__mips_corner_ok(p2, p0, p1)) {
+            bad |= 1;
+            continue;
+        }
+        e += tri_energy(c, (size_t)t, uv);
+    }
+    return bad ? INFINITY : e;
+}
+
+
+
+/* The free-boundary energy is invariant under similarities, so nothing holds the scale of uv:
+ * over many steps it drifts (to 1e9 on nefertiti). Rescales the vertices of the triangles by a
+ * power of two so that the larger side of their bounding box lies in [1, 2): exact in floating
+ * point, so the optimization computes the same mantissas as without it. A box whose centre is
+ * farther than SK__MIPS_FAR_CENTRE extents from the origin is also moved to the origin (which
+ * rounds). Returns the exponent e of the factor 2^e applied (0: unchanged). */
+#define SK__MIPS_FAR_CENTRE 4.0
+
+int sk__mips_renormalize(const sk__mips_ctx *c, double *uv)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t v = 0; v < c->nv; ++v) {
+        if (c->vt_start[v] == c->vt_start[v + 1])
+            continue;
+        for (int k = 0; k < 2; ++k) {
+            lo[k] = fmin(lo[k], uv[2 * v + (size_t)k]);
+            hi[k] = fmax(hi[k], uv[2 * v + (size_t)k]);
+        }
+    }
+    double ext = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (!(ext > 0.0) || !isfinite(ext))
+        return 0;
+    int e = -ilogb(ext);
+    double mid[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])};
+    bool far = fmax(fabs(mid[0]), fabs(mid[1])) > SK__MIPS_FAR_CENTRE * ext;
+    if (e == 0 && !far)
+        return 0;
+    for (size_t v = 0; v < c->nv; ++v) {
+        if (c->vt_start[v] == c->vt_start[v + 1])
+            continue;
+        for (int k = 0; k < 2; ++k) {
+            double x = uv[2 * v + (size_t)k];
+            uv[2 * v + (size_t)k] = ldexp(far ? x - mid[k] : x, e);
+        }
+    }
+    return e;
+}
+
+sk_status sk_mips_energy(const sk_mesh *mesh, const double *uv, double *energy, size_t *inverted,
+                         sk_error *err)
+{
+    sk__mips_ctx c;
+    sk_status st = sk__mips_ctx_init(&c, mesh, false, err);
+    if (st)
+        return st;
+    *energy = sk__mips_total_energy(&c, uv, inverted);
+    sk__mips_ctx_free(&c);
+    return SK_OK;
+}

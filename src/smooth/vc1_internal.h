@@ -1,0 +1,55 @@
+/* Internal pieces of the VC1 construction (Cottin & van Damme, section 4) shared by its files:
+ * vertex_targets.c (the vertex systems (8) set up from the wire frame targets, with target
+ * blending), patch_assembly.c (system (4) and the patches), regularity_repair.c, vc1.c (driver). */
+#ifndef SK_VC1_INTERNAL_H
+#define SK_VC1_INTERNAL_H
+
+#include "smooth/smooth_internal.h"
+
+/* Per-half-edge and per-face state of one construction. */
+typedef struct sk__vc1_work {
+    const sk_mesh *m;
+    const double *normals;
+    const double *target; /* per half-edge */
+    const double *r;      /* per face */
+    double *P;            /* per half-edge: the cubic control point next to from(h) */
+    double *w1;           /* per half-edge: w_1 of (8) at from(h), NaN on boundary edges */
+    double *nu;           /* per half-edge: nu at from(h) (upper patch = face(h)) */
+    double *C;            /* per half-edge: interior control point of face(h) at from(h) */
+    double alpha;
+} sk__vc1_work;
+
+/* Delta of eq. (1) for face f. */
+static inline double sk__face_delta(const sk_mesh *m, uint32_t f)
+{
+    return sk__delta(sk_mesh_face_size(m, f));
+}
+
+/* Outgoing half-edges of v counter-clockwise into E; for a boundary vertex the first and the last
+ * are the boundary edges and the patches lie between consecutive ones. Returns the count (0 if
+ * more than SK_VSYS_MAX). */
+int sk__vc1_ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed);
+
+/* Solves vertex v's system (8) and writes W->P, W->w1 of its edges; returns 0 ok, 1 angle
+ * violation, 2 not converged, 3 too many edges. blend > 0 starts from targets blended by that
+ * much towards an even spread and lscale scales their lengths (the regularity repair's
+ * variations); 0 and 1 give the plain construction. Where the angle bounds fail, the targets are
+ * relaxed further (blend up to 1). */
+int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale);
+
+/* System (4) around v: the interior control points W->C of the patches at v. */
+void sk__vc1_interior_points(sk__vc1_work *W, uint32_t v);
+
+/* The patch header of face f (kind, degree, corner ids = the face's vertices, tag f). */
+void sk__vc1_patch_header(const sk_mesh *m, uint32_t f, sk_patch *pa);
+
+/* Control points of face f's patch (quartic triangle or bicubic quad) into b. */
+void sk__vc1_assemble_patch(const sk__vc1_work *W, uint32_t f, double *b);
+
+/* The regularity repair: re-solves the vertex systems at the corners of singular patches with
+ * varied targets and keeps a variant that leaves fewer singular patches; updates status (the
+ * codes of sk__vc1_solve_vertex) and s->stats. */
+sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
+                                    sk_error *err);
+
+#endif

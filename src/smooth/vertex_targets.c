@@ -1,0 +1,136 @@
+/* The vertex systems of the VC1 construction (Cottin & van Damme, section 4, eq. (8)) set up
+ * from the wire frame targets in each vertex's tangent plane, with the target blending that keeps
+ * the tangent control points within the angle bounds alpha < angle / pi < 1 - alpha. */
+#include "smooth/vc1_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <string.h>
+
+/* Tangent basis e1, e2 with e1 x e2 = n. */
+static void tangent_basis(const double n[3], double e1[3], double e2[3])
+{
+    double a[3] = {1, 0, 0};
+    if (fabs(n[0]) > 0.6)
+        a[0] = 0, a[1] = 1;
+    sk__cross3(e1, a, n);
+    sk__normalize3(e1);
+    sk__cross3(e2, n, e1);
+}
+
+int sk__vc1_ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed)
+{
+    uint32_t h0 = m->v_halfedge[v];
+    int n = 0;
+    *closed = m->h_face[h0] != SK_INVALID;
+    uint32_t start = *closed ? h0 : sk_ccw_out(m, h0), h = start;
+    do {
+        if (n == SK_VSYS_MAX)
+            return 0;
+        E[n++] = h;
+        h = sk_ccw_out(m, h);
+    } while (h != start);
+    return n;
+}
+
+/* Blends the directions of the targets orig (2D, counter-clockwise) towards an even spread by b
+ * in [0, 1] and their lengths towards their mean by lb in [0, 1], into out. */
+static void blend_targets(const double *orig, double *out, int n, int closed, double alpha,
+                          double b, double lb)
+{
+    double ang[SK_VSYS_MAX], len[SK_VSYS_MAX], acc = 0.0, mean = 0.0;
+    for (int k = 0; k < n; ++k)
+        mean += hypot(orig[2 * k], orig[2 * k + 1]) / n;
+    for (int k = 0; k < n; ++k) {
+        len[k] = (1.0 - lb) * hypot(orig[2 * k], orig[2 * k + 1]) + lb * mean;
+        double a = atan2(orig[2 * k + 1], orig[2 * k]);
+        if (k == 0) {
+            acc = a;
+        } else {
+            double prev = ang[k - 1], d = a - prev;
+            while (d <= 0.0)
+                d += 2.0 * M_PI;
+            while (d > 2.0 * M_PI)
+                d -= 2.0 * M_PI;
+            acc = prev + d;
+        }
+        ang[k] = acc;
+    }
+    double span = closed ? 2.0 * M_PI : ang[n - 1] - ang[0];
+    if (!closed && span >= M_PI * (n - 1) * (1.0 - 2.0 * alpha))
+        span = M_PI; /* a folded boundary fan: spread it over a half plane */
+    int steps = closed ? n : n - 1;
+    for (int k = 0; k < n; ++k) {
+        double even = ang[0] + span * k / steps;
+        double a = (1.0 - b) * ang[k] + b * even;
+        out[2 * k] = len[k] * cos(a);
+        out[2 * k + 1] = len[k] * sin(a);
+    }
+}
+
+int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale)
+{
+    const sk_mesh *m = W->m;
+    uint32_t E[SK_VSYS_MAX];
+    int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
+    if (n <= 0 || n > SK_VSYS_MAX)
+        return 3;
+    const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
+    double e1[3], e2[3];
+    tangent_basis(nv, e1, e2);
+    sys->n_edges = n;
+    sys->closed = closed;
+    sys->relaxed = blend > 0.0 || lscale != 1.0;
+    for (int k = 0; k < n; ++k) {
+        double d[3];
+        sk__sub3(d, W->target + 3 * (size_t)E[k], V);
+        sys->pstar[2 * k] = lscale * sk__dot3(d, e1);
+        sys->pstar[2 * k + 1] = lscale * sk__dot3(d, e2);
+        uint32_t h = E[k];
+        if (!sk_is_boundary_e(m, sk_edge(h))) {
+            sys->du[k] = sk__face_delta(m, m->h_face[h]);
+            sys->dd[k] = sk__face_delta(m, m->h_face[sk_opp(h)]);
+            sys->nu[k] = W->nu[h];
+        } else {
+            sys->du[k] = sys->dd[k] = 1.0;
+            sys->nu[k] = -1.0;
+        }
+    }
+    double orig[2 * SK_VSYS_MAX];
+    memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
+    if (blend > 0.0)
+        blend_targets(orig, sys->pstar, n, closed, W->alpha, blend, 0.0);
+    int ok = sk__vsys_solve(sys);
+    double lo, hi;
+    sk__vsys_angles(sys, &lo, &hi);
+    int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+    /* relax the targets locally: blend their directions towards an even spread (lengths kept)
+     * until the solution meets the angle bounds */
+    for (int t = 1; t <= 8 && bad; ++t) {
+        /* t = 1..4: directions only; t = 5..8: directions evenly spread and the lengths blended
+         * towards their mean as well (with very unequal target lengths the least-squares fit of
+         * (8) can fold two tangents onto one line whatever their directions, e.g. at valence 3
+         * where the solutions are one fixed configuration up to a linear map) */
+        double b = t <= 4 ? 0.25 * t : 1.0, lb = t <= 4 ? 0.0 : 0.25 * (t - 4);
+        if (b <= blend && lb == 0.0)
+            continue;
+        blend_targets(orig, sys->pstar, n, closed, W->alpha, b, lb);
+        ok = sk__vsys_solve(sys);
+        sk__vsys_angles(sys, &lo, &hi);
+        bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+        sys->relaxed = 1;
+    }
+    memcpy(sys->pstar, orig, sizeof(double) * (size_t)(2 * n));
+    for (int k = 0; k < n; ++k) {
+        uint32_t h = E[k];
+        double *P = W->P + 3 * (size_t)h;
+        for (int x = 0; x < 3; ++x)
+            P[x] = V[x] + sys->p[2 * k] * e1[x] + sys->p[2 * k + 1] * e2[x];
+        W->w1[h] = sk_is_boundary_e(m, sk_edge(h)) ? NAN : sys->w[k];
+    }
+    if (ok != 0)
+        return 2;
+    if (bad)
+        return 1;
+    return 0;
+}

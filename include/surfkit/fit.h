@@ -35,13 +35,15 @@ typedef struct sk_fit_opts {
 
 typedef struct sk_fit_stats {
     uint32_t corners[4];       /* the corners used */
-    size_t samples;            /* vertices fitted */
+    size_t samples;            /* points fitted in the last round (vertices and face samples) */
     size_t rounds;             /* refinement rounds done (the first fit is round 1) */
     size_t control_points;     /* nu * nv of the result */
     double tolerance;          /* the tolerance used (model units) */
-    double max_error, rms_error; /* |S(u_k, v_k) - p_k| over the vertices (parametric distance:
-                                    an upper bound of their distance to the surface) */
-    bool met;                  /* max_error <= tolerance */
+    double max_error, rms_error; /* |S(u_k, v_k) - p_k| over the samples (vertices and points of
+                                    the faces) after the foot-point correction: their distance
+                                    to the surface, to within the correction's convergence */
+    double surface_to_mesh;    /* largest distance of a grid of surface points to the mesh */
+    bool met;                  /* max_error and surface_to_mesh <= tolerance */
     size_t flipped;            /* flipped triangles of the square parametrization */
     double seconds_param, seconds_fit;
 } sk_fit_stats;
@@ -51,8 +53,8 @@ typedef struct sk_fit_stats {
  * round (or the control grid would exceed the samples), the best surface is returned with
  * stats->met false and status SK_OK: the caller decides. SK_ERR_ARG for bad options (corners
  * not on the boundary or not in order), SK_ERR_NUMERIC when the normal equations are singular. */
-sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bspline_surface **out,
-                         sk_fit_stats *stats, sk_error *err);
+SK_API sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bspline_surface **out,
+                                sk_fit_stats *stats, sk_error *err);
 
 #ifdef __cplusplus
 }

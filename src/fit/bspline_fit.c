@@ -1,6 +1,7 @@
 /* B-spline fitting of a disk (fit.h): corners, square parametrization, least squares with a
  * thin-plate term, hierarchical knot refinement. */
 #include "surfkit/fit.h"
+#include "surfkit/deviation.h"
 #include "surfkit/param.h"
 #include "surfkit/solve.h"
 #include "core/internal.h"
@@ -368,6 +369,31 @@ static double residuals(const sk_bspline_surface *s, const samples *x, double to
     return mx;
 }
 
+/* The other direction: the largest distance from a grid of surface points (4 per knot span and
+ * direction, at most 512) to the mesh; marks the spans of the points farther than tol, where the
+ * surface strays from the mesh between the samples. */
+static double stray(const sk_bspline_surface *s, const sk_bvh *mesh, double tol, uint8_t *mark_u,
+                    uint8_t *mark_v)
+{
+    size_t gu = 4 * (s->nu - (size_t)s->degree_u), gv = 4 * (s->nv - (size_t)s->degree_v);
+    gu = gu > 512 ? 512 : gu;
+    gv = gv > 512 ? 512 : gv;
+    double mx = 0;
+    for (size_t j = 0; j <= gv; ++j)
+        for (size_t i = 0; i <= gu; ++i) {
+            double u = (double)i / (double)gu, v = (double)j / (double)gv, p[3];
+            sk_bspline_eval(s, u, v, p, NULL, NULL);
+            sk_closest c;
+            sk_bvh_closest(mesh, p, &c);
+            mx = fmax(mx, c.distance);
+            if (c.distance > tol) {
+                mark_u[sk_bspline_span(s->knots_u, s->nu, s->degree_u, u)] = 1;
+                mark_v[sk_bspline_span(s->knots_v, s->nv, s->degree_v, v)] = 1;
+            }
+        }
+    return mx;
+}
+
 /* New knot vector with the midpoints of the marked spans inserted; *n becomes the new number of
  * control points. Returns NULL when out of memory. */
 static double *refine_knots(const double *U, size_t *n, int p, const uint8_t *mark)
@@ -458,6 +484,8 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     sk_bspline_surface *s = NULL;
     uint8_t *mark_u = NULL, *mark_v = NULL;
     samples x = {0};
+    sk_soup *soup = NULL;
+    sk_bvh *bvh = NULL;
     if (!uv) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -472,6 +500,8 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     if (st)
         goto done;
     memcpy(fs.corners, o.corners, sizeof fs.corners);
+    if ((st = sk_mesh_to_soup(disk, &soup, err)) || (st = sk_bvh_build(soup, &bvh, err)))
+        goto done;
     fs.seconds_param = sk_seconds() - t0;
     fs.tolerance = o.tolerance > 0 ? o.tolerance : 1e-3 * mesh_diagonal(disk);
     size_t spans = o.initial_spans ? o.initial_spans : 4;
@@ -497,15 +527,17 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
         if (st)
             break;
         fs.max_error = residuals(s, &x, fs.tolerance, mark_u, mark_v, &fs.rms_error);
+        fs.surface_to_mesh = stray(s, bvh, fs.tolerance, mark_u, mark_v);
         fs.control_points = s->nu * s->nv;
-        if ((fs.met = fs.max_error <= fs.tolerance) || r == rounds)
+        fs.met = fs.max_error <= fs.tolerance && fs.surface_to_mesh <= fs.tolerance;
+        if (fs.met || r == rounds)
             break;
         if ((st = sk__progress(o.progress, o.progress_user, (double)r / rounds, err)))
             break;
         size_t nu = s->nu, nv = s->nv;
         double *ku = refine_knots(s->knots_u, &nu, s->degree_u, mark_u);
         double *kv = refine_knots(s->knots_v, &nv, s->degree_v, mark_v);
-        bool grow = ku && kv && nu * nv <= disk->num_vertices && nu <= MAX_CTRL_1D &&
+        bool grow = ku && kv && nu * nv <= x.n && nu <= MAX_CTRL_1D &&
                     nv <= MAX_CTRL_1D;
         double *pts = grow ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
         if (!ku || !kv || (grow && !pts)) {
@@ -538,5 +570,7 @@ done:
     free(loop);
     free(uv);
     samples_free(&x);
+    sk_bvh_destroy(&bvh);
+    sk_soup_destroy(&soup);
     return st;
 }

@@ -9,7 +9,8 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-enum { EXIT_OK = 0, EXIT_BAD_INPUT = 1, EXIT_USAGE = 2, EXIT_INTERNAL = 3 };
+/* EXIT_QUALITY: the result fails its own quality report (smooth) */
+enum { EXIT_OK = 0, EXIT_BAD_INPUT = 1, EXIT_USAGE = 2, EXIT_INTERNAL = 3, EXIT_QUALITY = 4 };
 
 /* "surfkit: message" on stderr, one line. */
 void cli_error(const char *fmt, ...)
@@ -91,5 +92,10 @@ int cmd_param(int argc, char **argv);
 int cmd_simplify(int argc, char **argv);
 int cmd_deviation(int argc, char **argv);
 int cmd_view(int argc, char **argv);
+
+/* surfkit param with an atlas (cli/cmd_param_atlas.c): takes the run (*handled = true) when the
+ * input is not one disk or an atlas option is given; else leaves it to cmd_param. */
+int cmd_param_atlas(int argc, char **argv, bool *handled);
+extern const char cli_param_atlas_help[];
 
 #endif

@@ -261,10 +261,18 @@ int cmd_info(int argc, char **argv)
         sk_soup_destroy(&soup);
         return cli_fail(st, &err);
     }
-    /* loop lengths need the half-edge mesh, which exists only for manifold input */
-    if (sk_validation_is_manifold(&rep) && sk_mesh_from_soup(soup, &mesh, &err) == SK_OK &&
-        sk_mesh_boundary_loops(mesh, &loops, &err) == SK_OK)
-        have_loops = true;
+    /* loop lengths need the half-edge mesh, which exists only for manifold input; there a failure
+     * (out of memory) is an error, not a report without the lengths */
+    if (sk_validation_is_manifold(&rep)) {
+        if ((st = sk_mesh_from_soup(soup, &mesh, &err)) == SK_OK &&
+            (st = sk_mesh_boundary_loops(mesh, &loops, &err)) == SK_OK)
+            have_loops = true;
+        if (st) {
+            sk_mesh_destroy(&mesh);
+            sk_soup_destroy(&soup);
+            return cli_fail(st, &err);
+        }
+    }
     sk_format fmt = sk_format_from_path(path);
     sk_intersection_report crossings;
     sk_error xerr;

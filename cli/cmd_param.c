@@ -163,6 +163,7 @@ static int parse_args(int argc, char **argv, param_args *a)
         const char *s = argv[i];
         if (!strcmp(s, "--help") || !strcmp(s, "-h")) {
             fputs(help, stdout);
+            fputs(cli_param_atlas_help, stdout);
             return -1;
         } else if (!strcmp(s, "-q")) {
             a->quiet = true;
@@ -233,6 +234,10 @@ static int parse_args(int argc, char **argv, param_args *a)
 
 int cmd_param(int argc, char **argv)
 {
+    bool atlas = false; /* not one disk, or --atlas: charts + packing (cmd_param_atlas.c) */
+    int atlas_rc = cmd_param_atlas(argc, argv, &atlas);
+    if (atlas)
+        return atlas_rc;
     param_args a;
     memset(&a, 0, sizeof a);
     int rc = parse_args(argc, argv, &a);

@@ -29,34 +29,28 @@ static const char help[] =
     "                    (the input) to the coarsest, and the totals\n"
     "  -q                no progress bar, no summary line\n";
 
-static int write_report(const char *path, const char *in, const sk_hierarchy *h, unsigned long seed,
-                        double total)
+typedef struct report_ctx {
+    const char *in;
+    const sk_hierarchy *h;
+    unsigned long seed;
+    double total;
+} report_ctx;
+
+static void report_json(FILE *fp, const void *user)
 {
-    size_t n = strlen(path);
-    char *tmp = malloc(n + 16);
-    if (!tmp) {
-        cli_error("out of memory");
-        return EXIT_INTERNAL;
-    }
-    snprintf(tmp, n + 16, "%s.tmp%d", path, 0);
-    FILE *fp = fopen(tmp, "w");
-    if (!fp) {
-        cli_error("%s: cannot write: %s", path, strerror(errno));
-        free(tmp);
-        return EXIT_BAD_INPUT;
-    }
+    const report_ctx *c = user;
     cli_json j;
     json_begin(&j, fp);
     json_obj_open(&j);
-    json_kstr(&j, "input", in);
-    json_kuint(&j, "seed", seed);
-    size_t L = sk_hierarchy_num_levels(h);
+    json_kstr(&j, "input", c->in);
+    json_kuint(&j, "seed", c->seed);
+    size_t L = sk_hierarchy_num_levels(c->h);
     json_kuint(&j, "num_levels", L);
-    json_knum(&j, "seconds", total);
+    json_knum(&j, "seconds", c->total);
     json_key(&j, "levels");
     json_arr_open(&j);
     for (size_t i = L; i-- > 0;) {
-        sk_level_info li = sk_hierarchy_level_info(h, i);
+        sk_level_info li = sk_hierarchy_level_info(c->h, i);
         json_obj_open(&j);
         json_kuint(&j, "level", i);
         json_kuint(&j, "vertices", li.vertices);
@@ -67,16 +61,14 @@ static int write_report(const char *path, const char *in, const sk_hierarchy *h,
     json_arr_close(&j);
     json_obj_close(&j);
     json_end(&j);
-    int bad = ferror(fp);
-    bad |= fclose(fp) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        cli_error("%s: cannot write: %s", path, strerror(errno));
-        remove(tmp);
-        free(tmp);
-        return EXIT_BAD_INPUT;
-    }
-    free(tmp);
-    return EXIT_OK;
+}
+
+/* through the one atomic writer (this had its own, with a temporary name shared by every process) */
+static int write_report(const char *path, const char *in, const sk_hierarchy *h, unsigned long seed,
+                        double total)
+{
+    report_ctx c = {in, h, seed, total};
+    return cli_write_file(path, report_json, &c);
 }
 
 static int write_all_levels(const char *dir, const char *out, const sk_hierarchy *h,

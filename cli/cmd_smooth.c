@@ -3,6 +3,7 @@
 #include "cli.h"
 
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -11,7 +12,7 @@ static const char help[] =
     "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
     "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
     "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
-    "                      [--iges-triangles split|degenerate] [-q]\n"
+    "                      [--iges-triangles split|degenerate] [--allow-fail] [-q]\n"
     "\n"
     "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
@@ -26,20 +27,33 @@ static const char help[] =
     "longest edge at the midpoint of its wire frame curve.\n"
     "\n"
     "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
-    "                  .igs/.iges IGES 5.3, one B-spline surface (entity 128) per patch;\n"
-    "                  .step/.stp STEP AP214, one shell whose faces share edges and vertices;\n"
+    "                  .igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
+    "                  and vertices, a solid (186) when the surface is closed, else a shell;\n"
+    "                  .step/.stp STEP AP214, faces sharing edges and vertices, a solid\n"
+    "                  (MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
     "                  .obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
     "                  B-spline with clamped knots (cstype bspline).\n"
     "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
     "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
-    "                  collapsed side instead (IGES only)\n"
+    "                  collapsed side instead (IGES only, loose faces in one group)\n"
     "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
     "  --tess N        grid of N x N per patch (default 4)\n"
     "  --patches F     control nets as JSON\n"
     "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
     "                  problem vertices in orange\n"
     "  --render F      flat-shaded picture of the tessellated surface\n"
-    "  --report F      continuity report as JSON (--json prints it on stdout)\n";
+    "  --report F      continuity report as JSON (--json prints it on stdout): gaps and normal\n"
+    "                  jumps across patch boundaries, vertex and normal errors, singular patches\n"
+    "                  (the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
+    "                  patches (the normal-cone test cannot prove them regular; most are),\n"
+    "                  self-intersecting patch pairs (patches sharing no corner that cross each\n"
+    "                  other: what CAD checkers flag), pass/fail against 0.5 deg and 0.005\n"
+    "  --allow-fail    write the surface even when the vc1 continuity report fails\n"
+    "\n"
+    "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
+    "0.5 degrees, a gap over 0.005, or a singular patch); the report (--report, --json) is\n"
+    "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
+    "0). pn is C0 by construction: its report is information only.\n";
 
 
 static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
@@ -79,6 +93,19 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     for (size_t i = 0; i < r->num_singular_examples; ++i)
         json_uint(&j, r->singular_examples[i]);
     json_arr_close(&j);
+    if (r->intersecting_pairs != SIZE_MAX) {
+        json_kuint(&j, "self_intersecting_pairs", r->intersecting_pairs);
+        json_kuint(&j, "self_intersecting_patches", r->intersecting_patches);
+        json_key(&j, "self_intersection_examples");
+        json_arr_open(&j);
+        for (size_t i = 0; i < r->num_intersection_examples; ++i) {
+            json_arr_open(&j);
+            json_uint(&j, r->intersection_examples[2 * i]);
+            json_uint(&j, r->intersection_examples[2 * i + 1]);
+            json_arr_close(&j);
+        }
+        json_arr_close(&j);
+    }
     json_kuint(&j, "relaxed_vertices", s->stats.relaxed_vertices);
     json_kuint(&j, "angle_violations", s->stats.angle_violations);
     json_kuint(&j, "singular_before_repair", s->stats.singular_before_repair);
@@ -150,28 +177,13 @@ static void report_json(FILE *fp, const void *ctx)
 
 typedef enum { CAD_NONE, CAD_IGES, CAD_STEP, CAD_OBJ_FREEFORM } cad_kind;
 
-static bool has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), m = strlen(ext);
-    if (n < m)
-        return false;
-    for (size_t i = 0; i < m; ++i) {
-        char c = path[n - m + i];
-        if (c >= 'A' && c <= 'Z')
-            c = (char)(c - 'A' + 'a');
-        if (c != ext[i])
-            return false;
-    }
-    return true;
-}
-
 static cad_kind cad_kind_of(const char *path, bool freeform)
 {
-    if (has_ext(path, ".igs") || has_ext(path, ".iges"))
+    if (sk_path_has_ext(path, ".igs") || sk_path_has_ext(path, ".iges"))
         return CAD_IGES;
-    if (has_ext(path, ".step") || has_ext(path, ".stp"))
+    if (sk_path_has_ext(path, ".step") || sk_path_has_ext(path, ".stp"))
         return CAD_STEP;
-    if (freeform && has_ext(path, ".obj"))
+    if (freeform && sk_path_has_ext(path, ".obj"))
         return CAD_OBJ_FREEFORM;
     return CAD_NONE;
 }
@@ -191,10 +203,10 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
     if (st != SK_OK)
         return cli_fail(st, &err);
     if (!quiet) {
-        fprintf(stderr, "smooth: wrote %s: %zu surfaces", path, es.faces);
-        if (cad == CAD_STEP)
-            fprintf(stderr, ", %zu edges, %zu vertices", es.edges, es.vertices);
-        fprintf(stderr, ", %.1f KiB\n", (double)es.bytes / 1024.0);
+        printf("smooth: wrote %s: %zu surfaces", path, es.faces);
+        if (es.edges)
+            printf(", %zu edges, %zu vertices", es.edges, es.vertices);
+        printf(", %.1f KiB\n", (double)es.bytes / 1024.0);
     }
     return EXIT_OK;
 }
@@ -204,7 +216,7 @@ int cmd_smooth(int argc, char **argv)
     const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
                *report = NULL, *val;
     unsigned long tess = 4;
-    bool quiet = false, json = false, freeform = false;
+    bool quiet = false, json = false, freeform = false, allow_fail = false;
     sk_smooth_opts so = {0};
     sk_export_opts eo = {0};
     const cli_path_opt paths[] = {{"-o", &out}, {"--patches", &patches}, {"--layout", &layout},
@@ -219,6 +231,8 @@ int cmd_smooth(int argc, char **argv)
             quiet = true;
         } else if (!strcmp(a, "--json")) {
             json = true;
+        } else if (!strcmp(a, "--allow-fail")) {
+            allow_fail = true;
         } else if (!strcmp(a, "--allow-split")) {
             so.allow_split = true;
         } else if (!strcmp(a, "--estimate-normals")) {
@@ -305,6 +319,11 @@ int cmd_smooth(int argc, char **argv)
         goto done;
     }
     double t2 = sk_seconds();
+    /* the surface fails its own report (a singular patch has no tangent plane somewhere, e.g.
+     * every patch of a thin strip): the report is written, the surface only on request */
+    bool failed = !(rep.pass_g1 && rep.pass_gap) || rep.singular_patches > 0;
+    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail)
+        goto report_only;
     if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
         goto done;
     if ((out && cad == CAD_NONE) || render) {
@@ -327,18 +346,27 @@ int cmd_smooth(int argc, char **argv)
     }
     if (patches && (rc = cli_write_file(patches, patches_json, s)) != EXIT_OK)
         goto done;
+report_only:;
     report_ctx rc_ctx = {in, s, &rep, normals_src, t1 - t0 + (t2 - t1), t2 - t1};
     if (report && (rc = cli_write_file(report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
     if (json)
         report_json(stdout, &rc_ctx);
     else if (!quiet)
-        fprintf(stderr,
+        printf(
                 "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
-                "max gap %.3g, singular patches %zu, problem vertices %zu\n",
+                "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
+                "vertices %zu, report %s\n",
                 s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
                 s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
-                rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, s->num_problems);
+                rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, rep.intersecting_pairs,
+                s->num_problems, failed ? "FAIL" : "pass");
+    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail) {
+        cli_error("%s: the surface fails its continuity report (max normal jump %.3g deg, max gap "
+                  "%.3g, singular patches %zu): no surface written (--allow-fail writes it anyway)",
+                  in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
+        rc = EXIT_QUALITY;
+    }
 done:
     sk_soup_destroy(&tes);
     sk_smooth_destroy(&s);

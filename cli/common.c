@@ -207,23 +207,24 @@ void json_kstr(cli_json *j, const char *key, const char *s)
     json_str(j, s);
 }
 
+typedef struct write_ctx {
+    void (*fn)(FILE *, const void *);
+    const void *ctx;
+} write_ctx;
+
+static sk_status write_through(FILE *fp, void *user)
+{
+    const write_ctx *w = user;
+    w->fn(fp, w->ctx);
+    return SK_OK; /* a write error shows in ferror(fp), which the writer checks */
+}
+
 int cli_write_file(const char *path, void (*fn)(FILE *, const void *), const void *ctx)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)clock());
-    FILE *fp = fopen(tmp, "w");
-    if (!fp) {
-        cli_error("%s: cannot write", path);
-        return EXIT_BAD_INPUT;
-    }
-    fn(fp, ctx);
-    bool bad = ferror(fp) != 0;
-    if (fclose(fp) != 0 || bad || rename(tmp, path) != 0) {
-        remove(tmp);
-        cli_error("%s: cannot write", path);
-        return EXIT_BAD_INPUT;
-    }
-    return EXIT_OK;
+    write_ctx w = {fn, ctx};
+    sk_error err = {0};
+    sk_status st = sk_write_file(path, write_through, &w, &err);
+    return st ? cli_fail(st, &err) : EXIT_OK;
 }
 
 int cli_take_path(int argc, char **argv, int *i, const char *cmd, const cli_path_opt *opts,

@@ -1,15 +1,24 @@
 #!/usr/bin/env bash
 # Installs (idempotently) every Debian package surfkit needs to build, test and benchmark.
-# Usage: scripts/setup.sh [--peers]   (--peers also installs CGAL and OpenMesh for bench/peers)
+# Usage: scripts/setup.sh [--peers] [--interop]
+#   --peers    also CGAL and OpenMesh for bench/peers
+#   --interop  also the programs tests/interop runs (Blender, FreeCAD, VTK's Python module;
+#              scripts/test.sh, hence CI, asks for them). MeshLab is not installed:
+#              meshlabserver 2020.09 does not run headless (no X: xcb fails; QT_QPA_PLATFORM=
+#              offscreen: "GLEW initialization failed"), so tests/interop checks with VTK.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pkgs=(build-essential cmake ninja-build pkg-config clang
       libsuitesparse-dev liblapacke-dev libopenblas-dev libcairo2-dev libcmocka-dev
-      g++ libocct-data-exchange-dev chromium parallel
+      g++ libocct-data-exchange-dev chromium parallel valgrind
       python3-dev python3-numpy python3-pytest python3-setuptools python3-pip)
-if [ "${1:-}" = "--peers" ]; then
-  pkgs+=(g++ libcgal-dev libopenmesh-dev)
-fi
+for arg in "$@"; do
+  case "$arg" in
+    --peers) pkgs+=(libcgal-dev libopenmesh-dev) ;;
+    --interop) pkgs+=(blender freecad python3-vtk9) ;;
+    *) echo "setup: unknown option $arg (use --peers, --interop)" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdbool.h>
+#include <stdio.h>
 
 /* Library version (CMakeLists.txt reads it from here; sk_version() returns the same string). */
 #define SK_VERSION_MAJOR 0
@@ -61,6 +63,41 @@ SK_API double sk_seconds(void);
 /* Library version string, "MAJOR.MINOR.PATCH": SK_VERSION_STRING of the library linked, which may
  * differ from the header a program was compiled with. */
 SK_API const char *sk_version(void);
+
+/* The library's allocator (cgltf, CHOLMOD style): every allocation of libsurfkit goes through it
+ * (not those inside CHOLMOD, LAPACK, cairo or the C library). All zero = malloc/realloc/free.
+ * Process-wide: install it before any other call, or between calls when no object the library
+ * allocated is alive. Memory the library hands over (sk_soup_write_memory's buffer) is freed
+ * with its free. */
+typedef struct sk_allocator {
+    void *(*malloc)(void *user, size_t size);
+    void *(*realloc)(void *user, void *p, size_t size);
+    void (*free)(void *user, void *p);
+    void *user;
+} sk_allocator;
+/* NULL (or an incomplete one) restores the C library's. */
+void sk_set_allocator(const sk_allocator *alloc);
+
+/* True when path ends with ext (".step"), ignoring ASCII case: the one extension matcher. */
+bool sk_path_has_ext(const char *path, const char *ext);
+
+/* Output files. Every file the library writes goes through one writer: symlinks are followed and
+ * the file is written beside their target; an existing file keeps its mode, a new one gets 0666
+ * minus the umask; devices and pipes are written directly; regular files appear complete or not
+ * at all (an anonymous temporary, named and renamed into place when complete).
+ *
+ * sk_write_file writes path through fn (which returns SK_OK or an error status) that way. */
+sk_status sk_write_file(const char *path, sk_status (*fn)(FILE *fp, void *user), void *user,
+                        sk_error *err);
+/* One command, several outputs, all or none: after sk_outputs_begin, finished outputs wait as
+ * named temporaries; sk_outputs_commit renames them all into place, sk_outputs_abort removes them
+ * all. Not thread-safe: one batch per process, begun and ended by the application. */
+void sk_outputs_begin(void);
+sk_status sk_outputs_commit(sk_error *err);
+void sk_outputs_abort(void);
+/* Removes every named temporary still pending (async-signal-safe: for a SIGINT/SIGTERM handler,
+ * which should then re-raise the signal). */
+void sk_outputs_remove_pending(void);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,7 @@
-/* CAD export of patch sets (include/surfkit/bezier.h): IGES 5.3 (entity 128), STEP AP214
- * (B-spline surfaces in advanced faces of one shell whose faces share their edges and vertices),
- * OBJ free-form. The writers know patches only, nothing of how they were made.
+/* CAD export of patch sets (include/surfkit/bezier.h): IGES 5.3 (a B-rep of entity 128 faces:
+ * 186/514/510/508/504/502, or free 128 surfaces), STEP AP214 (B-spline surfaces in advanced faces
+ * of one shell whose faces share their edges and vertices), OBJ free-form. The writers know
+ * patches only, nothing of how they were made.
  *
  * Triangular patches become three tensor patches (sk_patch_split_triangle: exact, no singular
  * point) unless degenerate_triangles asks IGES for one patch with a collapsed side. STEP needs
@@ -21,6 +22,8 @@ typedef struct sk_export_opts {
     const char *units;         /* "mm" (default), "cm", "m", "in", "ft", "um" */
     bool degenerate_triangles; /* IGES: one biquartic with a collapsed side per triangle */
     bool closed;               /* STEP: CLOSED_SHELL (every edge shared by two faces) */
+    bool iges_free_surfaces;   /* IGES: only the surfaces (entity 128, in one 402 group), no
+                                  B-rep; implied by degenerate_triangles */
     const char *name;          /* product / model name; default "surfkit" */
     const char *timestamp;     /* ISO 8601 date for the file headers; NULL = now (tests pass a
                                   fixed one for reproducible files) */
@@ -28,9 +31,10 @@ typedef struct sk_export_opts {
 
 typedef struct sk_export_stats {
     size_t faces;      /* surfaces / faces written */
-    size_t edges;      /* STEP: distinct edge curves */
-    size_t vertices;   /* STEP: distinct vertex points */
+    size_t edges;      /* distinct edge curves (IGES: 0 in the free-surface layout) */
+    size_t vertices;   /* distinct vertex points */
     size_t bytes;
+    bool solid;        /* a closed shell, written as a solid (STEP MANIFOLD_SOLID_BREP, IGES 186) */
 } sk_export_stats;
 
 /* Unit flag / name pairs of IGES and the SI prefix of STEP; false for an unknown name. */

@@ -34,6 +34,15 @@ typedef struct sk_soup {
     uint32_t *face_indices; /* face_offsets[num_faces] indices; may be out of range in a bad file */
     /* capacities (managed by the push functions) */
     size_t cap_vertices, cap_faces, cap_indices;
+    /* Per-corner (wedge) attributes, as OBJ's vt / vn index spaces or PLY's face texcoord list:
+     * a corner c (an index into face_indices) has the uv wedge_uvs[2 corner_uv[c]] (SK_INVALID:
+     * none). NULL when the file has none; set with sk_soup_set_corner_uvs / _normals after the
+     * faces. The per-vertex uvs / normals above stay as well (the first corner's value). */
+    size_t num_wedge_uvs, num_wedge_normals;
+    double *wedge_uvs;        /* 2 * num_wedge_uvs */
+    double *wedge_normals;    /* 3 * num_wedge_normals */
+    uint32_t *corner_uv;      /* face_offsets[num_faces] entries, or NULL */
+    uint32_t *corner_normal;  /* face_offsets[num_faces] entries, or NULL */
 } sk_soup;
 
 /* Creates an empty soup with reserved room; attribute arrays are allocated when has_normals /
@@ -50,6 +59,14 @@ SK_API sk_status sk_soup_push_face(sk_soup *soup, const uint32_t *indices, size_
 /* Adds (zeroed) normal / uv arrays if absent. */
 SK_API sk_status sk_soup_add_normals(sk_soup *soup);
 SK_API sk_status sk_soup_add_uvs(sk_soup *soup);
+
+/* Replaces the per-corner uvs (normals): n values (2 (3) doubles each) and one index per corner
+ * of the faces pushed so far (face_offsets[num_faces] entries, each < n or SK_INVALID); copied.
+ * values == NULL and corner == NULL removes them. SK_ERR_ARG on an index out of range. */
+SK_API sk_status sk_soup_set_corner_uvs(sk_soup *soup, size_t n, const double *values,
+                                        const uint32_t *corner);
+SK_API sk_status sk_soup_set_corner_normals(sk_soup *soup, size_t n, const double *values,
+                                            const uint32_t *corner);
 
 static inline size_t sk_soup_face_size(const sk_soup *s, size_t f)
 {
@@ -137,6 +154,13 @@ typedef struct sk_mesh {
     /* face connectivity */
     uint32_t *f_halfedge;
 
+    /* per-corner (wedge) uvs, or NULL: the corner at sk_from(h) in face sk_face(h) has the uv
+     * wedge_uvs[2 h_wedge_uv[h]] (SK_INVALID for boundary half-edges and corners without one).
+     * Built from / written to the soup's corner_uv; copied and compacted with the mesh. */
+    size_t num_wedge_uvs;
+    double *wedge_uvs;
+    uint32_t *h_wedge_uv; /* cap_halfedges entries when present */
+
     /* deletion flags (0 alive, 1 deleted); sk_mesh_compact removes deleted elements */
     uint8_t *v_deleted;
     uint8_t *e_deleted; /* per edge (= per half-edge pair) */
@@ -200,6 +224,11 @@ SK_API void sk_mesh_destroy(sk_mesh **mesh);
 SK_API sk_status sk_mesh_add_normals(sk_mesh *mesh, sk_error *err);
 SK_API sk_status sk_mesh_add_uvs(sk_mesh *mesh, sk_error *err);
 
+/* Sets the per-corner uvs: n wedge values (2 doubles each, copied) and per half-edge indices
+ * (num_halfedges entries, copied; SK_INVALID allowed). values == NULL removes them. */
+SK_API sk_status sk_mesh_set_wedge_uvs(sk_mesh *mesh, size_t n, const double *values,
+                                       const uint32_t *h_wedge, sk_error *err);
+
 /* Room for more elements (mutating algorithms call this before adding). */
 SK_API sk_status sk_mesh_reserve(sk_mesh *mesh, size_t vertices, size_t halfedges, size_t faces,
                                  sk_error *err);
@@ -254,6 +283,14 @@ SK_API double sk_mesh_edge_length(const sk_mesh *mesh, uint32_t e);
 SK_API void sk_mesh_bbox(const sk_mesh *mesh, double min[3], double max[3]);
 /* Length of the bounding-box diagonal: the model size tolerances are relative to. */
 SK_API double sk_mesh_diagonal(const sk_mesh *mesh);
+
+/* Coordinate range the parametrizations and smooth surfaces work in (products of four
+ * coordinates must stay finite and above the subnormals): every coordinate at most
+ * SK_COORD_MAX in magnitude and a bounding-box diagonal of at least SK_COORD_MIN_SIZE. */
+#define SK_COORD_MAX 1e50
+#define SK_COORD_MIN_SIZE 1e-50
+/* SK_ERR_TOPOLOGY (bad input) naming the range when the alive vertices leave it. */
+sk_status sk_mesh_check_scale(const sk_mesh *mesh, sk_error *err);
 
 #ifdef __cplusplus
 }

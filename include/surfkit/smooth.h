@@ -122,6 +122,8 @@ typedef struct sk_continuity_opts {
     unsigned samples;      /* samples per edge (0 = 32) */
     double max_angle_deg;  /* G1 tolerance (0 = 0.5 degrees, Albat & Mueller) */
     double max_gap;        /* gap tolerance in model units (0 = 0.005, i.e. mm) */
+    unsigned intersection_tess; /* tessellation per patch side for the self-intersection check
+                                   (0 = 6); (unsigned)-1 skips the check */
 } sk_continuity_opts;
 
 typedef struct sk_continuity_report {
@@ -131,11 +133,23 @@ typedef struct sk_continuity_report {
     uint32_t worst_edge_vertices[2];  /* where the largest normal jump is */
     double max_vertex_error;          /* |S(corner) - V| */
     double max_normal_error_deg;      /* angle(patch normal at corner, given normal) */
-    size_t singular_patches;          /* vanishing or flipped normal found by sampling */
-    size_t uncertified_patches;       /* the Ginkel-Peters-Umlauf normal cone contains 0 */
+    /* singular: a patch whose normal vanishes or turns over somewhere (found by sampling): it has
+     * a cusp or a fold there. Uncertified: the normal cone test (Ginkel, Peters, Umlauf) cannot
+     * prove the patch regular (its cone of normals contains 0); most such patches are regular,
+     * the singular ones are among them. */
+    size_t singular_patches;
+    size_t uncertified_patches;
     size_t num_singular_examples;
     uint32_t singular_examples[SK_CONTINUITY_EXAMPLES]; /* patch ids */
+    /* self-intersections: pairs of patches that share no corner but cross each other (found on
+     * a tessellation, sk_self_intersections): what CAD checkers report as self-intersecting
+     * faces. SIZE_MAX when the check was skipped. */
+    size_t intersecting_pairs;
+    size_t intersecting_patches;
+    size_t num_intersection_examples;
+    uint32_t intersection_examples[2 * SK_CONTINUITY_EXAMPLES]; /* patch id pairs */
     bool pass_g1, pass_gap;           /* against the tolerances */
+    bool pass_intersections;          /* no crossing patch pair (or not checked) */
 } sk_continuity_report;
 
 SK_API sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,

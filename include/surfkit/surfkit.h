@@ -16,6 +16,7 @@
 #include "surfkit/mips.h"
 #include "surfkit/hierarchical.h"
 #include "surfkit/parametrize.h"
+#include "surfkit/atlas.h"
 #include "surfkit/bezier.h"
 #include "surfkit/export.h"
 #include "surfkit/deviation.h"

@@ -159,7 +159,8 @@ def parametrize(mesh, method="floater", boundary=None, seed=1, steps=0, metrics=
 
     method: tutte, floater (default), mvc, harmonic, lscm, mips (hierarchical MIPS) or
     mips-flat; boundary: circle, square or free (default: free for lscm and mips, else circle);
-    seed, steps: as the CLI's --seed and --steps (mips). With metrics=True returns (uv, dict)
+    seed, steps: as the CLI's --seed and --steps (mips). The uv is normalized into the unit
+    square (one scale and translation), as the CLI writes it. With metrics=True returns (uv, dict)
     with flips, MIPS energy and distortion (as `surfkit param --report`)."""
     m = _mesh(mesh)
     uv, stats = _core.parametrize(m.vertices, *m._flat(), str(method),

@@ -280,12 +280,12 @@ sk_status sk_bvh_build(const sk_soup *soup, sk_bvh **out, sk_error *err)
     *out = t;
     t = NULL;
 done:
-    free(corners);
-    free(face);
-    free(b.tbox);
-    free(b.centroid);
-    free(b.perm);
-    free(b.nodes);
+    sk__free(corners);
+    sk__free(face);
+    sk__free(b.tbox);
+    sk__free(b.centroid);
+    sk__free(b.perm);
+    sk__free(b.nodes);
     sk_bvh_destroy(&t);
     return st;
 }
@@ -295,11 +295,11 @@ void sk_bvh_destroy(sk_bvh **bvh)
     if (!bvh || !*bvh)
         return;
     sk_bvh *t = *bvh;
-    free(t->corners);
-    free(t->face);
-    free(t->orig);
-    free(t->nodes);
-    free(t);
+    sk__free(t->corners);
+    sk__free(t->face);
+    sk__free(t->orig);
+    sk__free(t->nodes);
+    sk__free(t);
     *bvh = NULL;
 }
 

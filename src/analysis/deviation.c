@@ -27,10 +27,10 @@ typedef struct samples {
 
 static void samples_free(samples *s)
 {
-    free(s->tri);
-    free(s->face);
-    free(s->vface);
-    free(s->bary);
+    sk__free(s->tri);
+    sk__free(s->face);
+    sk__free(s->vface);
+    sk__free(s->bary);
 }
 
 static sk_status samples_init(samples *s, const sk_soup *soup, int n, sk_error *err)
@@ -220,8 +220,8 @@ sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_dev
         memcpy(vertex_distance, dm, mesh->num_vertices * sizeof *dm);
     report->seconds = sk_seconds() - t0;
 done:
-    free(dm);
-    free(ds);
+    sk__free(dm);
+    sk__free(ds);
     samples_free(&sm);
     samples_free(&ss);
     sk_bvh_destroy(&bs);

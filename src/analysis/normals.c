@@ -154,6 +154,7 @@ sk_status sk_mesh_vertex_normals(const sk_mesh *mesh, sk_normal_method method, d
         return sk__fail(err, SK_ERR_ARG, "unknown normal estimation method %d", (int)method);
     uint32_t bad = SK_INVALID;
     long nv = (long)mesh->num_vertices;
+    int blas_threads = sk__blas_serial_begin(); /* one tiny dgesv per vertex */
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel for schedule(static) if (nv > 20000)
 #endif
@@ -177,6 +178,7 @@ sk_status sk_mesh_vertex_normals(const sk_mesh *mesh, sk_normal_method method, d
                 bad = v;
         }
     }
+    sk__blas_serial_end(blas_threads);
     if (bad != SK_INVALID)
         return sk__fail(err, SK_ERR_NUMERIC,
                         "vertex %u: the faces around it cancel out, no normal can be estimated",

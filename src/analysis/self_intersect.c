@@ -153,7 +153,7 @@ static void summarize(pairs *all, size_t num_groups, sk_intersection_report *rep
         rep->groups += !seen[a] + (a != b && !seen[b]);
         seen[a] = seen[b] = 1;
     }
-    free(seen);
+    sk__free(seen);
 }
 
 sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_group,
@@ -212,16 +212,16 @@ sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_gro
             for (size_t i = 0; i < mine.n && !nomem; ++i)
                 pairs_push(&all, mine.key[i]);
         }
-        free(mine.key);
+        sk__free(mine.key);
     }
     sk_bvh_destroy(&bvh);
     if (nomem || all.nomem) {
-        free(all.key);
+        sk__free(all.key);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     rep->triangle_tests = tests;
     summarize(&all, groups->num_faces, rep, err, &st);
-    free(all.key);
+    sk__free(all.key);
     rep->seconds = sk_seconds() - t0;
     return st;
 }

@@ -46,6 +46,8 @@ static sk_status compose_bilinear(const double *tri, unsigned n, double q[4][3],
                 }
         lapack_int info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)m, (lapack_int)(3 * m), A,
                                         (lapack_int)m, ipiv, rhs, (lapack_int)(3 * m));
+        if (info == LAPACK_WORK_MEMORY_ERROR || info == LAPACK_TRANSPOSE_MEMORY_ERROR)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
         if (info != 0)
             return sk__fail(err, SK_ERR_NUMERIC, "Bernstein interpolation failed (info %d)",
                             (int)info);

@@ -15,7 +15,7 @@ static bool grow(void **p, size_t *cap, size_t need, size_t size)
         c = c > SIZE_MAX / 2 ? need : 2 * c;
     if (c > SIZE_MAX / size)
         return false;
-    void *q = realloc(*p, c * size);
+    void *q = sk__realloc_array(*p, c * size, 1);
     if (!q)
         return false;
     *p = q;
@@ -102,7 +102,7 @@ void sk_patch_set_free(sk_patch_set *set)
 {
     if (!set)
         return;
-    free(set->patches);
-    free(set->points);
+    sk__free(set->patches);
+    sk__free(set->points);
     memset(set, 0, sizeof *set);
 }

@@ -33,8 +33,8 @@ static bool vmap_init(vmap *m, size_t expected)
     while (m->cap < 2 * expected + 2)
         m->cap *= 2;
     m->n = 0;
-    m->keys = malloc(m->cap * sizeof *m->keys);
-    m->vals = malloc(m->cap * sizeof *m->vals);
+    m->keys = sk__malloc_array(m->cap * sizeof *m->keys, 1);
+    m->vals = sk__malloc_array(m->cap * sizeof *m->vals, 1);
     if (!m->keys || !m->vals)
         return false;
     memset(m->keys, 0xff, m->cap * sizeof *m->keys);
@@ -229,16 +229,16 @@ sk_status sk_patch_set_tessellate(const sk_patch_set *set, unsigned n, sk_soup *
     if (nv > UINT32_MAX - 1)
         return sk__fail(err, SK_ERR_ARG, "tessellation too large (%zu vertices)", nv);
     tess T = {.set = set, .n = n};
-    uint32_t *ids = malloc((size_t)(n + 1) * (n + 1) * sizeof *ids);
+    uint32_t *ids = sk__malloc_array((size_t)(n + 1) * (n + 1) * sizeof *ids, 1);
     sk_status st = SK_ERR_NOMEM;
     if (ids && vmap_init(&T.map, keys))
         st = sk_soup_create(nv, nf, 3 * nf, true, false, &T.soup, err);
     for (size_t p = 0; p < set->count && st == SK_OK; ++p)
         if ((st = patch_grid(&T, p, ids)) == SK_OK)
             st = patch_faces(&T, p, ids);
-    free(ids);
-    free(T.map.keys);
-    free(T.map.vals);
+    sk__free(ids);
+    sk__free(T.map.keys);
+    sk__free(T.map.vals);
     if (st != SK_OK) {
         sk_soup_destroy(&T.soup);
         return sk__fail(err, st, "out of memory tessellating");

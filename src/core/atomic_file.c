@@ -1,75 +1,334 @@
-/* Output files are written to a temporary in the target directory and renamed into place when
- * complete, so an interrupted or failed run never leaves a truncated result (DESIGN.md). */
-#define _POSIX_C_SOURCE 200809L
+/* The one output-file writer of the library and the CLI (DESIGN.md: a failed or interrupted run
+ * never leaves a truncated result, and no debris).
+ *
+ * - A symlink is followed to its final target and the temporary is made beside the target, so the
+ *   link stays a link; an existing file keeps its mode (and owner, when allowed); a new file gets
+ *   0666 minus the umask, as any tool's output would.
+ * - Anything that is not a regular file (a device such as /dev/full or /dev/stdout, a FIFO) is
+ *   written directly, never replaced.
+ * - Regular files are written to an anonymous O_TMPFILE in the target's directory, which not even
+ *   SIGKILL can leave behind, and given a name only when complete (linkat), then renamed over the
+ *   target. Without O_TMPFILE (some file systems) the temporary is named at once; named
+ *   temporaries are listed where sk_outputs_remove_pending (async-signal-safe) finds them, so the
+ *   CLI's signal handler removes them.
+ * - Temporary names carry the process id and a counter: two processes writing the same target
+ *   never share one.
+ * - Between sk_outputs_begin and sk_outputs_commit, commits only name the finished temporaries;
+ *   sk_outputs_commit renames them all at the end, sk_outputs_abort removes them all: a command
+ *   either publishes every output or none.
+ * - Errors carry errno's reason ("No space left on device"). */
+#define _GNU_SOURCE
 #include "core/internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+/* ---- pending named temporaries (for the signal handler) and the deferred-commit batch ---- */
+
+#define PENDING_MAX 1024
+static _Atomic(char *) pending[PENDING_MAX];
+
+static void pending_add(char *name)
+{
+    for (int i = 0; i < PENDING_MAX; ++i) {
+        char *expect = NULL;
+        if (atomic_compare_exchange_strong(&pending[i], &expect, name))
+            return;
+    }
+    /* table full: the name is still removed on every ordinary path, only not by a signal */
+}
+
+static void pending_remove(const char *name)
+{
+    for (int i = 0; i < PENDING_MAX; ++i) {
+        char *expect = (char *)name;
+        if (atomic_compare_exchange_strong(&pending[i], &expect, NULL))
+            return;
+    }
+}
+
+void sk_outputs_remove_pending(void)
+{
+    for (int i = 0; i < PENDING_MAX; ++i) {
+        char *name = atomic_load(&pending[i]);
+        if (name)
+            unlink(name); /* async-signal-safe */
+    }
+}
+
+typedef struct batch_item {
+    char *tmp_path, *final_path;
+} batch_item;
+
+static struct {
+    int active;
+    batch_item *items;
+    size_t count, cap;
+} batch;
+
+void sk_outputs_begin(void)
+{
+    batch.active = 1;
+}
+
+static void drop_item(batch_item *it)
+{
+    pending_remove(it->tmp_path);
+    sk__free(it->tmp_path);
+    sk__free(it->final_path);
+}
+
+void sk_outputs_abort(void)
+{
+    for (size_t i = 0; i < batch.count; ++i) {
+        unlink(batch.items[i].tmp_path);
+        drop_item(&batch.items[i]);
+    }
+    sk__free(batch.items);
+    batch.items = NULL;
+    batch.count = batch.cap = 0;
+    batch.active = 0;
+}
+
+sk_status sk_outputs_commit(sk_error *err)
+{
+    sk_status st = SK_OK;
+    size_t i = 0;
+    for (; i < batch.count; ++i) {
+        batch_item *it = &batch.items[i];
+        if (rename(it->tmp_path, it->final_path) != 0) {
+            st = sk__fail(err, SK_ERR_IO, "%s: cannot rename into place: %s", it->final_path,
+                          strerror(errno));
+            break;
+        }
+        drop_item(it);
+    }
+    for (; i < batch.count; ++i) { /* after a failure: the rest are not published */
+        unlink(batch.items[i].tmp_path);
+        drop_item(&batch.items[i]);
+    }
+    sk__free(batch.items);
+    batch.items = NULL;
+    batch.count = batch.cap = 0;
+    batch.active = 0;
+    if (st == SK_OK)
+        sk__ok(err);
+    return st;
+}
+
+/* ---- one file ---- */
+
+static atomic_uint temp_counter;
+
+/* "<target>.tmp.<pid>.<n>" (malloc'ed) */
+static char *temp_name(const char *target)
+{
+    size_t n = strlen(target) + 64;
+    char *t = sk__malloc_array(n, 1);
+    if (t)
+        snprintf(t, n, "%s.tmp.%ld.%u", target, (long)getpid(), atomic_fetch_add(&temp_counter, 1u));
+    return t;
+}
+
+/* Follows symlinks to the final target (which need not exist); malloc'ed. */
+static char *resolve_target(const char *path)
+{
+    char *cur = sk__strdup(path);
+    for (int hops = 0; cur && hops < 40; ++hops) {
+        struct stat ls;
+        if (lstat(cur, &ls) != 0 || !S_ISLNK(ls.st_mode))
+            return cur;
+        char link[PATH_MAX];
+        ssize_t k = readlink(cur, link, sizeof link - 1);
+        if (k < 0)
+            return cur;
+        link[k] = '\0';
+        char *next;
+        const char *slash = strrchr(cur, '/');
+        if (link[0] == '/' || !slash) {
+            next = sk__strdup(link);
+        } else { /* relative to the link's directory */
+            size_t dlen = (size_t)(slash - cur) + 1;
+            next = sk__malloc_array(dlen + (size_t)k + 1, 1);
+            if (next) {
+                memcpy(next, cur, dlen);
+                memcpy(next + dlen, link, (size_t)k + 1);
+            }
+        }
+        sk__free(cur);
+        cur = next;
+    }
+    return cur;
+}
+
+static sk_status io_fail(sk_error *err, const char *path, const char *what, int e)
+{
+    return sk__fail(err, e == ENOMEM ? SK_ERR_NOMEM : SK_ERR_IO, "%s: %s: %s", path, what,
+                    e == ENOMEM ? "out of memory" : strerror(e));
+}
 
 sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err)
 {
-    af->fp = NULL;
-    af->final_path = NULL;
-    af->tmp_path = NULL;
+    memset(af, 0, sizeof *af);
+    af->fd = -1;
     if (!path || !*path)
         return sk__fail(err, SK_ERR_ARG, "empty output path");
-    size_t n = strlen(path);
-    af->final_path = malloc(n + 1);
-    af->tmp_path = malloc(n + 16);
-    if (!af->final_path || !af->tmp_path) {
-        sk__atomic_abort(af);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk_status st = SK_OK;
+    int fd = -1;
+    struct stat sb;
+    int exists = stat(path, &sb) == 0; /* follows links, also /proc/self/fd/N to a pipe */
+    af->shown_path = sk__strdup(path);
+    af->final_path = exists && !S_ISREG(sb.st_mode) ? sk__strdup(path) : resolve_target(path);
+    if (!af->shown_path || !af->final_path) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto fail;
     }
-    memcpy(af->final_path, path, n + 1);
-    snprintf(af->tmp_path, n + 16, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(af->tmp_path);
-    if (fd < 0) {
-        int e = errno;
-        free(af->tmp_path);
-        af->tmp_path = NULL;
-        sk__atomic_abort(af);
-        return sk__fail(err, SK_ERR_IO, "%s: cannot create output file: %s", path, strerror(e));
+    if (exists && S_ISDIR(sb.st_mode)) {
+        st = sk__fail(err, SK_ERR_IO, "%s: is a directory", path);
+        goto fail;
     }
+    if (exists && !S_ISREG(sb.st_mode)) {
+        /* device, FIFO, socket: write to it, never replace it */
+        fd = open(af->final_path, O_WRONLY | O_CLOEXEC);
+        if (fd < 0) {
+            st = io_fail(err, path, "cannot open output", errno);
+            goto fail;
+        }
+        af->direct = 1;
+    } else {
+        const char *slash = strrchr(af->final_path, '/');
+        char *dir = slash ? sk__strndup(af->final_path, (size_t)(slash - af->final_path) + 1)
+                          : sk__strdup(".");
+        if (!dir) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto fail;
+        }
+#ifdef O_TMPFILE
+        fd = open(dir, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+#endif
+        sk__free(dir);
+        if (fd < 0) { /* no O_TMPFILE here: a named temporary, removed by signal handlers */
+            af->tmp_path = temp_name(af->final_path);
+            if (!af->tmp_path) {
+                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                goto fail;
+            }
+            fd = open(af->tmp_path, O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
+            if (fd < 0) {
+                st = io_fail(err, path, "cannot create output file", errno);
+                sk__free(af->tmp_path);
+                af->tmp_path = NULL;
+                goto fail;
+            }
+            pending_add(af->tmp_path);
+        }
+        if (exists) { /* keep the existing file's mode and, where allowed, its owner */
+            (void)fchmod(fd, sb.st_mode & 07777);
+            if (fchown(fd, sb.st_uid, sb.st_gid) != 0)
+                (void)fchmod(fd, sb.st_mode & 0777);
+        }
+    }
+    af->fd = fd;
     af->fp = fdopen(fd, "wb");
     if (!af->fp) {
-        int e = errno;
-        close(fd);
-        sk__atomic_abort(af);
-        return sk__fail(err, SK_ERR_IO, "%s: cannot open output file: %s", path, strerror(e));
+        st = io_fail(err, path, "cannot open output file", errno);
+        goto fail;
     }
     /* a large buffer: writers emit many small records */
     setvbuf(af->fp, NULL, _IOFBF, 1 << 20);
     return SK_OK;
+fail:
+    if (!af->fp && fd >= 0)
+        close(fd);
+    af->fd = -1;
+    sk__atomic_abort(af);
+    return st;
 }
 
 sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err)
 {
-    int bad = ferror(af->fp);
-    int e = errno;
-    if (fclose(af->fp) != 0) {
-        bad = 1;
+    sk_status st = SK_OK;
+    errno = 0;
+    int e = ferror(af->fp) ? (errno ? errno : EIO) : 0;
+    if (fflush(af->fp) != 0 && !e)
         e = errno;
+    if (!e && !af->direct && fsync(af->fd) != 0 && errno != EINVAL && errno != EROFS)
+        e = errno;
+    if (!af->tmp_path && !af->direct && !e) {
+        /* anonymous temporary: give it a name beside the target */
+        char proc[64];
+        snprintf(proc, sizeof proc, "/proc/self/fd/%d", af->fd);
+        for (int tries = 0; tries < 8 && !e; ++tries) {
+            af->tmp_path = temp_name(af->final_path);
+            if (!af->tmp_path) {
+                e = ENOMEM;
+                break;
+            }
+            if (linkat(AT_FDCWD, proc, AT_FDCWD, af->tmp_path, AT_SYMLINK_FOLLOW) == 0) {
+                pending_add(af->tmp_path);
+                break;
+            }
+            int le = errno;
+            sk__free(af->tmp_path);
+            af->tmp_path = NULL;
+            if (le != EEXIST)
+                e = le;
+        }
+        if (!e && !af->tmp_path)
+            e = EEXIST;
     }
+    if (fclose(af->fp) != 0 && !e)
+        e = errno;
     af->fp = NULL;
-    if (bad) {
-        sk_status st = sk__fail(err, SK_ERR_IO, "%s: write failed: %s", af->final_path, strerror(e));
+    af->fd = -1;
+    if (e) {
+        st = e == ENOMEM ? sk__fail(err, SK_ERR_NOMEM, "out of memory")
+                         : sk__fail(err, SK_ERR_IO, "%s: write failed: %s", af->shown_path,
+                                    strerror(e));
         sk__atomic_abort(af);
         return st;
+    }
+    if (af->direct) {
+        sk__atomic_abort(af);
+        sk__ok(err);
+        return SK_OK;
+    }
+    if (batch.active) { /* published by sk_outputs_commit */
+        if (batch.count == batch.cap) {
+            size_t cap = batch.cap ? 2 * batch.cap : 8;
+            batch_item *items = sk__realloc_array(batch.items, cap * sizeof *items, 1);
+            if (!items) {
+                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                sk__atomic_abort(af);
+                return st;
+            }
+            batch.items = items;
+            batch.cap = cap;
+        }
+        batch.items[batch.count++] = (batch_item){af->tmp_path, af->final_path};
+        af->tmp_path = af->final_path = NULL;
+        sk__atomic_abort(af);
+        sk__ok(err);
+        return SK_OK;
     }
     if (rename(af->tmp_path, af->final_path) != 0) {
-        e = errno;
-        sk_status st = sk__fail(err, SK_ERR_IO, "%s: cannot rename into place: %s", af->final_path,
-                                strerror(e));
+        st = io_fail(err, af->shown_path, "cannot rename into place", errno);
         sk__atomic_abort(af);
         return st;
     }
-    free(af->tmp_path);
-    free(af->final_path);
+    pending_remove(af->tmp_path);
+    sk__free(af->tmp_path);
     af->tmp_path = NULL;
-    af->final_path = NULL;
+    sk__atomic_abort(af);
+    sk__ok(err);
     return SK_OK;
 }
 
@@ -77,11 +336,29 @@ void sk__atomic_abort(sk__atomic_file *af)
 {
     if (af->fp)
         fclose(af->fp);
-    if (af->tmp_path)
-        remove(af->tmp_path);
-    free(af->tmp_path);
-    free(af->final_path);
-    af->fp = NULL;
-    af->tmp_path = NULL;
-    af->final_path = NULL;
+    else if (af->fd >= 0)
+        close(af->fd);
+    if (af->tmp_path) {
+        unlink(af->tmp_path);
+        pending_remove(af->tmp_path);
+    }
+    sk__free(af->tmp_path);
+    sk__free(af->final_path);
+    sk__free(af->shown_path);
+    memset(af, 0, sizeof *af);
+    af->fd = -1;
+}
+
+sk_status sk_write_file(const char *path, sk_status (*fn)(FILE *fp, void *user), void *user,
+                        sk_error *err)
+{
+    sk__atomic_file af;
+    sk_status st = sk__atomic_open(&af, path, err);
+    if (st)
+        return st;
+    if ((st = fn(af.fp, user)) != SK_OK) {
+        sk__atomic_abort(&af);
+        return sk__fail(err, st, "%s: %s", path, sk_status_string(st));
+    }
+    return sk__atomic_commit(&af, err);
 }

@@ -29,10 +29,23 @@ const char *sk_version(void)
 sk_status sk__fail(sk_error *err, sk_status status, const char *fmt, ...)
 {
     if (err) {
+        /* a message longer than the field (a long path) keeps its head and its tail, joined by
+         * "...", so the reason at the end is never lost */
+        char full[8192]; /* a PATH_MAX path and its reason */
         va_list ap;
         va_start(ap, fmt);
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        int n = vsnprintf(full, sizeof full, fmt, ap);
         va_end(ap);
+        size_t len = n < 0 ? 0 : (size_t)n < sizeof full ? (size_t)n : sizeof full - 1;
+        full[len] = '\0';
+        if (len < sizeof err->message) {
+            memcpy(err->message, full, len + 1);
+        } else {
+            size_t head = sizeof err->message / 4, tail = sizeof err->message - head - 4;
+            memcpy(err->message, full, head);
+            memcpy(err->message + head, "...", 3);
+            memcpy(err->message + head + 3, full + len - tail, tail + 1);
+        }
         /* one line: replace any newline a caller's string may carry */
         for (char *p = err->message; *p; ++p)
             if (*p == '\n' || *p == '\r')

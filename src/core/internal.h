@@ -4,6 +4,8 @@
 
 #include "surfkit/core.h"
 
+#include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #if defined(__GNUC__)
@@ -25,18 +27,61 @@ sk_status sk__progress(sk_progress_fn fn, void *user, double fraction, sk_error 
 void *sk__malloc_array(size_t n, size_t size);
 void *sk__calloc_array(size_t n, size_t size);
 void *sk__realloc_array(void *p, size_t n, size_t size);
+/* Frees what the wrappers above (and sk__strdup) allocated; NULL is fine. */
+void sk__free(void *p);
+char *sk__strdup(const char *s);
+char *sk__strndup(const char *s, size_t n);
 
-/* Atomic output file: written to a temporary file in the target directory and renamed into place
- * by sk__atomic_commit; sk__atomic_abort removes the temporary. */
+/* Atomic output file (core/atomic_file.c has the rules): written to a temporary beside the
+ * (symlink-resolved) target and renamed into place by sk__atomic_commit, or at sk_outputs_commit
+ * inside a batch; devices and pipes are written directly; sk__atomic_abort removes the
+ * temporary. */
 typedef struct sk__atomic_file {
     FILE *fp;
-    char *final_path;
-    char *tmp_path;
+    int fd;
+    int direct;       /* not a regular file: written in place */
+    char *shown_path; /* as the caller named it, for messages */
+    char *final_path; /* symlinks resolved */
+    char *tmp_path;   /* named temporary, or NULL (anonymous O_TMPFILE until commit) */
 } sk__atomic_file;
 
 sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err);
 sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err);
 void sk__atomic_abort(sk__atomic_file *af);
+
+/* One BLAS thread for a stretch of small dense LAPACK calls: begin returns the caller's thread
+ * count, end restores it. Not for code that also runs large sparse factorizations. */
+int sk__blas_serial_begin(void);
+void sk__blas_serial_end(int saved);
+
+/* ---------------------------------------------------------------------------------------------
+ * Output buffer: a growing memory buffer, flushed to a FILE when one is attached
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct sk__out {
+    char *buf;
+    size_t len, cap;
+    FILE *fp;   /* NULL: everything stays in buf */
+    int failed; /* 0, or SK_ERR_NOMEM / SK_ERR_IO after the first failure */
+} sk__out;
+
+/* Makes room for n more bytes; returns false (and sets failed) on failure. */
+bool sk__out_room(sk__out *o, size_t n);
+void sk__out_bytes(sk__out *o, const void *data, size_t n);
+void sk__out_str(sk__out *o, const char *s);
+void sk__out_char(sk__out *o, char c);
+/* The shortest of %.15g, %.16g, %.17g that reads back to the same double. */
+void sk__out_double(sk__out *o, double v);
+void sk__out_uint(sk__out *o, uint64_t v);
+/* Writes any buffered bytes to the attached FILE. */
+void sk__out_flush(sk__out *o);
+void sk__out_printf(sk__out *o, const char *fmt, ...) SK__PRINTF(2, 3);
+void sk__out_free(sk__out *o);
+/* Writes the whole (unattached) buffer to path through the atomic writer. */
+sk_status sk__out_write_file(const sk__out *o, const char *path, sk_error *err);
+
+/* Shortest of %.15g, %.16g, %.17g that reads back to v exactly, into buf; returns its length. */
+int sk__fmt_shortest(char buf[32], double v);
 
 /* Asks the kernel for transparent huge pages on a large fresh buffer (Linux; else nothing). */
 void sk__huge_hint(void *p, size_t bytes);

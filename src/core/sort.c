@@ -12,8 +12,8 @@ sk_status sk__sort_u64_u32(uint64_t *keys, uint32_t *vals, size_t n)
     uint64_t *k2 = sk__malloc_array(n, sizeof *k2);
     uint32_t *v2 = sk__malloc_array(n, sizeof *v2);
     if (!k2 || !v2) {
-        free(k2);
-        free(v2);
+        sk__free(k2);
+        sk__free(v2);
         return SK_ERR_NOMEM;
     }
     uint64_t *ka = keys, *kb = k2;
@@ -46,7 +46,7 @@ sk_status sk__sort_u64_u32(uint64_t *keys, uint32_t *vals, size_t n)
         memcpy(keys, ka, n * sizeof *keys);
         memcpy(vals, va, n * sizeof *vals);
     }
-    free(k2);
-    free(v2);
+    sk__free(k2);
+    sk__free(v2);
     return SK_OK;
 }

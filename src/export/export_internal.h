@@ -30,17 +30,3 @@ void sk__export_time(const sk_export_opts *opts, char out[32]);
 double sk__patches_max_coord(const sk_patch_set *patches);
 
 #endif
-
-/* Growable text buffer. */
-typedef struct sk__buf {
-    char *s;
-    size_t n, cap;
-    bool failed; /* an allocation failed: the content is incomplete */
-} sk__buf;
-
-void sk__buf_put(sk__buf *b, const char *s, size_t n);
-void sk__buf_puts(sk__buf *b, const char *s);
-void sk__buf_printf(sk__buf *b, const char *fmt, ...) SK__PRINTF(2, 3);
-void sk__buf_free(sk__buf *b);
-/* Writes the buffer to path through an atomic temporary file. */
-sk_status sk__buf_write_file(const sk__buf *b, const char *path, sk_error *err);

@@ -19,8 +19,8 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
         return st;
     }
     size_t nt = ts.count;
-    sk__buf out = {0};
-    sk__buf_printf(&out, "# surfkit %s: %zu Bezier patches as clamped B-splines (OBJ free-form "
+    sk__out out = {0};
+    sk__out_printf(&out, "# surfkit %s: %zu Bezier patches as clamped B-splines (OBJ free-form "
                          "geometry)\n",
                    opts && opts->name ? opts->name : "surface", nt);
     size_t base = 1;
@@ -30,27 +30,27 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
         unsigned du = p->degree, dv = p->degree_v, n = (du + 1) * (dv + 1);
         char x[32], y[32], z[32];
         for (unsigned k = 0; k < n; ++k)
-            sk__buf_printf(&out, "v %s %s %s\n", sk__fmt_real(x, cp[3 * k]),
+            sk__out_printf(&out, "v %s %s %s\n", sk__fmt_real(x, cp[3 * k]),
                            sk__fmt_real(y, cp[3 * k + 1]), sk__fmt_real(z, cp[3 * k + 2]));
-        sk__buf_printf(&out, "cstype bspline\ndeg %u %u\nsurf 0.0 1.0 0.0 1.0", du, dv);
+        sk__out_printf(&out, "cstype bspline\ndeg %u %u\nsurf 0.0 1.0 0.0 1.0", du, dv);
         for (unsigned k = 0; k < n; ++k)
-            sk__buf_printf(&out, " %zu", base + k);
+            sk__out_printf(&out, " %zu", base + k);
         for (int dir = 0; dir < 2; ++dir) { /* clamped knots of one span */
             unsigned d = dir == 0 ? du : dv;
-            sk__buf_puts(&out, dir == 0 ? "\nparm u" : "\nparm v");
+            sk__out_str(&out, dir == 0 ? "\nparm u" : "\nparm v");
             for (unsigned k = 0; k < 2 * (d + 1); ++k)
-                sk__buf_puts(&out, k <= d ? " 0.0" : " 1.0");
+                sk__out_str(&out, k <= d ? " 0.0" : " 1.0");
         }
-        sk__buf_puts(&out, "\nend\n");
+        sk__out_str(&out, "\nend\n");
         base += n;
     }
-    st = sk__buf_write_file(&out, path, err);
+    st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         stats->faces = nt;
         stats->edges = stats->vertices = 0;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
     }
-    sk__buf_free(&out);
+    sk__out_free(&out);
     sk_patch_set_free(&ts);
     return st;
 }

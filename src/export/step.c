@@ -1,7 +1,7 @@
 /* STEP AP214 (ISO 10303-21) writer: every tensor Bezier patch is a B_SPLINE_SURFACE_WITH_KNOTS
  * (one Bezier span: knots 0 and 1 of multiplicity degree + 1) carried by an ADVANCED_FACE; all
- * faces form one OPEN_SHELL, or CLOSED_SHELL when every edge has two faces, of a
- * SHELL_BASED_SURFACE_MODEL. Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a
+ * faces form one OPEN_SHELL of a SHELL_BASED_SURFACE_MODEL, or, when every edge has two faces, a
+ * CLOSED_SHELL bounding a MANIFOLD_SOLID_BREP (in an ADVANCED_BREP_SHAPE_REPRESENTATION). Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a
  * CAD system sees one connected surface.
  *
  * Topology comes from the patches' corner ids (mesh vertices). A triangle is split into three
@@ -50,7 +50,7 @@ static entry *map_get(map *m, key k, bool *created)
 {
     if (2 * (m->n + 1) > m->cap) {
         size_t cap = m->cap ? 2 * m->cap : 1024;
-        entry *ne = calloc(cap, sizeof *ne);
+        entry *ne = sk__calloc_array(cap, sizeof *ne);
         if (!ne)
             return NULL;
         for (size_t i = 0; i < m->cap; ++i) {
@@ -61,7 +61,7 @@ static entry *map_get(map *m, key k, bool *created)
                 j = (j + 1) & (cap - 1);
             ne[j] = m->e[i];
         }
-        free(m->e);
+        sk__free(m->e);
         m->e = ne;
         m->cap = cap;
     }
@@ -97,7 +97,7 @@ static key edge_key(key_kind kind, uint32_t a, uint32_t b)
 }
 
 typedef struct writer {
-    sk__buf *b;
+    sk__out *b;
     size_t next;      /* next entity id */
     map vertices, edges;
     size_t *oriented; /* loop of the current face */
@@ -108,7 +108,7 @@ static size_t point(writer *w, const double p[3])
 {
     char x[32], y[32], z[32];
     size_t id = w->next++;
-    sk__buf_printf(w->b, "#%zu=CARTESIAN_POINT('',(%s,%s,%s));\n", id, sk__fmt_real(x, p[0]),
+    sk__out_printf(w->b, "#%zu=CARTESIAN_POINT('',(%s,%s,%s));\n", id, sk__fmt_real(x, p[0]),
                    sk__fmt_real(y, p[1]), sk__fmt_real(z, p[2]));
     return id;
 }
@@ -124,7 +124,7 @@ static size_t vertex(writer *w, key k, const double p[3])
     if (created) {
         size_t pt = point(w, p);
         e->id = w->next++;
-        sk__buf_printf(w->b, "#%zu=VERTEX_POINT('',#%zu);\n", e->id, pt);
+        sk__out_printf(w->b, "#%zu=VERTEX_POINT('',#%zu);\n", e->id, pt);
     }
     return e->id;
 }
@@ -145,18 +145,18 @@ static size_t oriented_edge(writer *w, key k, size_t from, size_t to, const doub
         for (unsigned i = 0; i <= deg; ++i)
             ids[i] = point(w, cp + 3 * i);
         size_t curve = w->next++;
-        sk__buf_printf(w->b, "#%zu=B_SPLINE_CURVE_WITH_KNOTS('',%u,(", curve, deg);
+        sk__out_printf(w->b, "#%zu=B_SPLINE_CURVE_WITH_KNOTS('',%u,(", curve, deg);
         for (unsigned i = 0; i <= deg; ++i)
-            sk__buf_printf(w->b, "%s#%zu", i ? "," : "", ids[i]);
-        sk__buf_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,(%u,%u),(0.,1.),.UNSPECIFIED.);\n", deg + 1,
+            sk__out_printf(w->b, "%s#%zu", i ? "," : "", ids[i]);
+        sk__out_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,(%u,%u),(0.,1.),.UNSPECIFIED.);\n", deg + 1,
                        deg + 1);
         e->id = w->next++;
         e->start = from;
-        sk__buf_printf(w->b, "#%zu=EDGE_CURVE('',#%zu,#%zu,#%zu,.T.);\n", e->id, from, to, curve);
+        sk__out_printf(w->b, "#%zu=EDGE_CURVE('',#%zu,#%zu,#%zu,.T.);\n", e->id, from, to, curve);
     }
     e->uses++;
     size_t id = w->next++;
-    sk__buf_printf(w->b, "#%zu=ORIENTED_EDGE('',*,*,#%zu,%s);\n", id, e->id,
+    sk__out_printf(w->b, "#%zu=ORIENTED_EDGE('',*,*,#%zu,%s);\n", id, e->id,
                    e->start == from ? ".T." : ".F.");
     return id;
 }
@@ -181,7 +181,7 @@ static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *lo
     const sk_patch *p = &set->patches[pi];
     const double *cp = sk_patch_cp(set, pi);
     unsigned du = p->degree, dv = p->degree_v;
-    size_t *ids = malloc((du + 1) * (dv + 1) * sizeof(size_t));
+    size_t *ids = sk__malloc_array((du + 1) * (dv + 1) * sizeof(size_t), 1);
     if (!ids) {
         w->nomem = true;
         return;
@@ -189,72 +189,72 @@ static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *lo
     for (unsigned k = 0; k < (du + 1) * (dv + 1); ++k)
         ids[k] = point(w, cp + 3 * k);
     size_t surf = w->next++;
-    sk__buf_printf(w->b, "#%zu=B_SPLINE_SURFACE_WITH_KNOTS('',%u,%u,(", surf, du, dv);
+    sk__out_printf(w->b, "#%zu=B_SPLINE_SURFACE_WITH_KNOTS('',%u,%u,(", surf, du, dv);
     for (unsigned i = 0; i <= du; ++i) { /* outer list along u (s), inner along v (t) */
-        sk__buf_puts(w->b, i ? ",(" : "(");
+        sk__out_str(w->b, i ? ",(" : "(");
         for (unsigned j = 0; j <= dv; ++j)
-            sk__buf_printf(w->b, "%s#%zu", j ? "," : "", ids[sk_tensor_index(du, i, j)]);
-        sk__buf_puts(w->b, ")");
+            sk__out_printf(w->b, "%s#%zu", j ? "," : "", ids[sk_tensor_index(du, i, j)]);
+        sk__out_str(w->b, ")");
     }
-    sk__buf_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,.F.,(%u,%u),(%u,%u),(0.,1.),(0.,1.),"
+    sk__out_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,.F.,(%u,%u),(%u,%u),(0.,1.),(0.,1.),"
                          ".UNSPECIFIED.);\n", du + 1, du + 1, dv + 1, dv + 1);
-    free(ids);
+    sk__free(ids);
     size_t lp = w->next++;
-    sk__buf_printf(w->b, "#%zu=EDGE_LOOP('',(", lp);
+    sk__out_printf(w->b, "#%zu=EDGE_LOOP('',(", lp);
     for (size_t i = 0; i < nloop; ++i)
-        sk__buf_printf(w->b, "%s#%zu", i ? "," : "", loop[i]);
-    sk__buf_puts(w->b, "));\n");
+        sk__out_printf(w->b, "%s#%zu", i ? "," : "", loop[i]);
+    sk__out_str(w->b, "));\n");
     size_t bound = w->next++;
-    sk__buf_printf(w->b, "#%zu=FACE_OUTER_BOUND('',#%zu,.T.);\n", bound, lp);
+    sk__out_printf(w->b, "#%zu=FACE_OUTER_BOUND('',#%zu,.T.);\n", bound, lp);
     *face_id = w->next++;
-    sk__buf_printf(w->b, "#%zu=ADVANCED_FACE('',(#%zu),#%zu,.T.);\n", *face_id, bound, surf);
+    sk__out_printf(w->b, "#%zu=ADVANCED_FACE('',(#%zu),#%zu,.T.);\n", *face_id, bound, surf);
 }
 
-static void step_string(sk__buf *b, const char *s)
+static void step_string(sk__out *b, const char *s)
 {
-    sk__buf_puts(b, "'");
+    sk__out_str(b, "'");
     for (; *s; ++s) {
         if (*s == '\'')
-            sk__buf_puts(b, "''");
+            sk__out_str(b, "''");
         else if ((unsigned char)*s >= 0x20 && (unsigned char)*s < 0x7f)
-            sk__buf_put(b, s, 1);
+            sk__out_bytes(b, s, 1);
     }
-    sk__buf_puts(b, "'");
+    sk__out_str(b, "'");
 }
 
-static void write_header(sk__buf *out, const char *path, const char *name, const char *when,
+static void write_header(sk__out *out, const char *path, const char *name, const char *when,
                          const sk__unit *unit)
 {
-    sk__buf_puts(out, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit VC1 surface: Bezier "
+    sk__out_str(out, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit VC1 surface: Bezier "
                        "patches as B-spline surfaces'),'2;1');\nFILE_NAME(");
     step_string(out, sk__basename(path));
-    sk__buf_printf(out, ",'%s',('surfkit'),('surfkit'),'surfkit 0.1.0','surfkit','');\n", when);
-    sk__buf_puts(out, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\n"
+    sk__out_printf(out, ",'%s',('surfkit'),('surfkit'),'surfkit 0.1.0','surfkit','');\n", when);
+    sk__out_str(out, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\n"
                        "DATA;\n");
-    sk__buf_puts(out, "#1=APPLICATION_CONTEXT('core data for automotive mechanical design "
+    sk__out_str(out, "#1=APPLICATION_CONTEXT('core data for automotive mechanical design "
                        "processes');\n"
                        "#2=APPLICATION_PROTOCOL_DEFINITION('international standard',"
                        "'automotive_design',2000,#1);\n"
                        "#3=PRODUCT_CONTEXT('',#1,'mechanical');\n#4=PRODUCT(");
     step_string(out, name);
-    sk__buf_puts(out, ",");
+    sk__out_str(out, ",");
     step_string(out, name);
-    sk__buf_puts(out, ",'',(#3));\n"
+    sk__out_str(out, ",'',(#3));\n"
                        "#5=PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#4));\n"
                        "#6=PRODUCT_DEFINITION_FORMATION('','',#4);\n"
                        "#7=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');\n"
                        "#8=PRODUCT_DEFINITION('design','',#6,#7);\n"
                        "#9=PRODUCT_DEFINITION_SHAPE('','',#8);\n");
     if (unit->step_unit)
-        sk__buf_printf(out, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
+        sk__out_printf(out, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
                        unit->step_prefix ? unit->step_prefix : "$", unit->step_unit);
     else
-        sk__buf_printf(out, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
+        sk__out_printf(out, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
                              "#21=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%.6g),#20);\n"
                              "#22=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
                              "#10=(CONVERSION_BASED_UNIT('%s',#21)LENGTH_UNIT()NAMED_UNIT(#22));\n",
                        unit->metres, unit->iges_name);
-    sk__buf_puts(out, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
+    sk__out_str(out, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
                        "#12=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n"
                        "#13=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#10,"
                        "'distance_accuracy_value','confusion accuracy');\n"
@@ -347,7 +347,7 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     const char *name = opts && opts->name ? opts->name : "surfkit";
     char when[32];
     sk__export_time(opts, when);
-    sk__buf out = {0};
+    sk__out out = {0};
     writer w = {.b = &out, .next = 1};
     map split = {0};
     sk_patch_set sub = {0};
@@ -369,7 +369,7 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     size_t nt = 0;
     for (size_t i = 0; i < patches->count; ++i)
         nt += patches->patches[i].kind == SK_PATCH_TRIANGLE ? 3 : 1;
-    faces = malloc((nt ? nt : 1) * sizeof *faces);
+    faces = sk__malloc_array((nt ? nt : 1) * sizeof *faces, 1);
     if (!faces || w.nomem) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -395,29 +395,36 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
         if (w.edges.e[i].used && w.edges.e[i].uses != 2)
             closed = false;
     size_t shell = w.next++;
-    sk__buf_printf(&out, "#%zu=%s('',(", shell, closed ? "CLOSED_SHELL" : "OPEN_SHELL");
+    sk__out_printf(&out, "#%zu=%s('',(", shell, closed ? "CLOSED_SHELL" : "OPEN_SHELL");
     for (size_t i = 0; i < nfaces; ++i)
-        sk__buf_printf(&out, "%s#%zu", i ? "," : "", faces[i]);
-    sk__buf_puts(&out, "));\n");
+        sk__out_printf(&out, "%s#%zu", i ? "," : "", faces[i]);
+    sk__out_str(&out, "));\n");
     size_t model = w.next++, rep = w.next++, sdr = w.next++;
-    sk__buf_printf(&out, "#%zu=SHELL_BASED_SURFACE_MODEL('',(#%zu));\n", model, shell);
-    sk__buf_printf(&out, "#%zu=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n", rep,
-                   model);
-    sk__buf_printf(&out, "#%zu=SHAPE_DEFINITION_REPRESENTATION(#9,#%zu);\n", sdr, rep);
-    sk__buf_puts(&out, "ENDSEC;\nEND-ISO-10303-21;\n");
-    st = sk__buf_write_file(&out, path, err);
+    if (closed) { /* a closed shell bounds a solid: importers get a solid for booleans, offsets */
+        sk__out_printf(&out, "#%zu=MANIFOLD_SOLID_BREP('',#%zu);\n", model, shell);
+        sk__out_printf(&out, "#%zu=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n",
+                       rep, model);
+    } else {
+        sk__out_printf(&out, "#%zu=SHELL_BASED_SURFACE_MODEL('',(#%zu));\n", model, shell);
+        sk__out_printf(&out, "#%zu=MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#18,#%zu),#14);\n",
+                       rep, model);
+    }
+    sk__out_printf(&out, "#%zu=SHAPE_DEFINITION_REPRESENTATION(#9,#%zu);\n", sdr, rep);
+    sk__out_str(&out, "ENDSEC;\nEND-ISO-10303-21;\n");
+    st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         stats->faces = nfaces;
         stats->edges = w.edges.n;
         stats->vertices = w.vertices.n;
-        stats->bytes = out.n;
+        stats->bytes = out.len;
+        stats->solid = closed;
     }
 done:
-    free(faces);
+    sk__free(faces);
     sk_patch_set_free(&sub);
-    free(split.e);
-    free(w.vertices.e);
-    free(w.edges.e);
-    sk__buf_free(&out);
+    sk__free(split.e);
+    sk__free(w.vertices.e);
+    sk__free(w.edges.e);
+    sk__out_free(&out);
     return st;
 }

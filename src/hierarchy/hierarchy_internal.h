@@ -42,7 +42,7 @@ void sk__barycentric(const sk_mesh *m, uint32_t v, const uint32_t *ring, size_t 
 uint32_t sk__vertex_split(sk_mesh *m, const sk_vertex_split *s);
 
 /* Transparent-huge-page hint for big arrays (memory.c); results never depend on it. */
-void *sk__alloc_huge(size_t n, size_t size); /* sk__malloc_array + hint; free() it */
+void *sk__alloc_huge(size_t n, size_t size); /* sk__malloc_array + hint; sk__free() it */
 void sk__mesh_huge_hint(sk_mesh *m);         /* hint on the whole capacity of every array */
 
 /* Renumbers the vertices of a compacted mesh: vertex k becomes newid[k] (a permutation). */

@@ -79,10 +79,10 @@ static bool ring_reserve(ring_buffers *rb, size_t n)
 
 static void ring_free(ring_buffers *rb)
 {
-    free(rb->out);
-    free(rb->ring);
-    free(rb->len2);
-    free(rb->scratch);
+    sk__free(rb->out);
+    sk__free(rb->ring);
+    sk__free(rb->len2);
+    sk__free(rb->scratch);
 }
 
 /* Everything one simplification pass needs, allocated once for the finest level. */
@@ -349,13 +349,13 @@ static sk_status working_copy(const sk_mesh *in, sk_mesh **out, uint32_t *work_t
 nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
 done:
-    free(keys);
-    free(vals);
-    free(vnew);
-    free(hnew);
-    free(fnew);
-    free(count);
-    free(eold);
+    sk__free(keys);
+    sk__free(vals);
+    sk__free(vnew);
+    sk__free(hnew);
+    sk__free(fnew);
+    sk__free(count);
+    sk__free(eold);
     if (st)
         sk_mesh_destroy(&m);
     *out = m;
@@ -369,13 +369,13 @@ static sk_status sort_by_w0(sk_vertex_split *sp, size_t n, uint32_t *idx, sk_ver
     if (n < 2)
         return SK_OK;
     if (n > *cap) {
-        free(*tmp);
+        sk__free(*tmp);
         *tmp = sk__alloc_huge(n, sizeof(sk_vertex_split));
         *cap = *tmp ? n : 0;
     }
     uint64_t *keys = sk__malloc_array(n, sizeof(uint64_t));
     if (!*tmp || !keys) {
-        free(keys);
+        sk__free(keys);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
     }
     for (size_t k = 0; k < n; ++k) {
@@ -383,13 +383,13 @@ static sk_status sort_by_w0(sk_vertex_split *sp, size_t n, uint32_t *idx, sk_ver
         idx[k] = (uint32_t)k;
     }
     if (sk__sort_u64_u32(keys, idx, n)) {
-        free(keys);
+        sk__free(keys);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
     }
     for (size_t k = 0; k < n; ++k)
         (*tmp)[k] = sp[idx[k]];
     memcpy(sp, *tmp, n * sizeof(sk_vertex_split));
-    free(keys);
+    sk__free(keys);
     return SK_OK;
 }
 
@@ -416,11 +416,11 @@ void sk_hierarchy_destroy(sk_hierarchy **hp)
         return;
     sk_hierarchy *h = *hp;
     for (size_t i = 0; i < h->num_levels; ++i)
-        free(h->levels[i].fine_to_coarse);
-    free(h->levels);
-    free(h->split_store);
+        sk__free(h->levels[i].fine_to_coarse);
+    sk__free(h->levels);
+    sk__free(h->split_store);
     sk_mesh_destroy(&h->coarsest);
-    free(h);
+    sk__free(h);
     *hp = NULL;
 }
 
@@ -452,7 +452,7 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     sk_hierarchy *hier = NULL;
     /* every vertex is removed at most once: nv0 records in all; untouched pages cost nothing */
     store = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(sk_vertex_split));
-    trans = calloc(cap_trans, sizeof *trans);
+    trans = sk__calloc_array(cap_trans, sizeof *trans);
     if (!work_to_finest || !store || !trans) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
         goto done;
@@ -550,8 +550,8 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
             goto done;
     }
 
-    hier = calloc(1, sizeof *hier);
-    if (!hier || !(hier->levels = calloc(ntrans + 1, sizeof(sk__level)))) {
+    hier = sk__calloc_array(1, sizeof *hier);
+    if (!hier || !(hier->levels = sk__calloc_array(ntrans + 1, sizeof(sk__level)))) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
         goto done;
     }
@@ -576,18 +576,18 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
 done:
     if (trans) {
         for (size_t k = 0; k < ntrans; ++k)
-            free(trans[k].fine_to_coarse);
-        free(trans);
+            sk__free(trans[k].fine_to_coarse);
+        sk__free(trans);
     }
     sk_hierarchy_destroy(&hier);
     sk_mesh_destroy(&m);
-    free(store);
-    free(sort_tmp);
-    free(work_to_finest);
-    free(w.perm);
-    free(w.lock);
-    free(w.stamp);
-    free(w.valence);
+    sk__free(store);
+    sk__free(sort_tmp);
+    sk__free(work_to_finest);
+    sk__free(w.perm);
+    sk__free(w.lock);
+    sk__free(w.stamp);
+    sk__free(w.valence);
     ring_free(&w.rb);
     return st;
 }

@@ -149,10 +149,10 @@ sk_status sk__permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
     double *uv = m->uvs ? sk__alloc_huge(nv, 2 * sizeof(double)) : NULL;
     uint32_t *vh = sk__alloc_huge(nv, sizeof(uint32_t));
     if (!pos || !vh || (m->normals && !nrm) || (m->uvs && !uv)) {
-        free(pos);
-        free(nrm);
-        free(uv);
-        free(vh);
+        sk__free(pos);
+        sk__free(nrm);
+        sk__free(uv);
+        sk__free(vh);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory renumbering a level");
     }
     for (size_t k = 0; k < nv; ++k) {
@@ -173,10 +173,10 @@ sk_status sk__permute_vertices(sk_mesh *m, const uint32_t *newid, sk_error *err)
     memset(m->v_deleted, 0, nv);
     for (size_t h = 0; h < m->num_halfedges; ++h)
         m->h_vertex[h] = newid[m->h_vertex[h]];
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(vh);
+    sk__free(pos);
+    sk__free(nrm);
+    sk__free(uv);
+    sk__free(vh);
     return SK_OK;
 }
 
@@ -256,7 +256,7 @@ sk_status sk_hierarchy_split(const sk_hierarchy *h, size_t level, sk_mesh *m, sk
     for (size_t t = 0; t < ns; ++t) /* appended in reverse record order */
         newid[nc + t] = L->splits[ns - 1 - t].v;
     st = sk__permute_vertices(m, newid, err);
-    free(newid);
+    sk__free(newid);
     return st;
 }
 

@@ -1,29 +1,25 @@
 /* Mesh file I/O: format detection, dispatch to the format readers and writers, file wrappers. */
 #define _POSIX_C_SOURCE 200809L
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <sys/stat.h>
-
-static char lower(char c) { return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c; }
+#include <unistd.h>
 
 sk_format sk_format_from_path(const char *path)
 {
-    if (!path)
+    if (!path || strlen(sk__basename(path)) < 4)
         return SK_FORMAT_UNKNOWN;
-    const char *base = sk__basename(path);
-    const char *dot = strrchr(base, '.');
-    if (!dot || strlen(dot) != 4)
-        return SK_FORMAT_UNKNOWN;
-    char ext[4] = {lower(dot[1]), lower(dot[2]), lower(dot[3]), 0};
-    if (!strcmp(ext, "off"))
+    if (sk_path_has_ext(path, ".off"))
         return SK_FORMAT_OFF;
-    if (!strcmp(ext, "obj"))
+    if (sk_path_has_ext(path, ".obj"))
         return SK_FORMAT_OBJ;
-    if (!strcmp(ext, "ply"))
+    if (sk_path_has_ext(path, ".ply"))
         return SK_FORMAT_PLY;
-    if (!strcmp(ext, "stl"))
+    if (sk_path_has_ext(path, ".stl"))
         return SK_FORMAT_STL;
     return SK_FORMAT_UNKNOWN;
 }
@@ -79,7 +75,7 @@ static sk_format sniff(const char *p, size_t n)
     size_t tl = sk__token_len(p + i, p + n);
     if (tl >= 3 && tl <= 8 && memcmp(p + i + tl - 3, "OFF", 3) == 0)
         return SK_FORMAT_OFF;
-    if (n >= 5 && memcmp(p + i, "solid", 5) == 0 && has_line_starting(p, n, "facet", 4096))
+    if (n - i >= 5 && memcmp(p + i, "solid", 5) == 0 && has_line_starting(p, n, "facet", 4096))
         return SK_FORMAT_STL;
     if (sk__stl_is_binary_size(p, n))
         return SK_FORMAT_STL;
@@ -130,16 +126,25 @@ static sk_status read_file(const char *path, char **data, size_t *size, sk_error
 {
     *data = NULL;
     *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever; regular
+     * files ignore the flag */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
         return sk__fail(err, SK_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        fclose(f);
-        return sk__fail(err, SK_ERR_IO, "%s: not a regular file", path);
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        close(fd);
+        return sk__fail(err, SK_ERR_IO, "%s: not a regular file (a pipe, device or directory)", path);
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int e = errno;
+        close(fd);
+        return sk__fail(err, e == ENOMEM ? SK_ERR_NOMEM : SK_ERR_IO, "%s: cannot open: %s", path,
+                        strerror(e));
     }
     size_t cap = sb.st_size > 0 ? (size_t)sb.st_size : 0;
-    char *buf = malloc(cap + 1);
+    char *buf = sk__malloc_array(cap + 1, 1);
     if (!buf) {
         fclose(f);
         return sk__fail(err, SK_ERR_NOMEM, "%s: out of memory reading %zu bytes", path, cap);
@@ -147,7 +152,7 @@ static sk_status read_file(const char *path, char **data, size_t *size, sk_error
     size_t n = fread(buf, 1, cap, f);
     if (n != cap || ferror(f)) {
         int e = errno;
-        free(buf);
+        sk__free(buf);
         fclose(f);
         return sk__fail(err, SK_ERR_IO, "%s: read failed: %s", path, strerror(e));
     }
@@ -175,7 +180,7 @@ sk_status sk_soup_read(const char *path, const sk_read_opts *opts, sk_soup **out
     if (o.format == SK_FORMAT_UNKNOWN)
         o.format = SK_FORMAT_AUTO;
     st = sk_soup_read_memory(data, size, sk__basename(path), &o, out, err);
-    free(data);
+    sk__free(data);
     return st;
 }
 
@@ -187,10 +192,13 @@ static sk_status write_sink(sk__out *o, const sk_soup *soup, const sk_write_opts
         return st;
     bool normals = soup->normals && !opts->no_normals;
     bool uvs = soup->uvs && !opts->no_uvs;
+    /* OBJ and PLY also carry per-corner values (the writers look at soup->corner_*) */
+    bool any_normals = (soup->normals || soup->corner_normal) && !opts->no_normals;
+    bool any_uvs = (soup->uvs || soup->corner_uv) && !opts->no_uvs;
     switch (fmt) {
     case SK_FORMAT_OFF: sk__write_off(o, soup, normals, uvs); break;
-    case SK_FORMAT_OBJ: sk__write_obj(o, soup, normals, uvs); break;
-    case SK_FORMAT_PLY: sk__write_ply(o, soup, normals, uvs, opts->ascii); break;
+    case SK_FORMAT_OBJ: sk__write_obj(o, soup, any_normals, any_uvs); break;
+    case SK_FORMAT_PLY: sk__write_ply(o, soup, normals, any_uvs, opts->ascii); break;
     case SK_FORMAT_STL: sk__write_stl(o, soup, opts->ascii); break;
     case SK_FORMAT_AUTO:
     case SK_FORMAT_UNKNOWN:
@@ -216,11 +224,11 @@ sk_status sk_soup_write_memory(const sk_soup *soup, const sk_write_opts *opts, v
     sk__out out = {0};
     sk_status st = write_sink(&out, soup, &o, o.format, err);
     if (st) {
-        free(out.buf);
+        sk__free(out.buf);
         return st;
     }
     if (!out.buf)
-        out.buf = malloc(1);
+        out.buf = sk__malloc_array(1, 1);
     if (!out.buf)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     *data = out.buf;
@@ -253,7 +261,7 @@ sk_status sk_soup_write(const char *path, const sk_soup *soup, const sk_write_op
     sk__out out = {0};
     out.fp = af.fp;
     st = write_sink(&out, soup, &o, o.format, err);
-    free(out.buf);
+    sk__free(out.buf);
     if (st) {
         sk__atomic_abort(&af);
         if (err && st == SK_ERR_IO)

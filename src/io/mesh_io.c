@@ -1,6 +1,6 @@
 /* Half-edge mesh convenience wrappers: file <-> soup <-> mesh. Kept apart from io.c so that
  * programs using only the soup functions do not need the mesh builder. */
-#include "io/io_internal.h"
+#include "io/lexer.h"
 
 sk_status sk_mesh_read(const char *path, const sk_read_opts *opts, sk_mesh **out, sk_error *err)
 {

@@ -6,11 +6,13 @@
  * usemtl mtllib l p` and unknown statements are ignored. A backslash at the end of a line
  * continues the statement on the next line.
  *
- * Per-vertex attributes: a soup stores one normal and one uv per position, so the normal / uv of
- * a corner is attached to the corner's position vertex; when a vertex is used with different
- * normals or uvs (texture seams), the first corner in file order wins and the others are dropped.
- * Vertices never given a normal / uv get zeros. */
-#include "io/io_internal.h"
+ * Attributes: every corner's vt / vn index is kept as given (soup corner_uv / corner_normal over
+ * the file's vt / vn lists, SK_INVALID for a corner without), so texture seams and crease normals
+ * survive. The per-vertex uvs / normals are filled too, from the first corner in file order that
+ * uses the vertex (vertices never given one get zeros). Writing uses the per-corner values when
+ * the soup has them (`f v/vt/vn` with their own index spaces), else the per-vertex ones. */
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <stdlib.h>
 
@@ -259,8 +261,20 @@ static sk_status attach(obj_state *o, const uvec *corner, const dvec *vals, int 
         done[v] = 1;
         memcpy(dst + (size_t)dim * v, vals->a + (size_t)dim * a, (size_t)dim * sizeof(double));
     }
-    free(done);
+    sk__free(done);
     return SK_OK;
+}
+
+/* Corners after the last face that used the attribute get none. */
+static bool pad_corners(uvec *c, const sk_soup *s)
+{
+    size_t nc = s->face_offsets[s->num_faces];
+    if (!uvec_reserve(c, nc ? nc : 1))
+        return false;
+    for (size_t i = c->n; i < nc; ++i)
+        c->a[i] = SK_INVALID;
+    c->n = nc;
+    return true;
 }
 
 sk_status sk__read_obj(const void *data, size_t size, const char *name, sk_soup **out,
@@ -322,11 +336,15 @@ sk_status sk__read_obj(const void *data, size_t size, const char *name, sk_soup 
         goto done;
     }
     if (o.corner_vt.a) {
-        if (sk_soup_add_uvs(o.s) || attach(&o, &o.corner_vt, &o.vt, 2, o.s->uvs))
+        if (sk_soup_add_uvs(o.s) || attach(&o, &o.corner_vt, &o.vt, 2, o.s->uvs) ||
+            !pad_corners(&o.corner_vt, o.s) ||
+            sk_soup_set_corner_uvs(o.s, o.vt.n / 2, o.vt.a, o.corner_vt.a))
             goto fail_mem;
     }
     if (o.corner_vn.a) {
-        if (sk_soup_add_normals(o.s) || attach(&o, &o.corner_vn, &o.vn, 3, o.s->normals))
+        if (sk_soup_add_normals(o.s) || attach(&o, &o.corner_vn, &o.vn, 3, o.s->normals) ||
+            !pad_corners(&o.corner_vn, o.s) ||
+            sk_soup_set_corner_normals(o.s, o.vn.n / 3, o.vn.a, o.corner_vn.a))
             goto fail_mem;
     }
     st = SK_OK;
@@ -337,13 +355,13 @@ fail_parse:
 fail_mem:
     st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
 done:
-    free(o.vn.a);
-    free(o.vt.a);
-    free(o.corner_vn.a);
-    free(o.corner_vt.a);
-    free(o.idx.a);
-    free(o.fvt.a);
-    free(o.fvn.a);
+    sk__free(o.vn.a);
+    sk__free(o.vt.a);
+    sk__free(o.corner_vn.a);
+    sk__free(o.corner_vt.a);
+    sk__free(o.idx.a);
+    sk__free(o.fvt.a);
+    sk__free(o.fvn.a);
     if (st) {
         sk_soup_destroy(&o.s);
         return st;
@@ -362,30 +380,57 @@ static void put_vec(sk__out *o, const char *kw, const double *x, int n)
     sk__out_char(o, '\n');
 }
 
+/* Writes the index of corner c's attribute (per corner, else the position's) 1-based. */
+static void put_attr(sk__out *o, const uint32_t *corner, size_t c, uint64_t vi)
+{
+    sk__out_uint(o, corner ? (uint64_t)corner[c] + 1 : vi);
+}
+
+static bool face_has(const uint32_t *corner, uint32_t a, uint32_t b)
+{
+    if (!corner)
+        return true;
+    for (uint32_t k = a; k < b; ++k)
+        if (corner[k] == SK_INVALID)
+            return false;
+    return true;
+}
+
 void sk__write_obj(sk__out *o, const sk_soup *s, bool normals, bool uvs)
 {
+    /* per-corner values win over per-vertex ones: vt / vn get their own index spaces */
+    const uint32_t *cuv = uvs ? s->corner_uv : NULL, *cn = normals ? s->corner_normal : NULL;
     sk__out_str(o, "# written by surfkit\n");
     for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
         put_vec(o, "v", s->positions + 3 * v, 3);
-    if (uvs)
+    if (cuv)
+        for (size_t i = 0; i < s->num_wedge_uvs && !o->failed; ++i)
+            put_vec(o, "vt", s->wedge_uvs + 2 * i, 2);
+    else if (uvs)
         for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
             put_vec(o, "vt", s->uvs + 2 * v, 2);
-    if (normals)
+    if (cn)
+        for (size_t i = 0; i < s->num_wedge_normals && !o->failed; ++i)
+            put_vec(o, "vn", s->wedge_normals + 3 * i, 3);
+    else if (normals)
         for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
             put_vec(o, "vn", s->normals + 3 * v, 3);
     for (size_t f = 0; f < s->num_faces && !o->failed; ++f) {
+        uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
+        /* a face with a corner lacking a per-corner value is written without that attribute */
+        bool fu = uvs && face_has(cuv, a, b), fn = normals && face_has(cn, a, b);
         sk__out_char(o, 'f');
-        for (uint32_t k = s->face_offsets[f]; k < s->face_offsets[f + 1]; ++k) {
+        for (uint32_t k = a; k < b; ++k) {
             uint64_t i = (uint64_t)s->face_indices[k] + 1;
             sk__out_char(o, ' ');
             sk__out_uint(o, i);
-            if (uvs || normals) {
+            if (fu || fn) {
                 sk__out_char(o, '/');
-                if (uvs)
-                    sk__out_uint(o, i);
-                if (normals) {
+                if (fu)
+                    put_attr(o, cuv, k, i);
+                if (fn) {
                     sk__out_char(o, '/');
-                    sk__out_uint(o, i);
+                    put_attr(o, cn, k, i);
                 }
             }
         }

@@ -6,7 +6,8 @@
  * normals (N) and texture coordinates (ST, the last two values of a vertex line). One vertex and
  * one face per line. Anything after the last declared face other than comments is an error: it
  * means the counts in the header are wrong. */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <stdlib.h>
 
@@ -271,7 +272,7 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
         goto done;
     }
 done:
-    free(idx);
+    sk__free(idx);
     if (st) {
         sk_soup_destroy(&s);
         return st;

@@ -6,10 +6,17 @@
  * elements are skipped. Element order is free: face indices are checked against the declared
  * vertex count. Trailing bytes after the last element of a binary file are ignored.
  *
+ * Per-corner uvs: the face list `texcoord` (MeshLab's convention: u v for every corner, any
+ * scalar type) is read into the soup's corner_uv, one wedge per corner; an empty list means none
+ * for that face. Blender's PLY importer reads only per-vertex s t / u v: for it write the
+ * seam-split mesh (surfkit param --split-seams).
+ *
  * Writing: float64 x y z [nx ny nz] [s t] (the texture coordinate names Blender and MeshLab
- * read; they ignore u v); faces as `list uchar int vertex_indices` (uint count
- * when a face has more than 255 vertices, uint indices beyond 2^31 vertices). */
-#include "io/io_internal.h"
+ * read; they ignore u v); faces as `list uchar int vertex_indices` (uint count when a face has
+ * more than 255 vertices, uint indices beyond 2^31 vertices), then with per-corner uvs
+ * `list uchar double texcoord` (uint count beyond 127 vertices). */
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -23,7 +30,7 @@ typedef enum { T_NONE = 0, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64 
 static const int type_size[] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
 
 typedef enum {
-    R_NONE = 0, R_X, R_Y, R_Z, R_NX, R_NY, R_NZ, R_U, R_V, R_INDICES
+    R_NONE = 0, R_X, R_Y, R_Z, R_NX, R_NY, R_NZ, R_U, R_V, R_INDICES, R_TEXCOORD
 } ply_role;
 
 typedef struct ply_prop {
@@ -49,7 +56,7 @@ typedef struct ply_header {
     ply_format format;
     int nelems;
     ply_elem elems[PLY_MAX_ELEMENTS];
-    bool has_normals, has_uvs;
+    bool has_normals, has_uvs, has_texcoord;
     uint64_t nv, nf;
 } ply_header;
 
@@ -211,6 +218,8 @@ static sk_status parse_header(sk__text *t, ply_header *h)
                     return sk__text_error(t, "'%s' has a non-integer type", pr->name);
                 pr->role = R_INDICES;
             }
+            if (e->kind == E_FACE && list && !strcmp(pr->name, "texcoord"))
+                pr->role = R_TEXCOORD; /* MeshLab: u v per corner */
             for (int i = 0; i < e->nprops; ++i)
                 if (pr->role != R_NONE && e->props[i].role == pr->role)
                     return sk__text_error(t, "property '%s' repeats an earlier one", pr->name);
@@ -228,7 +237,7 @@ static sk_status parse_header(sk__text *t, ply_header *h)
         return sk__text_error(t, "the header has no format line");
     for (int i = 0; i < h->nelems; ++i) {
         ply_elem *e = &h->elems[i];
-        int seen[R_INDICES + 1] = {0};
+        int seen[R_TEXCOORD + 1] = {0};
         for (int k = 0; k < e->nprops; ++k)
             seen[e->props[k].role] = 1;
         if (e->kind == E_VERTEX) {
@@ -240,6 +249,7 @@ static sk_status parse_header(sk__text *t, ply_header *h)
         } else if (e->kind == E_FACE) {
             if (!seen[R_INDICES])
                 return sk__text_error(t, "the face element has no vertex_indices list");
+            h->has_texcoord = seen[R_TEXCOORD];
             h->nf = e->count;
         }
     }
@@ -315,9 +325,74 @@ typedef struct ply_reader {
     sk_soup *s;
     uint32_t *idx;
     size_t idx_cap;
+    double *tc;          /* texcoord values of the current face */
+    size_t tc_cap;
+    uint64_t ntc;        /* their number */
+    double *cuv;         /* 2 per corner read so far (texcoord) */
+    uint32_t *ccorner;   /* per corner: its own wedge or SK_INVALID */
+    size_t cuv_cap;      /* in corners */
     const char *name;
     sk_error *err;
 } ply_reader;
+
+static sk_status grow_tc(ply_reader *r, uint64_t n)
+{
+    if (n <= r->tc_cap)
+        return SK_OK;
+    size_t cap = r->tc_cap ? r->tc_cap : 16;
+    while (cap < n)
+        cap *= 2;
+    double *a = sk__realloc_array(r->tc, cap, sizeof *a);
+    if (!a)
+        return sk__fail(r->err, SK_ERR_NOMEM, "%s: out of memory", r->name);
+    r->tc = a;
+    r->tc_cap = cap;
+    return SK_OK;
+}
+
+/* Keeps the texcoord list of a face just pushed: one wedge per corner (2 values each), or none
+ * for the face when the list is empty. */
+static sk_status store_texcoord(ply_reader *r, uint64_t i, uint64_t n, size_t where)
+{
+    size_t base = r->s->face_offsets[r->s->num_faces - 1], nc = base + (size_t)n;
+    if (r->ntc != 0 && r->ntc != 2 * n) {
+        if (r->h->format == F_ASCII)
+            return sk__text_error(&r->t, "face %llu has %llu texcoord values for %llu corners",
+                                  (unsigned long long)i, (unsigned long long)r->ntc,
+                                  (unsigned long long)n);
+        return sk__bin_error(r->err, r->name, where, "face %llu has %llu texcoord values for "
+                             "%llu corners", (unsigned long long)i, (unsigned long long)r->ntc,
+                             (unsigned long long)n);
+    }
+    for (uint64_t k = 0; k < r->ntc; ++k)
+        if (!isfinite(r->tc[k])) {
+            if (r->h->format == F_ASCII)
+                return sk__text_error(&r->t, "face %llu has a non-finite texcoord",
+                                      (unsigned long long)i);
+            return sk__bin_error(r->err, r->name, where, "face %llu has a non-finite texcoord",
+                                 (unsigned long long)i);
+        }
+    if (nc > r->cuv_cap) {
+        size_t cap = r->cuv_cap ? r->cuv_cap : 1024;
+        while (cap < nc)
+            cap *= 2;
+        double *a = sk__realloc_array(r->cuv, cap, 2 * sizeof(double));
+        if (a)
+            r->cuv = a;
+        uint32_t *b = sk__realloc_array(r->ccorner, cap, sizeof(uint32_t));
+        if (b)
+            r->ccorner = b;
+        if (!a || !b)
+            return sk__fail(r->err, SK_ERR_NOMEM, "%s: out of memory", r->name);
+        r->cuv_cap = cap;
+    }
+    for (size_t c = base; c < nc; ++c) {
+        r->ccorner[c] = r->ntc ? (uint32_t)c : SK_INVALID;
+        r->cuv[2 * c] = r->ntc ? r->tc[2 * (c - base)] : 0;
+        r->cuv[2 * c + 1] = r->ntc ? r->tc[2 * (c - base) + 1] : 0;
+    }
+    return SK_OK;
+}
 
 static sk_status grow_idx(ply_reader *r, uint64_t n)
 {
@@ -365,6 +440,8 @@ static sk_status finish_instance(ply_reader *r, const ply_elem *e, uint64_t i, c
         }
         if (sk_soup_push_face(r->s, r->idx, (size_t)n))
             return sk__fail(r->err, SK_ERR_NOMEM, "%s: out of memory", r->name);
+        if (r->h->has_texcoord)
+            return store_texcoord(r, i, n, where);
     }
     return SK_OK;
 }
@@ -380,6 +457,7 @@ static sk_status read_binary(ply_reader *r)
             size_t where = (size_t)(r->p - r->base);
             double val[8] = {0};
             uint64_t nidx = 0;
+            r->ntc = 0;
             for (int k = 0; k < e->nprops; ++k) {
                 const ply_prop *pr = &e->props[k];
                 size_t off = (size_t)(r->p - r->base);
@@ -403,6 +481,15 @@ static sk_status read_binary(ply_reader *r)
                                          pr->name);
                 if ((uint64_t)n > (uint64_t)(r->end - r->p) / (uint64_t)isz)
                     goto truncated;
+                if (pr->role == R_TEXCOORD) {
+                    sk_status ts = grow_tc(r, (uint64_t)n);
+                    if (ts)
+                        return ts;
+                    for (int64_t j = 0; j < n; ++j, r->p += isz)
+                        r->tc[j] = as_double(load(r->p, isz, be), pr->type);
+                    r->ntc = (uint64_t)n;
+                    continue;
+                }
                 if (pr->role != R_INDICES) {
                     r->p += (size_t)n * (size_t)isz;
                     continue;
@@ -484,6 +571,7 @@ static sk_status read_ascii(ply_reader *r)
         for (uint64_t i = 0; i < e->count; ++i) {
             double val[8] = {0}, d;
             uint64_t nidx = 0;
+            r->ntc = 0;
             for (int k = 0; k < e->nprops; ++k) {
                 const ply_prop *pr = &e->props[k];
                 if (!pr->count_type) {
@@ -502,10 +590,17 @@ static sk_status read_ascii(ply_reader *r)
                                           (unsigned long long)i, pr->name, (long long)n);
                 if (pr->role == R_INDICES && (st = grow_idx(r, (uint64_t)n)))
                     return st;
+                if (pr->role == R_TEXCOORD) {
+                    if ((st = grow_tc(r, (uint64_t)n)))
+                        return st;
+                    r->ntc = (uint64_t)n;
+                }
                 for (int64_t j = 0; j < n; ++j) {
                     if (pr->role != R_INDICES) {
                         if ((st = ascii_value(r, e, i, &d)))
                             return st;
+                        if (pr->role == R_TEXCOORD)
+                            r->tc[j] = d;
                         continue;
                     }
                     int64_t x;
@@ -536,7 +631,7 @@ sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup 
                        sk_error *err)
 {
     *out = NULL;
-    ply_header *h = calloc(1, sizeof *h);
+    ply_header *h = sk__calloc_array(1, sizeof *h);
     if (!h)
         return sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
     ply_reader r;
@@ -584,9 +679,15 @@ sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup 
         r.end = r.base + size;
         st = read_binary(&r);
     }
+    if (!st && h->has_texcoord && r.s->num_faces > 0 &&
+        sk_soup_set_corner_uvs(r.s, r.s->face_offsets[r.s->num_faces], r.cuv, r.ccorner))
+        st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
 done:
-    free(r.idx);
-    free(h);
+    sk__free(r.idx);
+    sk__free(r.tc);
+    sk__free(r.cuv);
+    sk__free(r.ccorner);
+    sk__free(h);
     if (st) {
         sk_soup_destroy(&r.s);
         return st;
@@ -615,13 +716,44 @@ static void put_f64(sk__out *o, double d, bool ascii, bool first)
     }
 }
 
+static void put_texcoord(sk__out *o, const sk_soup *s, uint32_t a, uint32_t b, bool ascii,
+                         bool wide_count)
+{
+    bool all = true;
+    for (uint32_t k = a; k < b; ++k)
+        all = all && s->corner_uv[k] != SK_INVALID;
+    uint32_t n = all ? 2 * (b - a) : 0;
+    if (ascii) {
+        sk__out_char(o, ' ');
+        sk__out_uint(o, n);
+    } else if (sk__out_room(o, 4)) {
+        unsigned char *q = (unsigned char *)o->buf + o->len;
+        if (wide_count) {
+            sk__put_le32(q, n);
+            o->len += 4;
+        } else {
+            *q = (unsigned char)n;
+            o->len += 1;
+        }
+    }
+    if (!all)
+        return;
+    for (uint32_t k = a; k < b; ++k)
+        for (int j = 0; j < 2; ++j)
+            put_f64(o, s->wedge_uvs[2 * (size_t)s->corner_uv[k] + (size_t)j], ascii, false);
+}
+
 void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool ascii)
 {
     size_t max_face = 0;
     for (size_t f = 0; f < s->num_faces; ++f)
         if (sk_soup_face_size(s, f) > max_face)
             max_face = sk_soup_face_size(s, f);
-    bool wide_count = max_face > 255;
+    /* per-corner uvs as MeshLab's face list `texcoord` (u v per corner), doubles so that a round
+     * trip keeps every bit; a face with a corner lacking one gets an empty list */
+    const uint32_t *cuv = uvs ? s->corner_uv : NULL;
+    bool vuv = uvs && s->uvs;
+    bool wide_count = max_face > (cuv ? 127 : 255);
     bool wide_index = s->num_vertices > INT32_MAX;
     sk__out_str(o, "ply\n");
     sk__out_str(o, ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n");
@@ -630,20 +762,23 @@ void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool as
     sk__out_str(o, "\nproperty double x\nproperty double y\nproperty double z\n");
     if (normals)
         sk__out_str(o, "property double nx\nproperty double ny\nproperty double nz\n");
-    if (uvs)
+    if (vuv)
         sk__out_str(o, "property double s\nproperty double t\n");
     sk__out_str(o, "element face ");
     sk__out_uint(o, s->num_faces);
     sk__out_str(o, wide_count ? "\nproperty list uint " : "\nproperty list uchar ");
-    sk__out_str(o, wide_index ? "uint vertex_indices\nend_header\n"
-                              : "int vertex_indices\nend_header\n");
+    sk__out_str(o, wide_index ? "uint vertex_indices\n" : "int vertex_indices\n");
+    if (cuv)
+        sk__out_str(o, wide_count ? "property list uint double texcoord\n"
+                                  : "property list uchar double texcoord\n");
+    sk__out_str(o, "end_header\n");
     for (size_t v = 0; v < s->num_vertices && !o->failed; ++v) {
         for (int k = 0; k < 3; ++k)
             put_f64(o, s->positions[3 * v + (size_t)k], ascii, k == 0);
         if (normals)
             for (int k = 0; k < 3; ++k)
                 put_f64(o, s->normals[3 * v + (size_t)k], ascii, false);
-        if (uvs)
+        if (vuv)
             for (int k = 0; k < 2; ++k)
                 put_f64(o, s->uvs[2 * v + (size_t)k], ascii, false);
         if (ascii)
@@ -657,6 +792,8 @@ void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool as
                 sk__out_char(o, ' ');
                 sk__out_uint(o, s->face_indices[k]);
             }
+            if (cuv)
+                put_texcoord(o, s, a, b, true, wide_count);
             sk__out_char(o, '\n');
             continue;
         }
@@ -672,5 +809,7 @@ void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool as
         for (uint32_t k = a; k < b; ++k, q += 4)
             sk__put_le32(q, s->face_indices[k]);
         o->len = (size_t)((char *)q - o->buf);
+        if (cuv)
+            put_texcoord(o, s, a, b, false, wide_count);
     }
 }

@@ -13,7 +13,8 @@
  * Writing: polygons are fan-triangulated, facet normals computed from the corners (zero for a
  * degenerate triangle). Binary coordinates are float32 (STL has no other type); ascii ones are
  * written with enough digits to read back the same doubles. */
-#include "io/io_internal.h"
+#include "io/formats.h"
+#include "io/lexer.h"
 
 #include <float.h>
 #include <math.h>
@@ -76,7 +77,7 @@ static bool vmap_grow(vmap *m)
             i = (i + 1) & (cap - 1);
         slots[i] = (uint32_t)v + 1;
     }
-    free(m->slots);
+    sk__free(m->slots);
     m->slots = slots;
     m->cap = cap;
     return true;
@@ -155,13 +156,13 @@ static sk_status read_binary(const unsigned char *d, size_t size, const char *na
         if (sk_soup_push_face(s, idx, 3))
             goto nomem;
     }
-    free(m.slots);
+    sk__free(m.slots);
     *out = s;
     return SK_OK;
 nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
 fail:
-    free(m.slots);
+    sk__free(m.slots);
     sk_soup_destroy(&s);
     return st;
 }
@@ -286,15 +287,15 @@ static sk_status read_ascii(const void *data, size_t size, const char *name, sk_
             goto nomem;
         ++facet;
     }
-    free(idx);
-    free(m.slots);
+    sk__free(idx);
+    sk__free(m.slots);
     *out = s;
     return SK_OK;
 nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
 fail:
-    free(idx);
-    free(m.slots);
+    sk__free(idx);
+    sk__free(m.slots);
     sk_soup_destroy(&s);
     return st;
 }

@@ -1,6 +1,6 @@
 /* Shared parsing and output helpers of the mesh file formats: error messages with line numbers or
  * byte offsets, exact number parsing, and the output sink. */
-#include "io/io_internal.h"
+#include "io/lexer.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -156,112 +156,6 @@ sk__num sk__parse_double(const char **pp, const char *end, double *out)
         return SK__NUM_NONFINITE;
     *out = d;
     return SK__NUM_OK;
-}
-
-/* ---------------------------------------------------------------------------------------------
- * Output sink
- * ------------------------------------------------------------------------------------------- */
-
-#define SK__OUT_FLUSH (1u << 20)
-
-void sk__out_flush(sk__out *o)
-{
-    if (!o->fp || o->failed || o->len == 0)
-        return;
-    if (fwrite(o->buf, 1, o->len, o->fp) != o->len)
-        o->failed = SK_ERR_IO;
-    o->len = 0;
-}
-
-bool sk__out_room(sk__out *o, size_t n)
-{
-    if (o->failed)
-        return false;
-    if (o->cap - o->len >= n)
-        return true;
-    if (o->fp && o->len > 0) {
-        sk__out_flush(o);
-        if (o->failed)
-            return false;
-        if (o->cap >= n)
-            return true;
-    }
-    size_t cap = o->cap ? o->cap : 4096;
-    while (cap - o->len < n) {
-        if (cap > SIZE_MAX / 2) {
-            o->failed = SK_ERR_NOMEM;
-            return false;
-        }
-        cap *= 2;
-    }
-    char *b = realloc(o->buf, cap);
-    if (!b) {
-        o->failed = SK_ERR_NOMEM;
-        return false;
-    }
-    o->buf = b;
-    o->cap = cap;
-    return true;
-}
-
-void sk__out_bytes(sk__out *o, const void *data, size_t n)
-{
-    if (n && sk__out_room(o, n)) {
-        memcpy(o->buf + o->len, data, n);
-        o->len += n;
-    }
-}
-
-void sk__out_str(sk__out *o, const char *s) { sk__out_bytes(o, s, strlen(s)); }
-
-void sk__out_char(sk__out *o, char c)
-{
-    if (sk__out_room(o, 1))
-        o->buf[o->len++] = c;
-}
-
-void sk__out_double(sk__out *o, double v)
-{
-    if (!sk__out_room(o, 32))
-        return;
-    char *b = o->buf + o->len;
-    int n = 0;
-    if (v == 0.0) {
-        /* keeps the sign of -0 */
-        n = signbit(v) ? 2 : 1;
-        memcpy(b, "-0", 2);
-        if (n == 1)
-            b[0] = '0';
-    } else if (fabs(v) < 1e15 && v == (double)(int64_t)v) { /* range first: the cast */
-        n = snprintf(b, 32, "%lld", (long long)v);
-    } else {
-        char t[32]; /* formatted locally: gcc -O3 -fsanitize warns about b otherwise */
-        for (int prec = 15; prec <= 17; ++prec) {
-            n = snprintf(t, sizeof t, "%.*g", prec, v);
-            if (prec == 17 || strtod(t, NULL) == v)
-                break;
-        }
-        if (n > 0 && n < 32)
-            memcpy(b, t, (size_t)n);
-        else
-            n = 0;
-    }
-    if (n > 0)
-        o->len += (size_t)n;
-}
-
-void sk__out_uint(sk__out *o, uint64_t v)
-{
-    char tmp[24];
-    int n = 0;
-    do {
-        tmp[n++] = (char)('0' + v % 10);
-        v /= 10;
-    } while (v);
-    if (!sk__out_room(o, (size_t)n))
-        return;
-    for (int i = n - 1; i >= 0; --i)
-        o->buf[o->len++] = tmp[i];
 }
 
 sk_status sk__check_soup_for_write(const sk_soup *s, sk_error *err)

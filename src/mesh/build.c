@@ -162,16 +162,17 @@ sk_status sk_mesh_from_faces(size_t nv, const double *pos, size_t nf, const uint
     }
     /* two fans at one vertex: the fan walk from v_halfedge misses edges */
     sk_error cerr;
-    if (sk_mesh_check(m, &cerr) != SK_OK) {
-        st = sk__fail(err, SK_ERR_TOPOLOGY, "%s", cerr.message);
+    sk_status cst = sk_mesh_check(m, &cerr);
+    if (cst != SK_OK) { /* out of memory stays out of memory */
+        st = sk__fail(err, cst == SK_ERR_NOMEM ? SK_ERR_NOMEM : SK_ERR_TOPOLOGY, "%s", cerr.message);
         goto done;
     }
 done:
-    free(keys);
-    free(corner);
-    free(cface);
-    free(ch);
-    free(bout);
+    sk__free(keys);
+    sk__free(corner);
+    sk__free(cface);
+    sk__free(ch);
+    sk__free(bout);
     if (st)
         sk_mesh_destroy(&m);
     *out = m;
@@ -193,5 +194,28 @@ sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
         memcpy(m->normals, s->normals, s->num_vertices * 3 * sizeof(double));
     if (s->uvs)
         memcpy(m->uvs, s->uvs, s->num_vertices * 2 * sizeof(double));
+    if (s->corner_uv) {
+        /* soup corner c of face f is the half-edge leaving face_indices[c] (build order) */
+        uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
+        if (!hw) {
+            sk_mesh_destroy(out);
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        }
+        for (size_t h = 0; h < m->num_halfedges; ++h)
+            hw[h] = SK_INVALID;
+        for (size_t f = 0; f < s->num_faces; ++f) {
+            uint32_t h = m->f_halfedge[f];
+            for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
+                hw[h] = s->corner_uv[c];
+                h = m->h_next[h];
+            }
+        }
+        sk_status ws = sk_mesh_set_wedge_uvs(m, s->num_wedge_uvs, s->wedge_uvs, hw, err);
+        sk__free(hw);
+        if (ws) {
+            sk_mesh_destroy(out);
+            return ws;
+        }
+    }
     return SK_OK;
 }

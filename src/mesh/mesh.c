@@ -38,7 +38,8 @@ sk_status sk_mesh_reserve(sk_mesh *m, size_t nv, size_t nh, size_t nf, sk_error 
             (st = grow((void **)&m->h_next, cap, sizeof(uint32_t))) ||
             (st = grow((void **)&m->h_prev, cap, sizeof(uint32_t))) ||
             (st = grow((void **)&m->h_face, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->e_deleted, cap / 2, 1)))
+            (st = grow((void **)&m->e_deleted, cap / 2, 1)) ||
+            (m->h_wedge_uv && (st = grow((void **)&m->h_wedge_uv, cap, sizeof(uint32_t)))))
             goto fail;
         m->cap_halfedges = cap;
     }
@@ -56,7 +57,7 @@ fail:
 
 sk_mesh *sk__mesh_alloc(size_t nv, size_t nh, size_t nf, sk_error *err)
 {
-    sk_mesh *m = calloc(1, sizeof *m);
+    sk_mesh *m = sk__calloc_array(1, sizeof *m);
     if (!m) {
         sk__fail(err, SK_ERR_NOMEM, "out of memory");
         return NULL;
@@ -73,19 +74,21 @@ void sk_mesh_destroy(sk_mesh **mesh)
     if (!mesh || !*mesh)
         return;
     sk_mesh *m = *mesh;
-    free(m->positions);
-    free(m->normals);
-    free(m->uvs);
-    free(m->v_halfedge);
-    free(m->h_vertex);
-    free(m->h_next);
-    free(m->h_prev);
-    free(m->h_face);
-    free(m->f_halfedge);
-    free(m->v_deleted);
-    free(m->e_deleted);
-    free(m->f_deleted);
-    free(m);
+    sk__free(m->positions);
+    sk__free(m->normals);
+    sk__free(m->uvs);
+    sk__free(m->v_halfedge);
+    sk__free(m->h_vertex);
+    sk__free(m->h_next);
+    sk__free(m->h_prev);
+    sk__free(m->h_face);
+    sk__free(m->f_halfedge);
+    sk__free(m->v_deleted);
+    sk__free(m->e_deleted);
+    sk__free(m->f_deleted);
+    sk__free(m->wedge_uvs);
+    sk__free(m->h_wedge_uv);
+    sk__free(m);
     *mesh = NULL;
 }
 
@@ -128,6 +131,8 @@ uint32_t sk_mesh_new_edge(sk_mesh *m)
     m->num_halfedges += 2;
     for (uint32_t i = h; i < h + 2; ++i) {
         m->h_vertex[i] = m->h_next[i] = m->h_prev[i] = m->h_face[i] = SK_INVALID;
+        if (m->h_wedge_uv)
+            m->h_wedge_uv[i] = SK_INVALID;
     }
     m->e_deleted[h / 2] = 0;
     return h;
@@ -174,7 +179,44 @@ sk_status sk_mesh_copy(const sk_mesh *src, sk_mesh **out, sk_error *err)
     m->num_deleted_vertices = src->num_deleted_vertices;
     m->num_deleted_edges = src->num_deleted_edges;
     m->num_deleted_faces = src->num_deleted_faces;
+    if (src->h_wedge_uv &&
+        sk_mesh_set_wedge_uvs(m, src->num_wedge_uvs, src->wedge_uvs, src->h_wedge_uv, err)) {
+        sk_mesh_destroy(&m);
+        return SK_ERR_NOMEM;
+    }
     *out = m;
+    return SK_OK;
+}
+
+sk_status sk_mesh_set_wedge_uvs(sk_mesh *m, size_t n, const double *values,
+                                const uint32_t *h_wedge, sk_error *err)
+{
+    if (!values || !h_wedge) {
+        sk__free(m->wedge_uvs);
+        sk__free(m->h_wedge_uv);
+        m->wedge_uvs = NULL;
+        m->h_wedge_uv = NULL;
+        m->num_wedge_uvs = 0;
+        return SK_OK;
+    }
+    for (size_t h = 0; h < m->num_halfedges; ++h)
+        if (h_wedge[h] != SK_INVALID && h_wedge[h] >= n)
+            return sk__fail(err, SK_ERR_ARG, "half-edge %zu has wedge %u of %zu", h,
+                            (unsigned)h_wedge[h], n);
+    double *v = sk__malloc_array(n ? n : 1, 2 * sizeof(double));
+    uint32_t *i = sk__malloc_array(m->cap_halfedges ? m->cap_halfedges : 1, sizeof(uint32_t));
+    if (!v || !i) {
+        sk__free(v);
+        sk__free(i);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(v, values, 2 * n * sizeof(double));
+    memcpy(i, h_wedge, m->num_halfedges * sizeof(uint32_t));
+    sk__free(m->wedge_uvs);
+    sk__free(m->h_wedge_uv);
+    m->wedge_uvs = v;
+    m->h_wedge_uv = i;
+    m->num_wedge_uvs = n;
     return SK_OK;
 }
 
@@ -214,9 +256,9 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
     uint32_t *hmap = sk__malloc_array(nh, sizeof(uint32_t));
     uint32_t *fmap = sk__malloc_array(nf, sizeof(uint32_t));
     if (!vmap || !hmap || !fmap) {
-        free(vmap);
-        free(hmap);
-        free(fmap);
+        sk__free(vmap);
+        sk__free(hmap);
+        sk__free(fmap);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory compacting the mesh");
     }
     uint32_t k = 0;
@@ -259,6 +301,8 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
         m->h_next[t] = remap(hmap, m->h_next[h]);
         m->h_prev[t] = remap(hmap, m->h_prev[h]);
         m->h_face[t] = remap(fmap, m->h_face[h]);
+        if (m->h_wedge_uv)
+            m->h_wedge_uv[t] = m->h_wedge_uv[h];
         m->e_deleted[t / 2] = 0;
     }
     for (size_t f = 0; f < nf; ++f) {
@@ -276,9 +320,9 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
         memcpy(vmap_out, vmap, nv * sizeof(uint32_t));
     if (fmap_out)
         memcpy(fmap_out, fmap, nf * sizeof(uint32_t));
-    free(vmap);
-    free(hmap);
-    free(fmap);
+    sk__free(vmap);
+    sk__free(hmap);
+    sk__free(fmap);
     return SK_OK;
 }
 
@@ -356,7 +400,7 @@ sk_status sk_mesh_check(const sk_mesh *m, sk_error *err)
         else if (nb > 1 || (nb == 1 && m->h_face[h0] != SK_INVALID))
             st = sk__fail(err, SK_ERR_TOPOLOGY, "vertex %zu: bad boundary half-edge", v);
     }
-    free(deg);
+    sk__free(deg);
     return st;
 }
 
@@ -371,7 +415,7 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
         return st;
     uint32_t *vmap = sk__malloc_array(m->num_vertices, sizeof(uint32_t));
     uint32_t buf[64];
-    uint32_t *idx = buf;
+    uint32_t *idx = buf, *cw = NULL;
     size_t cap = 64;
     if (!vmap) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -401,7 +445,7 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
                 goto done;
             }
             if (idx != buf)
-                free(idx);
+                sk__free(idx);
             idx = p;
             cap = n;
         }
@@ -415,10 +459,35 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
             goto done;
         }
     }
+    if (m->h_wedge_uv) {
+        /* corners in the order just pushed: alive faces, half-edges from f_halfedge */
+        size_t nc = s->face_offsets[s->num_faces];
+        cw = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+        if (!cw) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        size_t c = 0;
+        for (size_t f = 0; f < m->num_faces; ++f) {
+            if (m->f_deleted[f])
+                continue;
+            uint32_t h0 = m->f_halfedge[f], h = h0;
+            do {
+                cw[c++] = m->h_wedge_uv[h];
+                h = m->h_next[h];
+            } while (h != h0);
+        }
+        if ((st = sk_soup_set_corner_uvs(s, m->num_wedge_uvs, m->wedge_uvs, cw))) {
+            st = sk__fail(err, st, "per-corner uvs: %s", st == SK_ERR_NOMEM ? "out of memory"
+                                                                            : "index out of range");
+            goto done;
+        }
+    }
 done:
     if (idx != buf)
-        free(idx);
-    free(vmap);
+        sk__free(idx);
+    sk__free(cw);
+    sk__free(vmap);
     if (st)
         sk_soup_destroy(&s);
     *out = s;

@@ -9,7 +9,7 @@ sk_status sk_soup_create(size_t reserve_vertices, size_t reserve_faces, size_t r
                          bool has_normals, bool has_uvs, sk_soup **out, sk_error *err)
 {
     *out = NULL;
-    sk_soup *s = calloc(1, sizeof *s);
+    sk_soup *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     s->cap_vertices = reserve_vertices ? reserve_vertices : 16;
@@ -38,12 +38,16 @@ void sk_soup_destroy(sk_soup **soup)
     if (!soup || !*soup)
         return;
     sk_soup *s = *soup;
-    free(s->positions);
-    free(s->normals);
-    free(s->uvs);
-    free(s->face_offsets);
-    free(s->face_indices);
-    free(s);
+    sk__free(s->positions);
+    sk__free(s->normals);
+    sk__free(s->uvs);
+    sk__free(s->face_offsets);
+    sk__free(s->face_indices);
+    sk__free(s->wedge_uvs);
+    sk__free(s->wedge_normals);
+    sk__free(s->corner_uv);
+    sk__free(s->corner_normal);
+    sk__free(s);
     *soup = NULL;
 }
 
@@ -138,4 +142,49 @@ sk_status sk_soup_add_uvs(sk_soup *s)
         return SK_OK;
     s->uvs = sk__calloc_array(s->cap_vertices, 2 * sizeof(double));
     return s->uvs ? SK_OK : SK_ERR_NOMEM;
+}
+
+static sk_status set_corner(sk_soup *s, size_t dim, size_t n, const double *values,
+                            const uint32_t *corner, size_t *num, double **vals, uint32_t **idx)
+{
+    size_t nc = s->face_offsets[s->num_faces];
+    if (!values || !corner) {
+        sk__free(*vals);
+        sk__free(*idx);
+        *vals = NULL;
+        *idx = NULL;
+        *num = 0;
+        return SK_OK;
+    }
+    for (size_t c = 0; c < nc; ++c)
+        if (corner[c] != SK_INVALID && corner[c] >= n)
+            return SK_ERR_ARG;
+    double *v = sk__malloc_array(n ? n : 1, dim * sizeof(double));
+    uint32_t *i = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+    if (!v || !i) {
+        sk__free(v);
+        sk__free(i);
+        return SK_ERR_NOMEM;
+    }
+    memcpy(v, values, n * dim * sizeof(double));
+    memcpy(i, corner, nc * sizeof(uint32_t));
+    sk__free(*vals);
+    sk__free(*idx);
+    *vals = v;
+    *idx = i;
+    *num = n;
+    return SK_OK;
+}
+
+sk_status sk_soup_set_corner_uvs(sk_soup *s, size_t n, const double *values,
+                                 const uint32_t *corner)
+{
+    return set_corner(s, 2, n, values, corner, &s->num_wedge_uvs, &s->wedge_uvs, &s->corner_uv);
+}
+
+sk_status sk_soup_set_corner_normals(sk_soup *s, size_t n, const double *values,
+                                     const uint32_t *corner)
+{
+    return set_corner(s, 3, n, values, corner, &s->num_wedge_normals, &s->wedge_normals,
+                      &s->corner_normal);
 }

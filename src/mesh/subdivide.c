@@ -135,11 +135,11 @@ static sk_status subdivide_once(const sk_mesh *m, bool loop, sk_mesh **out, sk_e
     if (r->num_deleted_vertices && (st = sk_mesh_compact(r, NULL, NULL, err)))
         goto done;
 done:
-    free(pos);
-    free(nrm);
-    free(uv);
-    free(off);
-    free(idx);
+    sk__free(pos);
+    sk__free(nrm);
+    sk__free(uv);
+    sk__free(off);
+    sk__free(idx);
     if (st)
         sk_mesh_destroy(&r);
     *out = r;

@@ -30,9 +30,9 @@ void sk__uf_union(uint32_t *parent, uint32_t a, uint32_t b)
 
 void sk_loops_free(sk_loops *loops)
 {
-    free(loops->offsets);
-    free(loops->halfedges);
-    free(loops->lengths);
+    sk__free(loops->offsets);
+    sk__free(loops->halfedges);
+    sk__free(loops->lengths);
     loops->offsets = NULL;
     loops->halfedges = NULL;
     loops->lengths = NULL;
@@ -52,7 +52,7 @@ sk_status sk_mesh_boundary_loops(const sk_mesh *m, sk_loops *loops, sk_error *er
     loops->offsets = sk__malloc_array(nb + 1, sizeof(uint32_t));
     loops->lengths = sk__malloc_array(nb, sizeof(double));
     if (!seen || !loops->halfedges || !loops->offsets || !loops->lengths) {
-        free(seen);
+        sk__free(seen);
         sk_loops_free(loops);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
@@ -73,7 +73,7 @@ sk_status sk_mesh_boundary_loops(const sk_mesh *m, sk_loops *loops, sk_error *er
         loops->offsets[++count] = k;
     }
     loops->count = count;
-    free(seen);
+    sk__free(seen);
     return SK_OK;
 }
 
@@ -85,8 +85,8 @@ sk_status sk_mesh_topology(const sk_mesh *m, sk_topology *top, uint32_t *face_co
     uint32_t *cid = sk__malloc_array(nv, sizeof(uint32_t));
     long *chi = NULL, *bnd = NULL;
     if (!parent || !cid) {
-        free(parent);
-        free(cid);
+        sk__free(parent);
+        sk__free(cid);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     for (size_t v = 0; v < nv; ++v)
@@ -100,13 +100,13 @@ sk_status sk_mesh_topology(const sk_mesh *m, sk_topology *top, uint32_t *face_co
         if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && sk__uf_find(parent, (uint32_t)v) == v)
             cid[v] = (uint32_t)nc++;
     }
-    chi = calloc(nc ? nc : 1, sizeof(long));
-    bnd = calloc(nc ? nc : 1, sizeof(long));
+    chi = sk__calloc_array(nc ? nc : 1, sizeof(long));
+    bnd = sk__calloc_array(nc ? nc : 1, sizeof(long));
     if (!chi || !bnd) {
-        free(parent);
-        free(cid);
-        free(chi);
-        free(bnd);
+        sk__free(parent);
+        sk__free(cid);
+        sk__free(chi);
+        sk__free(bnd);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     top->vertices = top->edges = top->faces = top->boundary_loops = 0;
@@ -146,10 +146,10 @@ sk_status sk_mesh_topology(const sk_mesh *m, sk_topology *top, uint32_t *face_co
         top->euler_characteristic += chi[c];
         top->genus += (2 - chi[c] - bnd[c]) / 2; /* orientable: chi = 2 - 2g - b */
     }
-    free(parent);
-    free(cid);
-    free(chi);
-    free(bnd);
+    sk__free(parent);
+    sk__free(cid);
+    sk__free(chi);
+    sk__free(bnd);
     return st;
 }
 
@@ -196,6 +196,29 @@ void sk_mesh_bbox(const sk_mesh *m, double lo[3], double hi[3])
             hi[k] = x > hi[k] ? x : hi[k];
         }
     }
+}
+
+sk_status sk_mesh_check_scale(const sk_mesh *m, sk_error *err)
+{
+    double lo[3], hi[3];
+    sk_mesh_bbox(m, lo, hi);
+    if (lo[0] > hi[0])
+        return SK_OK; /* no vertex */
+    double big = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        big = fabs(lo[k]) > big ? fabs(lo[k]) : big;
+        big = fabs(hi[k]) > big ? fabs(hi[k]) : big;
+    }
+    if (!(big <= SK_COORD_MAX))
+        return sk__fail(err, SK_ERR_TOPOLOGY,
+                        "a coordinate of magnitude %.3g is out of the supported range (at most "
+                        "%.0e): rescale the mesh", big, SK_COORD_MAX);
+    double d = sk__dist3(lo, hi);
+    if (d > 0.0 && d < SK_COORD_MIN_SIZE)
+        return sk__fail(err, SK_ERR_TOPOLOGY,
+                        "the mesh is %.3g across, below the supported size (at least %.0e): "
+                        "rescale the mesh", d, SK_COORD_MIN_SIZE);
+    return SK_OK;
 }
 
 double sk_mesh_diagonal(const sk_mesh *m)

@@ -61,14 +61,14 @@ typedef struct work {
 
 static void work_free(work *w)
 {
-    free(w->face_ok);
-    free(w->cface);
-    free(w->keys);
-    free(w->corner);
-    free(w->parent);
-    free(w->referenced);
-    free(w->on_boundary);
-    free(w->angle_sum);
+    sk__free(w->face_ok);
+    sk__free(w->cface);
+    sk__free(w->keys);
+    sk__free(w->corner);
+    sk__free(w->parent);
+    sk__free(w->referenced);
+    sk__free(w->on_boundary);
+    sk__free(w->angle_sum);
 }
 
 static inline uint32_t next_corner(const sk_soup *s, const work *w, uint32_t c)
@@ -154,9 +154,9 @@ static sk_status check_duplicates(const sk_soup *s, sk_validation *r, const work
     }
     uint32_t *ta = sk__malloc_array(2 * maxn + 2, sizeof(uint32_t));
     if (!keys || !ids || !ta) {
-        free(keys);
-        free(ids);
-        free(ta);
+        sk__free(keys);
+        sk__free(ids);
+        sk__free(ta);
         return SK_ERR_NOMEM;
     }
     uint32_t *tb = ta + maxn + 1;
@@ -194,26 +194,28 @@ static sk_status check_duplicates(const sk_soup *s, sk_validation *r, const work
         }
         i = j;
     }
-    free(keys);
-    free(ids);
-    free(ta);
+    sk__free(keys);
+    sk__free(ids);
+    sk__free(ta);
     return st;
 }
 
 /* Counts boundary loops by walking boundary edges: at a vertex with several outgoing boundary
  * edges (non-manifold), any unused one is taken. comp_loops[c] counts loops per component. */
-static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, const uint32_t *vcomp,
-                               long *comp_loops)
+/* nk: the number of corners in the edge table (only usable faces' corners; the rest of w->keys
+ * and w->corner is not initialised). */
+static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, size_t nk,
+                               const uint32_t *vcomp, long *comp_loops)
 {
-    size_t nv = s->num_vertices, nc = s->face_offsets[s->num_faces];
+    size_t nv = s->num_vertices, nc = nk;
     /* boundary directed edges: reverse of the boundary corner's edge, from next(c) to c */
     uint32_t *start = sk__calloc_array(nv + 1, sizeof(uint32_t));
     uint32_t *list = sk__malloc_array(r->boundary_edges + 1, sizeof(uint32_t));
     uint8_t *used = sk__calloc_array(r->boundary_edges + 1, 1);
     if (!start || !list || !used) {
-        free(start);
-        free(list);
-        free(used);
+        sk__free(start);
+        sk__free(list);
+        sk__free(used);
         return SK_ERR_NOMEM;
     }
     for (size_t i = 0; i < nc;) {
@@ -228,9 +230,9 @@ static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, cons
         start[v + 1] += start[v];
     uint32_t *fill = sk__malloc_array(nv + 1, sizeof(uint32_t));
     if (!fill) {
-        free(start);
-        free(list);
-        free(used);
+        sk__free(start);
+        sk__free(list);
+        sk__free(used);
         return SK_ERR_NOMEM;
     }
     memcpy(fill, start, (nv + 1) * sizeof(uint32_t));
@@ -265,10 +267,10 @@ static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, cons
             comp_loops[vcomp[v0]]++;
         }
     }
-    free(start);
-    free(list);
-    free(used);
-    free(fill);
+    sk__free(start);
+    sk__free(list);
+    sk__free(used);
+    sk__free(fill);
     return SK_OK;
 }
 
@@ -372,7 +374,7 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
         for (size_t v = 0; v < nv; ++v)
             if (fans[v] > 1)
                 note(&r->non_manifold_vertices, (uint32_t)v, fans[v]);
-        free(fans);
+        sk__free(fans);
     }
 
     /* components: union faces with their vertices */
@@ -400,9 +402,9 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
         if (w.referenced[v])
             vcomp[v] = vcomp[sk__uf_find(w.parent, (uint32_t)v)];
     r->components = ncomp;
-    cchi = calloc(ncomp + 1, sizeof(long));
-    cloops = calloc(ncomp + 1, sizeof(long));
-    cbad = calloc(ncomp + 1, 1);
+    cchi = sk__calloc_array(ncomp + 1, sizeof(long));
+    cloops = sk__calloc_array(ncomp + 1, sizeof(long));
+    cbad = sk__calloc_array(ncomp + 1, 1);
     if (!cchi || !cloops || !cbad)
         goto nomem;
     size_t nref = 0, nfok = 0;
@@ -427,7 +429,7 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
             nfok++;
         }
     r->euler_characteristic = (long)nref - (long)r->edges + (long)nfok;
-    if ((st = walk_boundary(s, r, &w, vcomp, cloops)))
+    if ((st = walk_boundary(s, r, &w, nk, vcomp, cloops)))
         goto nomem;
     r->genus = 0;
     r->genus_defined = r->non_manifold_vertices.count == 0;
@@ -486,10 +488,10 @@ nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "out of memory validating the mesh");
 done:
     work_free(&w);
-    free(vbad);
-    free(vcomp);
-    free(cchi);
-    free(cloops);
-    free(cbad);
+    sk__free(vbad);
+    sk__free(vcomp);
+    sk__free(cchi);
+    sk__free(cloops);
+    sk__free(cbad);
     return st;
 }

@@ -77,7 +77,7 @@ static sk_status repair_corners(const sk_mesh *m, const uint32_t *rot, size_t nb
         if (!changed)
             break;
     }
-    free(pos);
+    sk__free(pos);
     return SK_OK;
 }
 
@@ -187,8 +187,8 @@ sk_status sk_param_boundary(const sk_mesh *m, const sk_boundary_opts *opts, doub
         st = sk__fail(err, SK_ERR_ARG, "unknown boundary shape %d", (int)o.shape);
     }
 done:
-    free(loop);
-    free(t);
-    free(rot);
+    sk__free(loop);
+    sk__free(t);
+    sk__free(rot);
     return st;
 }

@@ -93,8 +93,11 @@ sk_status sk_param_check_disk(const sk_mesh *m, sk_error *err)
             return sk__fail(err, SK_ERR_TOPOLOGY, "vertex %zu has a NaN or infinite coordinate",
                             v);
     }
+    sk_status st = sk_mesh_check_scale(m, err);
+    if (st)
+        return st;
     sk_topology top;
-    sk_status st = sk_mesh_topology(m, &top, NULL, err);
+    st = sk_mesh_topology(m, &top, NULL, err);
     if (st)
         return st;
     if (top.components != 1)

@@ -108,8 +108,8 @@ sk_status sk__weights_floater(const sk_mesh *m, double *w, sk_error *err)
             for (size_t k = 0; k < d; ++k)
                 w[hs[k]] = lambda[k] / (double)d;
         }
-        free(q);
-        free(hs);
+        sk__free(q);
+        sk__free(hs);
     }
     if (fail)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");

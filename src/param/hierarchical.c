@@ -176,7 +176,7 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         /* the boundary of every level is fixed where the finest boundary map puts it */
         fixed_uv = sk__calloc_array(2 * nfine, sizeof(double));
         level_fixed = sk__malloc_array(2 * nfine, sizeof(double));
-        finest_id = calloc(L, sizeof *finest_id);
+        finest_id = sk__calloc_array(L, sizeof *finest_id);
         if (!fixed_uv || !level_fixed || !finest_id) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
             goto done;
@@ -232,13 +232,13 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
 done:
     if (finest_id) {
         for (size_t l = 0; l < s.num_levels; ++l)
-            free(finest_id[l]);
-        free(finest_id);
+            sk__free(finest_id[l]);
+        sk__free(finest_id);
     }
-    free(fixed_uv);
-    free(level_fixed);
-    free(cur);
-    free(next);
+    sk__free(fixed_uv);
+    sk__free(level_fixed);
+    sk__free(cur);
+    sk__free(next);
     sk_mesh_destroy(&m);
     sk_hierarchy_destroy(&hier);
     if (stats)
@@ -252,6 +252,6 @@ void sk_hparam_stats_release(sk_hparam_stats *stats)
 {
     if (!stats)
         return;
-    free(stats->levels);
+    sk__free(stats->levels);
     memset(stats, 0, sizeof *stats);
 }

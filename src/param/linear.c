@@ -192,10 +192,10 @@ done:
     sk_solver_destroy(&solver);
     sk_sparse_destroy(&a);
     sk_triplets_free(&t);
-    free(idx);
-    free(is_fixed);
-    free(rhs);
-    free(x);
+    sk__free(idx);
+    sk__free(is_fixed);
+    sk__free(rhs);
+    sk__free(x);
     return st;
 }
 
@@ -266,7 +266,7 @@ sk_status sk_param_linear(const sk_mesh *m, const sk_param_opts *opts, double *u
     if (st == SK_OK)
         st = sk__progress(o.progress, o.progress_user, 1.0, err);
 done:
-    free(w);
+    sk__free(w);
     s.total_seconds = sk_seconds() - t0;
     if (stats)
         *stats = s;

@@ -110,6 +110,7 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
     }
     if (n == 0)
         goto done;
+    bool add_failed = false; /* a dropped entry would give wrong UVs, not an error */
 /* adds Q[(va, ca)][(vb, cb)] += q (ca, cb: 0 for u, 1 for v); pinned columns go to the rhs */
 #define ADD(va, ca, vb, cb, q)                                                                     \
     do {                                                                                           \
@@ -118,8 +119,8 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
             uint32_t r_ = 2 * ia_ + (ca);                                                          \
             if (ib_ == SK_INVALID)                                                                 \
                 rhs[r_] -= (q) * uv[2 * (size_t)(vb) + (cb)];                                      \
-            else if (2 * ib_ + (cb) <= r_)                                                         \
-                sk_triplets_add(&t, r_, 2 * ib_ + (cb), (q));                                      \
+            else if (2 * ib_ + (cb) <= r_ && sk_triplets_add(&t, r_, 2 * ib_ + (cb), (q)))         \
+                add_failed = true;                                                                 \
         }                                                                                          \
     } while (0)
     /* Dirichlet part, per triangle and edge: c/2 (x_i - x_j)^2 for u and for v */
@@ -153,6 +154,10 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
         ADD(va, 1, vb, 0, 0.5);
     }
 #undef ADD
+    if (add_failed) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
     st = sk_sparse_from_triplets(N, &t, SK_SPARSE_LOWER, &a, err);
     sk_triplets_free(&t);
     if (st)
@@ -181,9 +186,9 @@ done:
     sk_solver_destroy(&solver);
     sk_sparse_destroy(&a);
     sk_triplets_free(&t);
-    free(idx);
-    free(rhs);
-    free(x);
+    sk__free(idx);
+    sk__free(rhs);
+    sk__free(x);
     s.total_seconds = sk_seconds() - t0;
     if (stats)
         *stats = s;

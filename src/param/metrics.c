@@ -146,7 +146,7 @@ static sk_status boundary_intersections(const sk_mesh *m, const double *uv, size
                 n++;
         }
     }
-    free(e);
+    sk__free(e);
     *count = n;
     return SK_OK;
 }

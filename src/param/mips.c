@@ -29,8 +29,8 @@ static sk_status colouring_build(const sk__mips_ctx *c, colouring *cl, sk_error 
     uint32_t *color = sk__malloc_array(c->nv ? c->nv : 1, sizeof(uint32_t));
     cl->order = sk__malloc_array(c->nv ? c->nv : 1, sizeof(uint32_t));
     if (!color || !cl->order) {
-        free(color);
-        free(cl->order);
+        sk__free(color);
+        sk__free(cl->order);
         cl->order = NULL;
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
@@ -63,7 +63,7 @@ static sk_status colouring_build(const sk__mips_ctx *c, colouring *cl, sk_error 
         if (color[v] != SK_INVALID)
             cl->order[fill[color[v]]++] = (uint32_t)v;
     cl->serial_last = cl->count == SK__MIPS_MAX_COLORS;
-    free(color);
+    sk__free(color);
     return SK_OK;
 }
 
@@ -188,7 +188,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
 done:
     if (use_global)
         sk__mips_global_free(&G);
-    free(cl.order);
+    sk__free(cl.order);
     sk__mips_ctx_free(&c);
     if (stats && ran)
         *stats = s;

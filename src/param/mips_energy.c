@@ -20,11 +20,11 @@
 
 void sk__mips_ctx_free(sk__mips_ctx *c)
 {
-    free(c->tri);
-    free(c->cot);
-    free(c->vt_start);
-    free(c->rec);
-    free(c->movable);
+    sk__free(c->tri);
+    sk__free(c->cot);
+    sk__free(c->vt_start);
+    sk__free(c->rec);
+    sk__free(c->movable);
 }
 
 sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
@@ -97,7 +97,7 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
                         c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3]};
         c->rec[fill[c->tri[i]]++] = r;
     }
-    free(fill);
+    sk__free(fill);
     for (size_t v = 0; v < nv; ++v)
         c->movable[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
                         !(fixed_boundary && sk_is_boundary_v(m, (uint32_t)v));

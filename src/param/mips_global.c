@@ -27,11 +27,11 @@ void sk__mips_global_free(sk__mips_global *G)
 {
     sk_sparse_destroy(&G->P);
     sk_solver_destroy(&G->solver);
-    free(G->nb_start);
-    free(G->nb);
-    free(G->g);
-    free(G->d);
-    free(G->x0);
+    sk__free(G->nb_start);
+    sk__free(G->nb);
+    sk__free(G->g);
+    sk__free(G->d);
+    sk__free(G->x0);
     memset(G, 0, sizeof *G);
 }
 
@@ -55,7 +55,7 @@ sk_status sk__mips_global_init(sk__mips_global *G, const sk__mips_ctx *c, bool f
     G->g = sk__malloc_array(n2 + 1, sizeof(double));
     G->d = sk__malloc_array(n2 + 1, sizeof(double));
     G->x0 = sk__malloc_array(n2 + 1, sizeof(double));
-    G->P = calloc(1, sizeof *G->P);
+    G->P = sk__calloc_array(1, sizeof *G->P);
     if (!G->nb_start || !G->nb || !G->g || !G->d || !G->x0 || !G->P)
         goto nomem;
     size_t fill = 0;
@@ -103,7 +103,11 @@ sk_status sk__mips_global_init(sk__mips_global *G, const sk__mips_ctx *c, bool f
         }
     }
     P->colptr[n2] = (int)k;
-    return sk_solver_create(P, SK_SOLVER_CHOLESKY, &G->solver, err);
+    /* a failed solver setup frees G too: the caller only frees a G that was made */
+    sk_status st = sk_solver_create(P, SK_SOLVER_CHOLESKY, &G->solver, err);
+    if (st)
+        sk__mips_global_free(G);
+    return st;
 nomem:
     sk__mips_global_free(G);
     return sk__fail(err, SK_ERR_NOMEM, "out of memory");

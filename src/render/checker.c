@@ -1,6 +1,6 @@
 /* Checkerboard texture on the 3D mesh: a small z-buffered rasterizer into a cairo image
  * (orthographic view along opts->view), uv interpolated per pixel. */
-#include "surfkit/render.h"
+#include "render/render_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -8,12 +8,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
-{
-    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
-                                                              : CAIRO_STATUS_WRITE_ERROR;
-}
 
 sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path,
                             const sk_render_opts *opts, sk_error *err)
@@ -63,7 +57,7 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
     float *zbuf = sk__malloc_array((size_t)W * H, sizeof *zbuf);
     if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS || !zbuf) {
         cairo_surface_destroy(surf);
-        free(zbuf);
+        sk__free(zbuf);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %d x %d picture", W, H);
     }
     cairo_surface_flush(surf);
@@ -121,7 +115,7 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
             }
         }
     }
-    free(zbuf);
+    sk__free(zbuf);
     cairo_surface_mark_dirty(surf);
     if (o.title) {
         cairo_t *cr = cairo_create(surf);
@@ -132,18 +126,5 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
         cairo_show_text(cr, o.title);
         cairo_destroy(cr);
     }
-    sk__atomic_file af;
-    sk_status st = sk__atomic_open(&af, path, err);
-    if (st) {
-        cairo_surface_destroy(surf);
-        return st;
-    }
-    cairo_status_t cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
-    cairo_surface_destroy(surf);
-    if (cs != CAIRO_STATUS_SUCCESS) {
-        sk__atomic_abort(&af);
-        return sk__fail(err, SK_ERR_IO, "%s: cairo could not write the picture: %s",
-                        sk__basename(path), cairo_status_to_string(cs));
-    }
-    return sk__atomic_commit(&af, err);
+    return sk__write_png(surf, path, err);
 }

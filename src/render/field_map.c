@@ -53,8 +53,8 @@ static sk_status prepare(const sk_soup *s, uint32_t **tri_out, size_t *nt_out, d
     uint32_t *tri = sk__malloc_array(3 * nt + 3, sizeof *tri);
     double *nrm = sk__calloc_array(3 * s->num_vertices + 3, sizeof *nrm);
     if (!tri || !nrm) {
-        free(tri);
-        free(nrm);
+        sk__free(tri);
+        sk__free(nrm);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     size_t t = 0;
@@ -84,17 +84,7 @@ static void draw_legend(cairo_t *cr, int x0, int top, int h, double scale, bool 
     double lx = x0 + 30, ly = top + 10, lh = h * 0.6;
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, 12);
-    for (int i = 0; i < 100; ++i) {
-        double rgb[3];
-        sk__ramp(1.0 - (i + 0.5) / 100.0, rgb);
-        cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-        cairo_rectangle(cr, lx, ly + lh * i / 100.0, 22, lh / 100.0 + 0.6);
-        cairo_fill(cr);
-    }
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 1);
-    cairo_rectangle(cr, lx, ly, 22, lh);
-    cairo_stroke(cr);
+    sk__ramp_bar(cr, lx, ly, lh);
     for (int i = 0; i <= 4; ++i) {
         char buf[40];
         snprintf(buf, sizeof buf, "%.3g", scale * i / 4.0);
@@ -209,12 +199,13 @@ sk_status sk_render_field(const sk_soup *soup, sk_field_fn field, void *user, do
     draw_legend(cr, W, o.title ? 40 : 16, W, scale, beyond, label, o.title);
     cairo_destroy(cr);
     st = sk__write_png(r.surf, path, err);
+    r.surf = NULL; /* destroyed by the writer */
 done:
     sk__raster_destroy(&r);
-    free(g.point);
-    free(g.shade);
-    free(val);
-    free(tri);
-    free(nrm);
+    sk__free(g.point);
+    sk__free(g.shade);
+    sk__free(val);
+    sk__free(tri);
+    sk__free(nrm);
     return st;
 }

@@ -1,7 +1,7 @@
 /* Pictures of smooth surfaces (cairo, PNG): the triangle/quad configuration after edge deletion and
  * flat-shaded views of triangle soups. Orthographic projection along a fixed view direction,
  * back faces culled, faces painted far to near. */
-#include "surfkit/render.h"
+#include "render/render_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -59,16 +59,11 @@ static int item_cmp(const void *a, const void *b)
     return (x->depth < y->depth) - (x->depth > y->depth); /* far (large depth) first */
 }
 
+/* through the atomic writer, as render.h promises (cairo_surface_write_to_png wrote in place) */
 static sk_status finish(cairo_surface_t *surf, cairo_t *cr, const char *path, sk_error *err)
 {
     cairo_destroy(cr);
-    cairo_status_t cs = cairo_surface_write_to_png(surf, path);
-    cairo_surface_destroy(surf);
-    if (cs != CAIRO_STATUS_SUCCESS)
-        return sk__fail(err, SK_ERR_IO, "%s: cannot write the PNG (%s)", sk__basename(path),
-                        cairo_status_to_string(cs));
-    sk__ok(err);
-    return SK_OK;
+    return sk__write_png(surf, path, err);
 }
 
 sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
@@ -143,7 +138,7 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
         cairo_arc(cr, x, y, 4.0, 0, 2 * M_PI);
         cairo_fill(cr);
     }
-    free(items);
+    sk__free(items);
     return finish(surf, cr, png_path, err);
 }
 
@@ -205,6 +200,6 @@ sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_r
         cairo_set_line_width(cr, 0.5);
         cairo_stroke(cr);
     }
-    free(items);
+    sk__free(items);
     return finish(surf, cr, png_path, err);
 }

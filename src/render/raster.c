@@ -68,7 +68,7 @@ void sk__raster_destroy(sk__raster *r)
 {
     if (r->surf)
         cairo_surface_destroy(r->surf);
-    free(r->z);
+    sk__free(r->z);
     r->surf = NULL;
     r->z = NULL;
     r->data = NULL;
@@ -123,7 +123,22 @@ void sk__ramp(double t, double rgb[3])
         rgb[c] = (1 - s) * stops[i][c] + s * stops[i + 1][c];
 }
 
-static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
+void sk__ramp_bar(cairo_t *cr, double x, double y, double h)
+{
+    for (int i = 0; i < 100; ++i) {
+        double rgb[3];
+        sk__ramp(1.0 - (i + 0.5) / 100.0, rgb);
+        cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+        cairo_rectangle(cr, x, y + h * i / 100.0, 22, h / 100.0 + 0.6);
+        cairo_fill(cr);
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, x, y, 22, h);
+    cairo_stroke(cr);
+}
+
+cairo_status_t sk__cairo_write_fp(void *closure, const unsigned char *data, unsigned int length)
 {
     return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
                                                               : CAIRO_STATUS_WRITE_ERROR;
@@ -133,9 +148,12 @@ sk_status sk__write_png(cairo_surface_t *surf, const char *path, sk_error *err)
 {
     sk__atomic_file af;
     sk_status st = sk__atomic_open(&af, path, err);
-    if (st)
+    if (st) {
+        cairo_surface_destroy(surf);
         return st;
-    cairo_status_t cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
+    }
+    cairo_status_t cs = cairo_surface_write_to_png_stream(surf, sk__cairo_write_fp, af.fp);
+    cairo_surface_destroy(surf);
     if (cs != CAIRO_STATUS_SUCCESS) {
         sk__atomic_abort(&af);
         return sk__fail(err, SK_ERR_IO, "%s: cairo could not write the picture: %s",

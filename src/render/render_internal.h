@@ -46,7 +46,13 @@ void sk__raster_triangle(sk__raster *r, double s[3][3], uint32_t id, sk__shade_f
  * out-of-scale values). */
 void sk__ramp(double t, double rgb[3]);
 
-/* Writes surf as PNG to path through the atomic writer. */
+/* A colour bar of the ramp (top = 1) with its frame, 22 px wide, at (x, y), h high. */
+void sk__ramp_bar(cairo_t *cr, double x, double y, double h);
+
+/* cairo write callback into a FILE * (the closure). */
+cairo_status_t sk__cairo_write_fp(void *closure, const unsigned char *data, unsigned int length);
+
+/* Writes surf as PNG to path through the atomic writer; destroys surf. */
 sk_status sk__write_png(cairo_surface_t *surf, const char *path, sk_error *err);
 
 #endif

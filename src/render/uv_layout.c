@@ -1,5 +1,5 @@
 /* UV layout pictures with cairo. */
-#include "surfkit/render.h"
+#include "render/render_internal.h"
 #include "surfkit/param.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -10,34 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-
-static cairo_status_t write_fp(void *closure, const unsigned char *data, unsigned int length)
-{
-    return fwrite(data, 1, length, (FILE *)closure) == length ? CAIRO_STATUS_SUCCESS
-                                                              : CAIRO_STATUS_WRITE_ERROR;
-}
-
-static bool has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), k = strlen(ext);
-    return n >= k && !strcasecmp(path + n - k, ext);
-}
-
-/* Colour scale for t in [0, 1]: a blue - green - yellow - red ramp (no magenta, reserved for
- * flips). */
-static void ramp(double t, double rgb[3])
-{
-    static const double stops[5][3] = {
-        {0.23, 0.30, 0.75}, {0.35, 0.70, 0.90}, {0.55, 0.80, 0.40}, {0.98, 0.80, 0.20},
-        {0.80, 0.10, 0.10}};
-    t = fmin(fmax(t, 0.0), 1.0) * 4.0;
-    int i = (int)t;
-    if (i > 3)
-        i = 3;
-    double s = t - i;
-    for (int c = 0; c < 3; ++c)
-        rgb[c] = (1 - s) * stops[i][c] + s * stops[i + 1][c];
-}
 
 static const double FLIP_RGB[3] = {1.0, 0.0, 1.0}; /* magenta */
 
@@ -50,15 +22,15 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
         o = *opts;
     int width = o.width > 0 ? o.width : 1024;
     double cmax = o.conformal_max > 1 ? o.conformal_max : 4.0;
-    bool svg = has_ext(path, ".svg");
-    if (!svg && !has_ext(path, ".png"))
+    bool svg = sk_path_has_ext(path, ".svg");
+    if (!svg && !sk_path_has_ext(path, ".png"))
         return sk__fail(err, SK_ERR_ARG, "%s: pictures are .png or .svg", sk__basename(path));
     size_t nf = m->num_faces;
     double *conf = sk__malloc_array(nf ? nf : 1, sizeof *conf);
     int8_t *orient = sk__malloc_array(nf ? nf : 1, 1);
     if (!conf || !orient) {
-        free(conf);
-        free(orient);
+        sk__free(conf);
+        sk__free(orient);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     sk_param_face_distortion(m, uv, conf, orient, NULL);
@@ -97,11 +69,11 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
     sk__atomic_file af;
     sk_status st = sk__atomic_open(&af, path, err);
     if (st) {
-        free(conf);
-        free(orient);
+        sk__free(conf);
+        sk__free(orient);
         return st;
     }
-    cairo_surface_t *surf = svg ? cairo_svg_surface_create_for_stream(write_fp, af.fp, total_w, height)
+    cairo_surface_t *surf = svg ? cairo_svg_surface_create_for_stream(sk__cairo_write_fp, af.fp, total_w, height)
                                 : cairo_image_surface_create(CAIRO_FORMAT_ARGB32, total_w, height);
     cairo_t *cr = cairo_create(surf);
     cairo_set_source_rgb(cr, 1, 1, 1);
@@ -124,7 +96,7 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
             cairo_close_path(cr);
             double rgb[3];
             if (pass == 0) {
-                ramp(log(fmax(conf[f], 1.0)) / logmax, rgb);
+                sk__ramp(log(fmax(conf[f], 1.0)) / logmax, rgb);
                 cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
                 if (draw_edges) {
                     cairo_fill_preserve(cr);
@@ -168,17 +140,7 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
     double lx = margin + plot + 30, ly = top + 10, lh = plot * 0.6;
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, 12);
-    for (int i = 0; i < 100; ++i) {
-        double rgb[3];
-        ramp(1.0 - (i + 0.5) / 100.0, rgb);
-        cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-        cairo_rectangle(cr, lx, ly + lh * i / 100.0, 22, lh / 100.0 + 0.6);
-        cairo_fill(cr);
-    }
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 1);
-    cairo_rectangle(cr, lx, ly, 22, lh);
-    cairo_stroke(cr);
+    sk__ramp_bar(cr, lx, ly, lh);
     for (int i = 0; i <= 4; ++i) {
         double val = exp(logmax * i / 4.0);
         double y = ly + lh * (1.0 - i / 4.0);
@@ -210,11 +172,11 @@ sk_status sk_render_uv(const sk_mesh *m, const double *uv, const char *path,
         cairo_surface_finish(surf);
         cs = cairo_surface_status(surf);
     } else {
-        cs = cairo_surface_write_to_png_stream(surf, write_fp, af.fp);
+        cs = cairo_surface_write_to_png_stream(surf, sk__cairo_write_fp, af.fp);
     }
     cairo_surface_destroy(surf);
-    free(conf);
-    free(orient);
+    sk__free(conf);
+    sk__free(orient);
     if (cs != CAIRO_STATUS_SUCCESS) {
         sk__atomic_abort(&af);
         return sk__fail(err, SK_ERR_IO, "%s: cairo could not write the picture: %s",

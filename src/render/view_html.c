@@ -83,12 +83,12 @@ typedef struct arrays {
 
 static void arrays_free(arrays *a)
 {
-    free(a->pos);
-    free(a->nrm);
-    free(a->uv);
-    free(a->dist);
-    free(a->lines);
-    free(a->tri);
+    sk__free(a->pos);
+    sk__free(a->nrm);
+    sk__free(a->uv);
+    sk__free(a->dist);
+    sk__free(a->lines);
+    sk__free(a->tri);
 }
 
 static sk_status from_mesh(const sk_mesh *m, const double *uv, arrays *a, sk_error *err)

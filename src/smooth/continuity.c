@@ -3,9 +3,11 @@
  * Ginkel, Peters, Umlauf, then sampling). Tolerances: Albat & Mueller's industrial values, G1 within
  * 0.5 degrees and gaps under 0.005 mm. */
 #include "smooth/smooth_internal.h"
+#include "surfkit/intersect.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -188,6 +190,49 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
     b->uncert += !cone;
 }
 
+/* Crossing patch pairs, on a tessellation of n segments per side: the tessellator emits the
+ * faces patch by patch (n^2 per triangle, 2 n^2 per tensor patch), and patch g's corner ids make
+ * face g of the groups soup, so patches sharing a corner are neighbours. */
+static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuity_report *rep,
+                               sk_error *err)
+{
+    sk_soup *tess = NULL, *groups = NULL;
+    uint32_t *face_patch = NULL;
+    sk_status st = sk_patch_set_tessellate(set, n, &tess, err);
+    if (!st)
+        st = sk_soup_create(0, set->count, 4 * set->count, false, false, &groups, err);
+    if (!st && !(face_patch = sk__malloc_array(tess->num_faces + 1, sizeof *face_patch)))
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    size_t f = 0;
+    for (size_t p = 0; !st && p < set->count; ++p) {
+        const sk_patch *pp = &set->patches[p];
+        size_t nf = (size_t)n * n * (pp->kind == SK_PATCH_TRIANGLE ? 1 : 2);
+        for (size_t k = 0; k < nf && f < tess->num_faces; ++k)
+            face_patch[f++] = (uint32_t)p;
+        if (sk_soup_push_face(groups, pp->corner_ids, sk_patch_num_corners(pp)))
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    if (!st && f != tess->num_faces)
+        st = sk__fail(err, SK_ERR_NUMERIC, "the tessellation has %zu faces, expected %zu",
+                      tess->num_faces, f);
+    sk_intersection_report x;
+    if (!st)
+        st = sk_self_intersections(tess, face_patch, groups, &x, err);
+    if (!st) {
+        rep->intersecting_pairs = x.pairs;
+        rep->intersecting_patches = x.groups;
+        for (size_t i = 0; i < x.num_examples && i < SK_CONTINUITY_EXAMPLES; ++i) {
+            rep->intersection_examples[2 * i] = x.examples[2 * i];
+            rep->intersection_examples[2 * i + 1] = x.examples[2 * i + 1];
+            rep->num_intersection_examples = i + 1;
+        }
+    }
+    sk__free(face_patch);
+    sk_soup_destroy(&groups);
+    sk_soup_destroy(&tess);
+    return st;
+}
+
 sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
                                sk_continuity_report *rep, sk_error *err)
 {
@@ -204,9 +249,9 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);
     uint8_t *singular = sk__malloc_array((size_t)np + 1, 1);
     if (!eb || !pb || !singular) {
-        free(eb);
-        free(pb);
-        free(singular);
+        sk__free(eb);
+        sk__free(pb);
+        sk__free(singular);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the continuity report");
     }
 #ifdef SK_HAVE_OPENMP
@@ -267,14 +312,22 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
             rep->singular_examples[rep->num_singular_examples++] = (uint32_t)p;
         rep->singular_patches++;
     }
-    free(eb);
-    free(pb);
-    free(singular);
+    sk__free(eb);
+    sk__free(pb);
+    sk__free(singular);
     rep->max_vertex_error = max_verr;
     rep->max_normal_error_deg = max_nerr;
     rep->uncertified_patches = uncert;
     rep->pass_g1 = rep->max_normal_jump_deg <= tol_deg;
     rep->pass_gap = rep->max_gap <= tol_gap;
+    unsigned tess = opts && opts->intersection_tess ? opts->intersection_tess : 6;
+    rep->intersecting_pairs = rep->intersecting_patches = SIZE_MAX;
+    if (tess != (unsigned)-1) {
+        sk_status st = intersections(&s->surface, tess, rep, err);
+        if (st)
+            return st;
+    }
+    rep->pass_intersections = rep->intersecting_pairs == 0 || rep->intersecting_pairs == SIZE_MAX;
     sk__ok(err);
     return SK_OK;
 }

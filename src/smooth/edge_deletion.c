@@ -217,8 +217,8 @@ typedef struct ed_state {
 static sk_status ed_alloc(ed_state *S, sk_error *err)
 {
     size_t nv = S->nv, ne = S->ne;
-    S->even = calloc(nv ? nv : 1, 1);
-    S->bnd = calloc(nv ? nv : 1, 1);
+    S->even = sk__calloc_array(nv ? nv : 1, 1);
+    S->bnd = sk__calloc_array(nv ? nv : 1, 1);
     S->comp = sk__malloc_array(nv + 1, sizeof *S->comp);
     S->queue = sk__malloc_array(nv + 1, sizeof *S->queue);
     S->dist = sk__malloc_array(nv + 1, sizeof *S->dist);
@@ -226,8 +226,8 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     S->pred = sk__malloc_array(nv + 1, sizeof *S->pred);
     S->partner = sk__malloc_array(nv + 1, sizeof *S->partner);
     S->remaining = sk__malloc_array(nv + 1, sizeof *S->remaining);
-    S->dcnt = calloc(ne ? ne : 1, 1);
-    S->forbid = calloc(ne ? ne : 1, 1);
+    S->dcnt = sk__calloc_array(ne ? ne : 1, 1);
+    S->forbid = sk__calloc_array(ne ? ne : 1, 1);
     if (!S->even || !S->bnd || !S->comp || !S->queue || !S->dist || !S->src || !S->pred ||
         !S->partner || !S->remaining || !S->dcnt || !S->forbid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
@@ -236,20 +236,20 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
 
 static void ed_free(ed_state *S)
 {
-    free(S->even);
-    free(S->bnd);
-    free(S->dcnt);
-    free(S->forbid);
-    free(S->comp);
-    free(S->queue);
-    free(S->dist);
-    free(S->src);
-    free(S->pred);
-    free(S->partner);
-    free(S->remaining);
-    free(S->cands);
-    free(S->ps.v);
-    free(S->ps.start);
+    sk__free(S->even);
+    sk__free(S->bnd);
+    sk__free(S->dcnt);
+    sk__free(S->forbid);
+    sk__free(S->comp);
+    sk__free(S->queue);
+    sk__free(S->dist);
+    sk__free(S->src);
+    sk__free(S->pred);
+    sk__free(S->partner);
+    sk__free(S->remaining);
+    sk__free(S->cands);
+    sk__free(S->ps.v);
+    sk__free(S->ps.start);
 }
 
 /* The even interior vertices (the N of section 3 are half their number), the boundary vertices,
@@ -501,7 +501,7 @@ static sk_status delete_even_edges(ed_state *S, sk_error *err)
     const sk_mesh *m = S->m;
     size_t nf = S->nf, nq = 0, cap_q = nf + 1;
     uint32_t *fq = sk__malloc_array(nf + 1, sizeof *fq);
-    uint8_t *inq = calloc(nf ? nf : 1, 1);
+    uint8_t *inq = sk__calloc_array(nf ? nf : 1, 1);
     sk_status st = SK_OK;
     if (!fq || !inq) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
@@ -558,8 +558,8 @@ static sk_status delete_even_edges(ed_state *S, sk_error *err)
         }
     }
 done:
-    free(fq);
-    free(inq);
+    sk__free(fq);
+    sk__free(inq);
     return st;
 }
 
@@ -626,7 +626,7 @@ static sk_status build_config(ed_state *S, sk_mesh **out, uint32_t **deleted_out
         deleted = NULL;
     }
 done:
-    free(deleted);
+    sk__free(deleted);
     sk_mesh_destroy(&res);
     return st;
 }

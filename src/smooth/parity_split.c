@@ -130,16 +130,16 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
                 *splits = nsplit;
             }
         }
-        free(target);
-        free(pos);
-        free(nrm);
-        free(off);
-        free(idx);
-        free(fsplit);
+        sk__free(target);
+        sk__free(pos);
+        sk__free(nrm);
+        sk__free(off);
+        sk__free(idx);
+        sk__free(fsplit);
     }
 done:
-    free(comp);
-    free(queue);
-    free(split_h);
+    sk__free(comp);
+    sk__free(queue);
+    sk__free(split_h);
     return st;
 }

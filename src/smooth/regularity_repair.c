@@ -69,13 +69,13 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
 {
     const sk_mesh *m = W->m;
     size_t np = s->surface.count, nv = m->num_vertices;
-    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = calloc(nv + 1, 1), *mark = calloc(np + 1, 1);
+    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = sk__calloc_array(nv + 1, 1), *mark = sk__calloc_array(np + 1, 1);
     uint32_t *faces = sk__malloc_array(LOCAL_FACES, sizeof *faces);
     if (!sing || !cand || !mark || !faces) {
-        free(sing);
-        free(cand);
-        free(mark);
-        free(faces);
+        sk__free(sing);
+        sk__free(cand);
+        sk__free(mark);
+        sk__free(faces);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
     }
     long npl = (long)np;
@@ -163,9 +163,9 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     }
     }
     s->stats.repaired_vertices = repaired;
-    free(sing);
-    free(cand);
-    free(mark);
-    free(faces);
+    sk__free(sing);
+    sk__free(cand);
+    sk__free(mark);
+    sk__free(faces);
     return SK_OK;
 }

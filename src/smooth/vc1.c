@@ -15,11 +15,11 @@ void sk_smooth_destroy(sk_smooth **smooth)
         return;
     sk_smooth *s = *smooth;
     sk_mesh_destroy(&s->config);
-    free(s->normals);
+    sk__free(s->normals);
     sk_patch_set_free(&s->surface);
-    free(s->deleted);
-    free(s->problems);
-    free(s);
+    sk__free(s->deleted);
+    sk__free(s->problems);
+    sk__free(s);
     *smooth = NULL;
 }
 
@@ -55,7 +55,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
     W.w1 = sk__malloc_array(nh, sizeof(double));
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
-    uint8_t *status = calloc(nv ? nv : 1, 1);
+    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1);
     if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
@@ -167,13 +167,13 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
                 s->problems[s->num_problems++] = (uint32_t)v;
     }
 done:
-    free(target);
-    free(r);
-    free(W.P);
-    free(W.w1);
-    free(W.nu);
-    free(W.C);
-    free(status);
+    sk__free(target);
+    sk__free(r);
+    sk__free(W.P);
+    sk__free(W.w1);
+    sk__free(W.nu);
+    sk__free(W.C);
+    sk__free(status);
     return st;
 }
 
@@ -192,9 +192,10 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_status st = SK_OK;
     sk_mesh *work = NULL;
     double *normals = NULL;
-    sk_smooth *s = calloc(1, sizeof *s);
+    sk_smooth *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    int blas_threads = sk__blas_serial_begin(); /* per-vertex and per-patch dense solves */
     s->scheme = opts.scheme;
     size_t nv = mesh->num_vertices;
     for (uint32_t f = 0; f < mesh->num_faces; ++f)
@@ -208,6 +209,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", i / 3);
             goto fail;
         }
+    if ((st = sk_mesh_check_scale(mesh, err)) != SK_OK)
+        goto fail;
     /* normals */
     double t0 = sk_seconds();
     normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
@@ -244,6 +247,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         s->stats.seconds_patches = sk_seconds() - t0;
         *out = s;
         sk__ok(err);
+        sk__blas_serial_end(blas_threads);
         return sk__progress(opts.progress, opts.progress_user, 1.0, err);
     }
 
@@ -255,7 +259,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
                                            err)) != SK_OK)
             goto fail;
         if (work) {
-            free(normals);
+            sk__free(normals);
             normals = n2;
             base = work;
         }
@@ -274,10 +278,12 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_mesh_destroy(&work);
     *out = s;
     sk__ok(err);
+    sk__blas_serial_end(blas_threads);
     return sk__progress(opts.progress, opts.progress_user, 1.0, err);
 fail:
     sk_mesh_destroy(&work);
-    free(normals);
+    sk__free(normals);
     sk_smooth_destroy(&s);
+    sk__blas_serial_end(blas_threads);
     return st;
 }

@@ -72,10 +72,10 @@ void sk_solver_destroy(sk_solver **sp)
         umfpack_di_free_numeric(&s->numeric);
     if (s->symbolic)
         umfpack_di_free_symbolic(&s->symbolic);
-    free(s->ap);
-    free(s->ai);
-    free(s->ax);
-    free(s);
+    sk__free(s->ap);
+    sk__free(s->ai);
+    sk__free(s->ax);
+    sk__free(s);
     *sp = NULL;
 }
 
@@ -87,7 +87,7 @@ sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **
         return sk__fail(err, SK_ERR_ARG, "the Cholesky solver needs a lower-stored matrix");
     if (kind == SK_SOLVER_LU && a->storage != SK_SPARSE_FULL)
         return sk__fail(err, SK_ERR_ARG, "the LU solver needs a fully stored matrix");
-    sk_solver *s = calloc(1, sizeof *s);
+    sk_solver *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     s->kind = kind;

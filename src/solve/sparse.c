@@ -48,9 +48,9 @@ void sk_triplets_clear(sk_triplets *t)
 
 void sk_triplets_free(sk_triplets *t)
 {
-    free(t->rows);
-    free(t->cols);
-    free(t->values);
+    sk__free(t->rows);
+    sk__free(t->cols);
+    sk__free(t->values);
     memset(t, 0, sizeof *t);
 }
 
@@ -58,11 +58,11 @@ void sk_sparse_destroy(sk_sparse **a)
 {
     if (!a || !*a)
         return;
-    free((*a)->colptr);
-    free((*a)->rowind);
-    free((*a)->values);
-    free((*a)->map);
-    free(*a);
+    sk__free((*a)->colptr);
+    sk__free((*a)->rowind);
+    sk__free((*a)->values);
+    sk__free((*a)->map);
+    sk__free(*a);
     *a = NULL;
 }
 
@@ -77,7 +77,7 @@ sk_status sk_sparse_from_triplets(size_t n, const sk_triplets *t, sk_sparse_stor
     size_t nt = t->count;
     size_t *rowcount = NULL, *colcount = NULL;
     uint32_t *byrow = NULL, *bycol = NULL;
-    sk_sparse *a = calloc(1, sizeof *a);
+    sk_sparse *a = sk__calloc_array(1, sizeof *a);
     rowcount = sk__calloc_array(n + 1, sizeof *rowcount);
     colcount = sk__calloc_array(n + 1, sizeof *colcount);
     byrow = sk__malloc_array(nt, sizeof *byrow);
@@ -152,10 +152,10 @@ sk_status sk_sparse_from_triplets(size_t n, const sk_triplets *t, sk_sparse_stor
     a->colptr[n] = (int)nz;
     a->nnz = nz;
 done:
-    free(rowcount);
-    free(colcount);
-    free(byrow);
-    free(bycol);
+    sk__free(rowcount);
+    sk__free(colcount);
+    sk__free(byrow);
+    sk__free(bycol);
     if (st)
         sk_sparse_destroy(&a);
     *out = a;

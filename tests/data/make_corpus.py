@@ -195,3 +195,11 @@ w(GOOD, "extra_props.ply", "ply\nformat ascii 1.0\ncomment hi\nobj_info x\n"
 # found by fuzzing: huge coordinates made the number writer cast a double to int64 (UB)
 w(GOOD, "large_values.off", "OFF\n3 1 0\n3.8275e+137 -5.55556e+127 7.26434e+22\n"
   "1.7976931348623157e308 0 -0\n4.9406564584124654e-324 1 2\n3 0 1 2\n")
+# issue 17: parse, but every corner of the only face is unusable (a repeated vertex); validation read
+# uninitialised memory and `info` crashed; and a valid disk plus one such face (valgrind saw it)
+w(GOOD, "repeated_vertex_only.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2 0\n")
+w(GOOD, "disk_plus_repeated_vertex.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+  "3 0 1 2\n3 0 2 3\n3 0 0 1\n")
+# found by fuzz_pipeline (content sniffing): only comments, and the "solid" test read 5 bytes past
+# the end of the buffer
+w(BAD, "comments_only.mesh", "# nothing here\n# at all\n")

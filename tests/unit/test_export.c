@@ -2,6 +2,10 @@
  * round trip through an independent CAD kernel is tests/occt. */
 #include "testutil.h"
 
+#include "export/export_internal.h"
+
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,7 +51,8 @@ static void given_patches_when_iges_written_then_records_are_80_columns_and_coun
     (void)state;
     sk_patch_set p = {0};
     sample_patches(&p);
-    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05", .units = "in"};
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05", .units = "in",
+                        .iges_free_surfaces = true};
     sk_export_stats st;
     const char *path = skt_tmp_path("sample.igs");
     assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
@@ -65,7 +70,7 @@ static void given_patches_when_iges_written_then_records_are_80_columns_and_coun
         counts[sec - sections]++;
         line = nl + 1;
     }
-    assert_int_equal(counts[2], 2 * 7);  /* two directory lines per entity */
+    assert_int_equal(counts[2], 2 * (7 + 1)); /* two directory lines per entity, + the group */
     assert_int_equal(counts[4], 1);
     char term[40];
     snprintf(term, sizeof term, "S%07zuG%07zuD%07zuP%07zu", counts[0], counts[1], counts[2], counts[3]);
@@ -73,12 +78,139 @@ static void given_patches_when_iges_written_then_records_are_80_columns_and_coun
     assert_non_null(strstr(text, "2HIN"));                 /* units name */
     assert_non_null(strstr(text, "15H20260102.030405"));   /* date */
     assert_int_equal(count(text, "     128"), 2 * 7);      /* entity type in both DE lines */
+    assert_int_equal(count(text, "     402"), 2);          /* one group holds them */
     free(text);
     /* degenerate triangles: one entity per triangle */
     o.degenerate_triangles = true;
     assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
     assert_int_equal(st.faces, 3);
     sk_patch_set_free(&p);
+}
+
+/* Number of DE entries (first DE line of each entity) of the given type, and the form number
+ * (second line, columns 33-40) of the last one. */
+static size_t count_entities(const char *text, int type, int *form)
+{
+    size_t n = 0;
+    for (const char *line = text; *line;) {
+        const char *nl = strchr(line, '\n');
+        if (!nl)
+            break;
+        if (line[72] == 'D' && atoi(line) == type) {
+            long seq = atol(line + 73);
+            if (seq % 2 == 1)
+                ++n;
+            else if (form)
+                *form = atoi(line + 32);
+        }
+        line = nl + 1;
+    }
+    return n;
+}
+
+static void given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges(void **state)
+{
+    (void)state;
+    sk_patch_set p = {0};
+    sample_patches(&p);
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_stats st, sst;
+    assert_int_equal(sk_export_step(skt_tmp_path("brep.step"), &p, &o, &sst, NULL), SK_OK);
+    const char *path = skt_tmp_path("brep.igs");
+    assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
+    sk_patch_set_free(&p);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    int form = -1;
+    assert_int_equal(st.faces, 7);
+    assert_false(st.solid);
+    assert_int_equal(count_entities(text, 186, NULL), 0); /* open: no solid */
+    assert_int_equal(count_entities(text, 514, &form), 1);
+    assert_int_equal(form, 2); /* open shell */
+    assert_int_equal(count_entities(text, 510, NULL), 7);
+    assert_int_equal(count_entities(text, 508, NULL), 7);
+    assert_int_equal(count_entities(text, 128, NULL), 7);
+    assert_int_equal(count_entities(text, 504, NULL), 1);
+    assert_int_equal(count_entities(text, 502, NULL), 1);
+    /* the same vertices and edges as the STEP writer finds from the corner ids: 6 corners, 5
+     * midpoints, 2 centroids; 29 loop pieces (one parameter-space line each) over fewer edges */
+    assert_int_equal(st.vertices, 13);
+    assert_int_equal(st.edges, sst.edges);
+    assert_int_equal(count_entities(text, 126, NULL), st.edges);
+    assert_int_equal(count_entities(text, 110, NULL), 29);
+    free(text);
+}
+
+/* A tensor patch with a side collapsed to a point has no B-rep edge there: the writer falls back
+ * to the free surfaces in one group. */
+static void given_a_collapsed_side_when_iges_written_then_free_surfaces(void **state)
+{
+    (void)state;
+    sk_patch_set p = {0}, d = {0};
+    sample_patches(&p);
+    assert_int_equal(sk_patch_triangle_to_degenerate_tensor(&p, 1, &d, NULL), SK_OK);
+    assert_int_equal(sk_patch_elevate(&p, 0, p.patches[0].degree, p.patches[0].degree_v, &d, NULL),
+                     SK_OK); /* a copy of the quad */
+    sk_export_stats st;
+    const char *path = skt_tmp_path("collapsed.igs");
+    assert_int_equal(sk_export_iges(path, &d, NULL, &st, NULL), SK_OK);
+    sk_patch_set_free(&p);
+    sk_patch_set_free(&d);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    assert_int_equal(st.faces, 2);
+    assert_int_equal(st.edges, 0);
+    assert_false(st.solid);
+    assert_int_equal(count_entities(text, 128, NULL), 2);
+    assert_int_equal(count_entities(text, 402, NULL), 1);
+    assert_int_equal(count_entities(text, 514, NULL), 0);
+    free(text);
+}
+
+/* A closed surface (a flat tetrahedron) gives a solid: 186 over a closed 514 shell. */
+static void given_closed_patches_when_iges_written_then_a_solid(void **state)
+{
+    (void)state;
+    const double P[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const int tri[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+    sk_patch_set p = {0}, lin = {0};
+    for (int t = 0; t < 4; ++t) {
+        double cp[3 * 3];
+        memcpy(cp + 3 * sk_tri_index(1, 0, 0), P[tri[t][0]], sizeof P[0]);
+        memcpy(cp + 3 * sk_tri_index(1, 1, 0), P[tri[t][1]], sizeof P[0]);
+        memcpy(cp + 3 * sk_tri_index(1, 0, 1), P[tri[t][2]], sizeof P[0]);
+        uint32_t ids[3] = {(uint32_t)tri[t][0], (uint32_t)tri[t][1], (uint32_t)tri[t][2]};
+        size_t k;
+        assert_int_equal(sk_patch_set_add(&lin, SK_PATCH_TRIANGLE, 1, 0, cp, ids, &k, NULL), SK_OK);
+        assert_int_equal(sk_patch_elevate(&lin, k, 4, 0, &p, NULL), SK_OK);
+    }
+    sk_patch_set_free(&lin);
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_stats st;
+    const char *path = skt_tmp_path("tetra.igs");
+    assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    int form = -1;
+    assert_true(st.solid);
+    assert_int_equal(st.faces, 12);
+    assert_int_equal(st.vertices, 4 + 6 + 4);  /* corners, edge midpoints, centroids */
+    assert_int_equal(st.edges, 12 + 12);       /* half edges of the mesh edges, inner edges */
+    assert_int_equal(count_entities(text, 186, NULL), 1);
+    assert_int_equal(count_entities(text, 514, &form), 1);
+    assert_int_equal(form, 1); /* closed shell */
+    assert_int_equal(count_entities(text, 110, NULL), 12 * 4);
+    free(text);
+    path = skt_tmp_path("tetra.step");
+    assert_int_equal(sk_export_step(path, &p, &o, &st, NULL), SK_OK);
+    sk_patch_set_free(&p);
+    text = skt_read_file(path, &size);
+    assert_true(st.solid);
+    assert_int_equal(count(text, "MANIFOLD_SOLID_BREP("), 1);
+    assert_int_equal(count(text, "CLOSED_SHELL("), 1);
+    assert_int_equal(count(text, "ADVANCED_BREP_SHAPE_REPRESENTATION("), 1);
+    assert_int_equal(count(text, "SHELL_BASED_SURFACE_MODEL("), 0);
+    free(text);
 }
 
 static void given_patches_when_step_written_then_faces_share_edges(void **state)
@@ -131,6 +263,57 @@ static void given_patches_when_obj_freeform_written_then_one_surf_per_tensor_pat
     sk_patch_set_free(&p);
 }
 
+/* The reference: the shortest of "%.1G" .. "%.17G" that reads back, with a decimal point. */
+static void shortest_by_scan(char out[32], double x)
+{
+    for (int p = 1; p <= 17; ++p) {
+        snprintf(out, 32, "%.*G", p, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    if (!strchr(out, '.')) {
+        char *e = strchr(out, 'E');
+        size_t n = strlen(out);
+        if (e) {
+            memmove(e + 1, e, n - (size_t)(e - out) + 1);
+            *e = '.';
+        } else {
+            out[n] = '.';
+            out[n + 1] = '\0';
+        }
+    }
+}
+
+static void given_reals_when_formatted_then_shortest_exact_with_a_point(void **state)
+{
+    (void)state;
+    const double special[] = {1.0, 100.0, 1e-7, 0.1, 0.3, 0.30000000000000004, 1e15, 1e16, 1e17,
+                              999999999999999.0, 123456789012345678.0, 1e300, -2.5e-300,
+                              DBL_MAX, DBL_MIN, 5e-324, -1.5e-310, 2.0 / 3.0, -3.141592653589793};
+    uint64_t seed = 12345;
+    char a[32], b[32];
+    assert_string_equal(sk__fmt_real(a, 0.0), "0.");
+    assert_string_equal(sk__fmt_real(a, -0.0), "0.");
+    assert_string_equal(sk__fmt_real(a, 100.0), "1.E+02");
+    assert_string_equal(sk__fmt_real(a, 0.5), "0.5");
+    for (int i = 0; i < 200000; ++i) {
+        double x;
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        uint32_t r = (uint32_t)(seed >> 33);
+        if (i < (int)(sizeof special / sizeof special[0]))
+            x = special[i];
+        else if (i % 3 == 0) /* short decimals */
+            x = (double)(r % 100000) / pow(10.0, (double)(r % 13));
+        else /* full-precision values over a wide range of exponents */
+            x = ldexp((double)r / 4294967296.0 * 3.0 - 1.5, (int)(r % 400) - 200);
+        shortest_by_scan(b, x);
+        sk__fmt_real(a, x);
+        if (strcmp(a, b))
+            fail_msg("%.17g: %s, shortest is %s", x, a, b);
+        assert_true(strtod(a, NULL) == x);
+    }
+}
+
 static void given_bad_arguments_then_writers_fail_and_leave_no_file(void **state)
 {
     (void)state;
@@ -154,6 +337,10 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(given_patches_when_iges_written_then_records_are_80_columns_and_counted),
+        cmocka_unit_test(given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges),
+        cmocka_unit_test(given_closed_patches_when_iges_written_then_a_solid),
+        cmocka_unit_test(given_a_collapsed_side_when_iges_written_then_free_surfaces),
+        cmocka_unit_test(given_reals_when_formatted_then_shortest_exact_with_a_point),
         cmocka_unit_test(given_patches_when_step_written_then_faces_share_edges),
         cmocka_unit_test(given_patches_when_obj_freeform_written_then_one_surf_per_tensor_patch),
         cmocka_unit_test(given_bad_arguments_then_writers_fail_and_leave_no_file),

@@ -239,6 +239,57 @@ static void test_watertight_tessellation(void **state)
     }
 }
 
+/* Two spheres that overlap: their smooth surfaces cross, along a circle; one sphere alone and
+ * the two apart do not. The check sees patch pairs of different components (no shared corner). */
+static size_t crossing_pairs(double shift)
+{
+    sk_soup *a = skt_read_soup(skt_shared_mesh("sphere.off")), *two = NULL;
+    size_t nv = a->num_vertices;
+    assert_int_equal(sk_soup_create(2 * nv, 2 * a->num_faces, 6 * a->num_faces, false, false, &two,
+                                    NULL), SK_OK);
+    for (int c = 0; c < 2; ++c)
+        for (size_t v = 0; v < nv; ++v) {
+            double p[3] = {a->positions[3 * v] + c * shift, a->positions[3 * v + 1],
+                           a->positions[3 * v + 2]};
+            assert_int_equal(sk_soup_push_vertex(two, p, NULL, NULL), SK_OK);
+        }
+    for (int c = 0; c < 2; ++c)
+        for (size_t f = 0; f < a->num_faces; ++f) {
+            uint32_t t[3];
+            for (int k = 0; k < 3; ++k)
+                t[k] = a->face_indices[a->face_offsets[f] + (size_t)k] + (uint32_t)(c * nv);
+            assert_int_equal(sk_soup_push_face(two, t, 3), SK_OK);
+        }
+    sk_mesh *m = NULL;
+    sk_smooth *s = NULL;
+    sk_continuity_report r;
+    assert_int_equal(sk_mesh_from_soup(two, &m, NULL), SK_OK);
+    assert_int_equal(sk_smooth_build(m, NULL, &s, NULL), SK_OK);
+    assert_int_equal(sk_smooth_continuity(s, NULL, &r, NULL), SK_OK);
+    assert_true(r.pass_intersections == (r.intersecting_pairs == 0));
+    for (size_t i = 0; i < r.num_intersection_examples; ++i) /* one patch of each sphere */
+        assert_true((r.intersection_examples[2 * i] < s->surface.count / 2) !=
+                    (r.intersection_examples[2 * i + 1] < s->surface.count / 2));
+    size_t n = r.intersecting_pairs;
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&two);
+    sk_soup_destroy(&a);
+    return n;
+}
+
+static void test_self_intersections(void **state)
+{
+    (void)state;
+    double d = 0;
+    sk_soup *a = skt_read_soup(skt_shared_mesh("sphere.off"));
+    for (size_t v = 0; v < a->num_vertices; ++v) /* the radius */
+        d = fmax(d, fabs(a->positions[3 * v]));
+    sk_soup_destroy(&a);
+    assert_int_equal(crossing_pairs(3 * d), 0);   /* apart */
+    assert_true(crossing_pairs(d) > 10);          /* overlapping by half */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -249,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_pn_baseline),
         cmocka_unit_test(test_report_sampling),
         cmocka_unit_test(test_watertight_tessellation),
+        cmocka_unit_test(test_self_intersections),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,6 +2,9 @@
 #include "testutil.h"
 
 #include <math.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <string.h>
 
 static sk_soup *make(size_t nv, const double *p, size_t nf, const uint32_t *sizes,
@@ -145,6 +148,56 @@ static void given_degtri_sliding_then_four_degenerate_faces(void **state)
     sk_soup_destroy(&s);
 }
 
+/* Uninitialised-memory regression (walk_boundary read the edge table past its filled part): glibc's
+ * M_PERTURB fills every fresh allocation with garbage, so a read of unfilled slots indexes far out of
+ * the arrays instead of silently seeing zeros. */
+static void perturb_malloc(void)
+{
+#ifdef __GLIBC__
+    mallopt(M_PERTURB, 0xA5);
+#endif
+}
+
+static void given_only_face_repeats_a_vertex_then_no_loop_and_no_crash(void **state)
+{
+    (void)state;
+    perturb_malloc();
+    const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const uint32_t sizes[] = {4};
+    const uint32_t idx[] = {0, 1, 2, 0};
+    sk_soup *s = make(3, p, 1, sizes, idx);
+    sk_validation r;
+    assert_int_equal(sk_soup_validate(s, &r, NULL), SK_OK);
+    assert_int_equal(r.repeated_vertex_faces.count, 1);
+    assert_int_equal(r.edges, 0);
+    assert_int_equal(r.boundary_edges, 0);
+    assert_int_equal(r.boundary_loops, 0);
+    assert_int_equal(r.components, 0);
+    sk_soup_destroy(&s);
+}
+
+static void given_disk_plus_repeated_vertex_face_then_one_loop_of_the_disk(void **state)
+{
+    (void)state;
+    perturb_malloc();
+    /* a square of two triangles, then a face 3 0 0 1 */
+    const double p[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const uint32_t sizes[] = {3, 3, 3};
+    const uint32_t idx[] = {0, 1, 2, 0, 2, 3, 0, 0, 1};
+    sk_soup *s = make(4, p, 3, sizes, idx);
+    sk_validation r;
+    assert_int_equal(sk_soup_validate(s, &r, NULL), SK_OK);
+    assert_int_equal(r.repeated_vertex_faces.count, 1);
+    assert_int_equal(r.repeated_vertex_faces.a[0], 2);
+    assert_int_equal(r.edges, 5);
+    assert_int_equal(r.boundary_edges, 4);
+    assert_int_equal(r.boundary_loops, 1);
+    assert_int_equal(r.euler_characteristic, 1);
+    assert_true(r.genus_defined);
+    assert_int_equal(r.genus, 0);
+    sk_soup_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -153,6 +206,8 @@ int main(void)
         cmocka_unit_test(given_every_defect_then_each_is_counted_and_named),
         cmocka_unit_test(given_orientation_conflict_and_bowtie_then_both_reported),
         cmocka_unit_test(given_degtri_sliding_then_four_degenerate_faces),
+        cmocka_unit_test(given_only_face_repeats_a_vertex_then_no_loop_and_no_crash),
+        cmocka_unit_test(given_disk_plus_repeated_vertex_face_then_one_loop_of_the_disk),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

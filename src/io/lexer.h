@@ -1,10 +1,11 @@
-/* Shared helpers of the mesh file readers and writers (not installed).
+/* The lexer and byte helpers the mesh file readers and writers share (not installed); the format
+ * entry points are in io/formats.h, which only the dispatcher (io.c) and the formats include.
  *
  * Text readers walk the input with an sk__text cursor that knows the current line number, so every
  * error can say "NAME:LINE: what is wrong". Input buffers are never NUL-terminated: every scan is
  * bounded by the end pointer. Binary readers report "NAME: byte OFFSET: what is wrong". */
-#ifndef SK_IO_INTERNAL_H
-#define SK_IO_INTERNAL_H
+#ifndef SK_IO_LEXER_H
+#define SK_IO_LEXER_H
 
 #include "surfkit/io.h"
 #include "core/internal.h"
@@ -179,28 +180,6 @@ static inline bool sk__parse_int(const char **pp, const char *end, int64_t *out)
     return true;
 }
 
-/* ---------------------------------------------------------------------------------------------
- * Output sink: a growing memory buffer, flushed to a FILE when one is attached
- * ------------------------------------------------------------------------------------------- */
-
-typedef struct sk__out {
-    char *buf;
-    size_t len, cap;
-    FILE *fp;   /* NULL: everything stays in buf */
-    int failed; /* 0, or SK_ERR_NOMEM / SK_ERR_IO after the first failure */
-} sk__out;
-
-/* Makes room for n more bytes; returns false (and sets failed) on failure. */
-bool sk__out_room(sk__out *o, size_t n);
-void sk__out_bytes(sk__out *o, const void *data, size_t n);
-void sk__out_str(sk__out *o, const char *s);
-void sk__out_char(sk__out *o, char c);
-/* The shortest of %.15g, %.16g, %.17g that reads back to the same double. */
-void sk__out_double(sk__out *o, double v);
-void sk__out_uint(sk__out *o, uint64_t v);
-/* Writes any buffered bytes to the attached FILE. */
-void sk__out_flush(sk__out *o);
-
 static inline void sk__put_le32(unsigned char *b, uint32_t v)
 {
     b[0] = (unsigned char)v;
@@ -227,27 +206,5 @@ static inline uint64_t sk__get_le64(const unsigned char *b)
 
 /* Checks that the soup can be written: indices in range, every face at least 3 vertices. */
 sk_status sk__check_soup_for_write(const sk_soup *s, sk_error *err);
-
-/* ---------------------------------------------------------------------------------------------
- * Formats
- * ------------------------------------------------------------------------------------------- */
-
-sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup **out,
-                       sk_error *err);
-sk_status sk__read_obj(const void *data, size_t size, const char *name, sk_soup **out,
-                       sk_error *err);
-sk_status sk__read_ply(const void *data, size_t size, const char *name, sk_soup **out,
-                       sk_error *err);
-sk_status sk__read_stl(const void *data, size_t size, const char *name, sk_soup **out,
-                       sk_error *err);
-
-/* Writers append to o; the caller checks o->failed. normals / uvs say what to write. */
-void sk__write_off(sk__out *o, const sk_soup *s, bool normals, bool uvs);
-void sk__write_obj(sk__out *o, const sk_soup *s, bool normals, bool uvs);
-void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool ascii);
-void sk__write_stl(sk__out *o, const sk_soup *s, bool ascii);
-
-/* True when size matches a binary STL's triangle count (84 + 50 n bytes). */
-bool sk__stl_is_binary_size(const void *data, size_t size);
 
 #endif

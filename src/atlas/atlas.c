@@ -1,0 +1,471 @@
+/* The atlas driver: checks, the chart work list (extract, parametrize, split when not a disk, when
+ * overlapping or too distorted), packing, and the atlas-wide measurements. */
+#include "atlas/atlas_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+#include "surfkit/param.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Charts smaller than this are not split for distortion (they are disks and overlap-free). */
+#define MIN_SPLIT_FACES 8
+
+/* A chart whose normals are this spread out (|sum of area-weighted normals| / area; a hemisphere
+ * has 0.5) is split before it is parametrized. Measured on bunny00, cow, knot1, lion-head: 0.5
+ * cuts the time 4x against no pre-split at the same distortion; 0.7 and 0.8 lower area
+ * distortion further at 1.4x and 2x the seams (see the report of issue 11). */
+#define MIN_COHERENCE 0.5
+
+static double coherence(const sk_mesh *m, const uint32_t *faces, size_t n)
+{
+    double s[3] = {0, 0, 0}, area = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double nrm[3];
+        double twice = sk_mesh_face_normal(m, faces[i], nrm);
+        sk__axpy3(s, s, 0.5 * twice, nrm);
+        area += 0.5 * twice;
+    }
+    return sk__norm3(s) / area;
+}
+
+typedef struct range {
+    uint32_t lo, hi;
+} range;
+
+void sk_atlas_destroy(sk_atlas **a)
+{
+    if (!a || !*a)
+        return;
+    sk__free((*a)->uvs);
+    sk__free((*a)->uv_chart);
+    sk__free((*a)->face_chart);
+    sk__free((*a)->corner_uv);
+    sk__free((*a)->chart_faces);
+    sk__free((*a)->chart_mips);
+    sk__free(*a);
+    *a = NULL;
+}
+
+static sk_status check_mesh(const sk_mesh *m, sk_error *err)
+{
+    if (m->num_deleted_faces || m->num_deleted_vertices || m->num_deleted_edges)
+        return sk__fail(err, SK_ERR_ARG, "the mesh has deleted elements: compact it first");
+    if (m->num_faces == 0)
+        return sk__fail(err, SK_ERR_TOPOLOGY, "the mesh has no faces");
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        size_t k = sk_mesh_face_size(m, (uint32_t)f);
+        if (k != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu has %zu vertices: an atlas needs a "
+                            "triangle mesh (triangulate it first)", f, k);
+    }
+    for (size_t v = 0; v < m->num_vertices; ++v) {
+        const double *p = m->positions + 3 * v;
+        if (m->v_halfedge[v] != SK_INVALID && !(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])))
+            return sk__fail(err, SK_ERR_TOPOLOGY, "vertex %zu has a NaN or infinite coordinate", v);
+    }
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        double n[3], lmax = 0;
+        double twice = sk_mesh_face_normal(m, (uint32_t)f, n);
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            lmax = fmax(lmax, sk_mesh_edge_length(m, sk_edge(h)));
+        if (!(twice > SK_DEGENERATE_REL * lmax * lmax))
+            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is degenerate (zero area): remove or "
+                            "repair it first", f);
+    }
+    return SK_OK;
+}
+
+static sk_status is_disk(const sk_mesh *c, bool *disk, bool *sphere, sk_error *err)
+{
+    sk_topology top;
+    sk_status st = sk_mesh_topology(c, &top, NULL, err);
+    if (st)
+        return st;
+    *disk = top.components == 1 && top.boundary_loops == 1 && top.euler_characteristic == 1;
+    *sphere = top.boundary_loops == 0 && top.euler_characteristic == 2;
+    return SK_OK;
+}
+
+/* Growable arrays of the accepted charts. */
+typedef struct accepted {
+    size_t n, cap;     /* uv vertices */
+    double *uv;
+    uint32_t *chart;
+    size_t charts, ccap;
+    uint32_t *off;     /* charts + 1 */
+    double area3;
+} accepted;
+
+static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *faces, size_t nf,
+                              const sk_mesh *c, const double *uv, sk__chart_work *w,
+                              sk_atlas *out, sk_error *err)
+{
+    size_t nv = c->num_vertices;
+    if (a->n + nv > a->cap) {
+        size_t cap = 2 * (a->n + nv);
+        double *u = sk__realloc_array(a->uv, 2 * cap, sizeof(double));
+        if (u)
+            a->uv = u;
+        uint32_t *ch = sk__realloc_array(a->chart, cap, sizeof(uint32_t));
+        if (ch)
+            a->chart = ch;
+        if (!u || !ch)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        a->cap = cap;
+    }
+    if (a->charts + 2 > a->ccap) {
+        size_t cap = 2 * (a->charts + 2);
+        uint32_t *o = sk__realloc_array(a->off, cap, sizeof(uint32_t));
+        if (!o)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        a->off = o;
+        a->ccap = cap;
+    }
+    if (a->n + nv >= UINT32_MAX)
+        return sk__fail(err, SK_ERR_ARG, "too many uv vertices");
+    uint32_t base = (uint32_t)a->n, id = (uint32_t)a->charts;
+    memcpy(a->uv + 2 * a->n, uv, 2 * nv * sizeof(double));
+    for (size_t i = 0; i < nv; ++i)
+        a->chart[a->n + i] = id;
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t f = faces[i], h = m->f_halfedge[f];
+        out->face_chart[f] = id;
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            out->corner_uv[h] = base + w->local[sk__wedge_find(w, h)];
+    }
+    a->off[a->charts] = base;
+    a->n += nv;
+    a->charts++;
+    a->off[a->charts] = (uint32_t)a->n;
+    return SK_OK;
+}
+
+static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s, sk_error *err)
+{
+    size_t nf = m->num_faces;
+    double *tri = sk__malloc_array(6 * nf, sizeof(double));
+    double *areas = sk__malloc_array(2 * nf, sizeof(double));
+    a->chart_faces = sk__calloc_array(a->num_charts ? a->num_charts : 1, sizeof(uint32_t));
+    a->chart_mips = sk__calloc_array(a->num_charts ? a->num_charts : 1, sizeof(double));
+    if (!tri || !areas || !a->chart_faces || !a->chart_mips) {
+        sk__free(tri);
+        sk__free(areas);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    double mips = 0, conf = 0, a3 = 0, auv = 0;
+    s->flipped = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        uint32_t h = m->f_halfedge[f], v[3];
+        const double *q[3];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            v[k] = sk_from(m, h);
+            q[k] = a->uvs + 2 * (size_t)a->corner_uv[h];
+            memcpy(tri + 6 * f + 2 * k, q[k], 2 * sizeof(double));
+        }
+        if (sk_orient2d(q[0], q[1], q[2]) <= 0)
+            s->flipped++;
+        double ta, tu, tm, tc;
+        sk__tri_distortion(m->positions + 3 * (size_t)v[0], m->positions + 3 * (size_t)v[1],
+                           m->positions + 3 * (size_t)v[2], q[0], q[1], q[2], &ta, &tu, &tm, &tc);
+        mips += tm;
+        a->chart_faces[a->face_chart[f]]++;
+        a->chart_mips[a->face_chart[f]] += tm;
+        conf += ta * tc;
+        a3 += ta;
+        auv += fabs(tu);
+        areas[2 * f] = ta;
+        areas[2 * f + 1] = fabs(tu);
+    }
+    for (size_t c = 0; c < a->num_charts; ++c)
+        a->chart_mips[c] /= (double)a->chart_faces[c];
+    double lsum = 0;
+    for (size_t f = 0; f < nf; ++f)
+        lsum += fabs(log((areas[2 * f + 1] / auv) / (areas[2 * f] / a3)));
+    s->mips_mean = mips / (double)nf;
+    s->conformal_mean = conf / a3;
+    s->area_log_mean = lsum / (double)nf;
+    s->utilization = auv;
+    /* seams: interior mesh edges whose two sides have different uv vertices at either end */
+    double seam = 0;
+    s->seam_edges = 0;
+    for (size_t e = 0; e < sk_num_edges(m); ++e) {
+        uint32_t h = (uint32_t)(2 * e), o = h ^ 1u;
+        if (m->h_face[h] == SK_INVALID || m->h_face[o] == SK_INVALID)
+            continue;
+        if (a->corner_uv[h] != a->corner_uv[m->h_next[o]] ||
+            a->corner_uv[m->h_next[h]] != a->corner_uv[o]) {
+            s->seam_edges++;
+            seam += sk_mesh_edge_length(m, (uint32_t)e);
+        }
+    }
+    s->seam_length_rel = seam / sqrt(a3);
+    sk__free(areas);
+    sk_status st = sk_uv_overlaps(nf, tri, &s->overlaps, NULL, err);
+    sk__free(tri);
+    return st;
+}
+
+sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas **out,
+                         sk_atlas_stats *stats, sk_error *err)
+{
+    sk_atlas_opts o = {0};
+    if (opts)
+        o = *opts;
+    double max_conf = o.max_distortion == 0 ? 1.25 : o.max_distortion;
+    double max_stretch = o.max_stretch == 0 ? 1.25 : o.max_stretch;
+    double res = o.resolution ? (double)o.resolution : 1024.0;
+    double pad = o.padding == 0 ? 2.0 : o.padding < 0 ? 0.0 : o.padding;
+    double t0 = sk_seconds(), tp = 0;
+    sk_atlas_stats s;
+    memset(&s, 0, sizeof s);
+    *out = NULL;
+    sk_status st = check_mesh(m, err);
+    if (st)
+        return st;
+    size_t nf = m->num_faces;
+    if (nf >= UINT32_MAX)
+        return sk__fail(err, SK_ERR_ARG, "mesh too large");
+    sk__chart_work w;
+    if ((st = sk__chart_work_init(&w, m, err)))
+        return st;
+    accepted acc;
+    memset(&acc, 0, sizeof acc);
+    sk_atlas *a = sk__calloc_array(1, sizeof *a);
+    uint32_t *faces = sk__malloc_array(nf, sizeof(uint32_t));
+    uint32_t *comp = sk__malloc_array(nf, sizeof(uint32_t));
+    range *stack = sk__malloc_array(nf + 1, sizeof *stack);
+    uint32_t *sizes = sk__malloc_array(nf, sizeof(uint32_t));
+    sk_mesh *chart = NULL;
+    uint32_t *vert_h = NULL;
+    double *cuv = NULL;
+    if (!a || !faces || !comp || !stack || !sizes) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    a->face_chart = sk__malloc_array(nf, sizeof(uint32_t));
+    a->corner_uv = sk__malloc_array(m->num_halfedges, sizeof(uint32_t));
+    if (!a->face_chart || !a->corner_uv) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    for (size_t h = 0; h < m->num_halfedges; ++h)
+        a->corner_uv[h] = SK_INVALID;
+    /* the components are the first charts: faces grouped by component */
+    size_t ncomp = sk__face_components(m, comp, faces);
+    {
+        uint32_t *start = sk__calloc_array(ncomp + 1, sizeof(uint32_t));
+        if (!start) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        for (size_t f = 0; f < nf; ++f)
+            start[comp[f] + 1]++;
+        for (size_t c = 0; c < ncomp; ++c)
+            start[c + 1] += start[c];
+        for (size_t c = 0; c < ncomp; ++c)
+            stack[c] = (range){start[ncomp - 1 - c], start[ncomp - c]};
+        for (size_t f = 0; f < nf; ++f)
+            faces[start[comp[f]]++] = (uint32_t)f;
+        sk__free(start);
+    }
+    size_t top = ncomp, done_faces = 0;
+    uint32_t stamp = 0;
+    s.charts_seconds = 0;
+    while (top > 0) {
+        range r = stack[--top];
+        uint32_t *cf = faces + r.lo;
+        size_t n = r.hi - r.lo;
+        ++stamp;
+        for (size_t i = 0; i < n; ++i)
+            w.label[cf[i]] = stamp;
+        double tc = sk_seconds();
+        size_t ncc = sk__chart_components(m, cf, n, stamp, &w, sizes);
+        if (ncc > 1) { /* what a cut left may fall apart: each piece is a chart */
+            for (size_t c = 0, at = r.lo; c < ncc; at += sizes[c++])
+                stack[top++] = (range){(uint32_t)at, (uint32_t)(at + sizes[c])};
+            s.charts_seconds += sk_seconds() - tc;
+            continue;
+        }
+        if ((st = sk__chart_extract(m, cf, n, stamp, &w, &chart, &vert_h, err)))
+            goto done;
+        bool disk = false, sphere = false;
+        if ((st = is_disk(chart, &disk, &sphere, err)))
+            goto done;
+        bool split = !disk;
+        if (!disk) {
+            s.splits_topology++;
+            if (!sphere) {
+                /* holes or handles: one disk grown as far as it stays a disk; the rest is cut
+                 * along where the growth front met itself */
+                size_t n0 = 0;
+                if ((st = sk__chart_grow_disk(m, cf, n, stamp, &w, &n0, err)))
+                    goto done;
+                stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
+                stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
+                split = false;
+            }
+        }
+        s.charts_seconds += sk_seconds() - tc;
+        if (disk && n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
+            /* far from flat: the distortion bound would split it after a costly solve */
+            split = true;
+            s.splits_distortion++;
+        } else if (disk) {
+            double tq = sk_seconds();
+            sk__free(cuv);
+            cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
+            if (!cuv) {
+                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                goto done;
+            }
+            sk__chart_quality q;
+            sk_error perr;
+            sk_status ps = sk__chart_param(chart, o.seed + stamp, cuv, &q, &perr);
+            if (ps == SK_ERR_NOMEM || ps == SK_ERR_CANCELLED) {
+                st = ps;
+                if (err)
+                    *err = perr;
+                goto done;
+            }
+            if (ps != SK_OK || q.flipped) {
+                if (n < 2) {
+                    st = ps ? ps : SK_ERR_NUMERIC;
+                    if (err)
+                        *err = perr;
+                    if (!ps)
+                        sk__fail(err, st, "a single-triangle chart flipped");
+                    goto done;
+                }
+                split = true;
+                s.splits_failed++;
+            } else {
+                /* every chart is checked for self-overlap with exact tests */
+                size_t ov = 0;
+                if (n > 1) {
+                    double *tri = sk__malloc_array(6 * n, sizeof(double));
+                    if (!tri) {
+                        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                        goto done;
+                    }
+                    for (size_t f = 0; f < n; ++f) {
+                        uint32_t h = chart->f_halfedge[f];
+                        for (int k = 0; k < 3; ++k, h = chart->h_next[h])
+                            memcpy(tri + 6 * f + 2 * k, cuv + 2 * (size_t)sk_from(chart, h),
+                                   2 * sizeof(double));
+                    }
+                    st = sk_uv_overlaps(n, tri, &ov, NULL, err);
+                    sk__free(tri);
+                    if (st)
+                        goto done;
+                }
+                if (ov) {
+                    split = true;
+                    s.splits_overlap++;
+                } else if (n >= MIN_SPLIT_FACES &&
+                           ((max_conf > 0 && q.conformal_mean > max_conf) ||
+                            (max_stretch > 0 && q.area_log_dev > log(max_stretch)))) {
+                    split = true;
+                    s.splits_distortion++;
+                }
+            }
+            tp += sk_seconds() - tq;
+            if (!split) {
+                if ((st = accept_chart(&acc, m, cf, n, chart, cuv, &w, a, err)))
+                    goto done;
+                acc.area3 += q.area3;
+                done_faces += n;
+                if ((st = sk__progress(o.progress, o.progress_user,
+                                       0.9 * (double)done_faces / (double)nf, err)))
+                    goto done;
+            }
+        }
+        sk_mesh_destroy(&chart);
+        sk__free(vert_h);
+        vert_h = NULL;
+        if (split) {
+            tc = sk_seconds();
+            size_t n0 = 0;
+            if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
+                goto done;
+            stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
+            stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
+            s.charts_seconds += sk_seconds() - tc;
+        }
+    }
+    s.param_seconds = tp;
+    double tk = sk_seconds();
+    if ((st = sk__pack_charts(acc.charts, acc.off, acc.uv, pad / res, &s.scale, err)))
+        goto done;
+    s.pack_seconds = sk_seconds() - tk;
+    a->num_charts = acc.charts;
+    a->num_uvs = acc.n;
+    a->uvs = acc.uv;
+    a->uv_chart = acc.chart;
+    acc.uv = NULL;
+    acc.chart = NULL;
+    s.charts = acc.charts;
+    double tm = sk_seconds();
+    if ((st = measure_atlas(m, a, &s, err)))
+        goto done;
+    s.check_seconds = sk_seconds() - tm;
+    s.total_seconds = sk_seconds() - t0;
+    st = sk__progress(o.progress, o.progress_user, 1.0, err);
+done:
+    if (st)
+        sk_atlas_destroy(&a);
+    *out = a;
+    if (stats)
+        *stats = s;
+    sk_mesh_destroy(&chart);
+    sk__free(vert_h);
+    sk__free(cuv);
+    sk__free(acc.uv);
+    sk__free(acc.chart);
+    sk__free(acc.off);
+    sk__free(faces);
+    sk__free(comp);
+    sk__free(stack);
+    sk__free(sizes);
+    sk__chart_work_free(&w);
+    return st;
+}
+
+sk_status sk_atlas_split_mesh(const sk_mesh *m, const sk_atlas *a, sk_mesh **out, sk_error *err)
+{
+    *out = NULL;
+    sk_status st = SK_OK;
+    size_t nf = m->num_faces;
+    double *pos = sk__malloc_array(3 * (a->num_uvs ? a->num_uvs : 1), sizeof(double));
+    uint32_t *off = sk__malloc_array(nf + 1, sizeof(uint32_t));
+    uint32_t *idx = sk__malloc_array(3 * (nf ? nf : 1), sizeof(uint32_t));
+    if (!pos || !off || !idx) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    for (size_t f = 0; f < nf; ++f) {
+        off[f] = (uint32_t)(3 * f);
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            uint32_t u = a->corner_uv[h];
+            idx[3 * f + (size_t)k] = u;
+            memcpy(pos + 3 * (size_t)u, m->positions + 3 * (size_t)sk_from(m, h),
+                   3 * sizeof(double));
+        }
+    }
+    off[nf] = (uint32_t)(3 * nf);
+    if ((st = sk_mesh_from_faces(a->num_uvs, pos, nf, off, idx, out, err)))
+        goto done;
+    if ((st = sk_mesh_add_uvs(*out, err))) {
+        sk_mesh_destroy(out);
+        goto done;
+    }
+    memcpy((*out)->uvs, a->uvs, 2 * a->num_uvs * sizeof(double));
+done:
+    sk__free(pos);
+    sk__free(off);
+    sk__free(idx);
+    return st;
+}

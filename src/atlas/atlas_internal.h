@@ -1,0 +1,85 @@
+/* Internal pieces of the atlas module (src/atlas/). */
+#ifndef SK_ATLAS_INTERNAL_H
+#define SK_ATLAS_INTERNAL_H
+
+#include "surfkit/atlas.h"
+
+#include <stdbool.h>
+
+/* ---- charts.c ---- */
+
+/* Scratch shared by chart extraction and bisection, sized by the mesh. */
+typedef struct sk__chart_work {
+    uint32_t *label;     /* per face: stamp of the chart it was last processed in */
+    uint32_t *parent;    /* per half-edge: union-find of corners (wedges) */
+    uint32_t *local;     /* per half-edge root: local vertex index in the chart mesh */
+    uint32_t *flocal;    /* per face: local face index in the chart being bisected */
+    double *dist;        /* per local face: Dijkstra distance (bisection) */
+    uint32_t *heap, *heap_pos; /* per local face */
+    uint8_t *side;       /* per local face */
+    uint32_t *tmp;       /* per face: partition buffer */
+    double *centroid;    /* 3 per face */
+    uint32_t *vcount;    /* per vertex: faces of the growing disk around it (zero between uses) */
+} sk__chart_work;
+
+sk_status sk__chart_work_init(sk__chart_work *w, const sk_mesh *m, sk_error *err);
+void sk__chart_work_free(sk__chart_work *w);
+
+/* Component ids of the faces (edge-connected), written to comp; returns their number. */
+size_t sk__face_components(const sk_mesh *m, uint32_t *comp, uint32_t *queue);
+
+/* The chart mesh of faces[0..nf) (all labelled `stamp` in w->label): one vertex per wedge (fan
+ * of chart faces around a mesh vertex), faces in the given order. vert_h (nv entries, allocated
+ * here) receives, per chart vertex, one mesh half-edge whose corner it is; corner (h) of a chart
+ * face maps to chart vertex w->local[sk__wedge_find(w, h)]. */
+sk_status sk__chart_extract(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
+                            sk__chart_work *w, sk_mesh **chart, uint32_t **vert_h, sk_error *err);
+uint32_t sk__wedge_find(sk__chart_work *w, uint32_t h);
+
+/* Splits faces[0..nf) (labelled stamp, nf >= 2, edge-connected) in two edge-connected halves:
+ * reorders faces so that the first *n0 faces are one half. */
+sk_status sk__chart_bisect(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
+                           sk__chart_work *w, size_t *n0, sk_error *err);
+
+/* Grows one disk from a seed inside the non-disk chart faces[0..nf) (labelled stamp) in
+ * Dijkstra order, adding a face only when the region stays a disk without pinched vertices
+ * (it shares one edge with the region and brings a new vertex, or shares two edges and closes
+ * the fan of their common vertex): the complement is a band along a cut graph. Reorders faces so
+ * the first *n0 are the disk (1 <= *n0 < nf unless the chart is itself a disk). */
+sk_status sk__chart_grow_disk(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
+                              sk__chart_work *w, size_t *n0, sk_error *err);
+
+/* Reorders faces[0..nf) (labelled stamp) by edge-connected component; sizes (nf entries of room)
+ * receives the component sizes in order; returns their number. */
+size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
+                            sk__chart_work *w, uint32_t *sizes);
+
+/* ---- chart_param.c ---- */
+
+typedef struct sk__chart_quality {
+    size_t flipped;
+    double conformal_mean; /* 3D-area weighted sigma1/sigma2 */
+    double area_log_dev;   /* 3D-area weighted |log(area scale / mean area scale)| */
+    double area3, area_uv; /* after scaling area_uv == area3 */
+} sk__chart_quality;
+
+/* Parametrizes a disk chart (free boundary, flip-free hierarchical MIPS) into uv, scaled so that
+ * its uv area equals its 3D area, and measures it. */
+sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__chart_quality *q,
+                          sk_error *err);
+
+/* Per triangle: 3D area, signed uv area, MIPS value and sigma1/sigma2 of the map p -> q. */
+void sk__tri_distortion(const double *p0, const double *p1, const double *p2, const double *q0,
+                        const double *q1, const double *q2, double *area3, double *area_uv,
+                        double *mips, double *conformal);
+
+/* ---- pack.c ---- */
+
+/* Packs the charts in place: chart c owns the uv points [off[c], off[c+1]) (already at a common
+ * scale, in any position); each is rotated to its smallest bounding box, then all are placed in
+ * shelves inside [0,1]^2 at the largest common scale with `gutter` (uv units) between them.
+ * *scale receives the common factor applied. */
+sk_status sk__pack_charts(size_t num_charts, const uint32_t *off, double *uv, double gutter,
+                          double *scale, sk_error *err);
+
+#endif

@@ -1,0 +1,168 @@
+/* The one output buffer of the library (mesh writers, CAD exporters): a growing memory buffer,
+ * flushed to a FILE when one is attached; and the one shortest-decimal number formatter. */
+#include "core/internal.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+int sk__fmt_shortest(char buf[32], double v)
+{
+    int n = 0;
+    for (int prec = 15; prec <= 17; ++prec) {
+        n = snprintf(buf, 32, "%.*g", prec, v);
+        if (prec == 17 || strtod(buf, NULL) == v)
+            break;
+    }
+    return n;
+}
+
+#define SK__OUT_FLUSH (1u << 20)
+
+void sk__out_flush(sk__out *o)
+{
+    if (!o->fp || o->failed || o->len == 0)
+        return;
+    if (fwrite(o->buf, 1, o->len, o->fp) != o->len)
+        o->failed = SK_ERR_IO;
+    o->len = 0;
+}
+
+bool sk__out_room(sk__out *o, size_t n)
+{
+    if (o->failed)
+        return false;
+    if (o->cap - o->len >= n)
+        return true;
+    if (o->fp && o->len > 0) {
+        sk__out_flush(o);
+        if (o->failed)
+            return false;
+        if (o->cap >= n)
+            return true;
+    }
+    size_t cap = o->cap ? o->cap : 4096;
+    while (cap - o->len < n) {
+        if (cap > SIZE_MAX / 2) {
+            o->failed = SK_ERR_NOMEM;
+            return false;
+        }
+        cap *= 2;
+    }
+    char *b = sk__realloc_array(o->buf, cap, 1);
+    if (!b) {
+        o->failed = SK_ERR_NOMEM;
+        return false;
+    }
+    o->buf = b;
+    o->cap = cap;
+    return true;
+}
+
+void sk__out_bytes(sk__out *o, const void *data, size_t n)
+{
+    if (n && sk__out_room(o, n)) {
+        memcpy(o->buf + o->len, data, n);
+        o->len += n;
+    }
+}
+
+void sk__out_str(sk__out *o, const char *s) { sk__out_bytes(o, s, strlen(s)); }
+
+void sk__out_char(sk__out *o, char c)
+{
+    if (sk__out_room(o, 1))
+        o->buf[o->len++] = c;
+}
+
+void sk__out_double(sk__out *o, double v)
+{
+    if (!sk__out_room(o, 32))
+        return;
+    char *b = o->buf + o->len;
+    int n = 0;
+    if (v == 0.0) {
+        /* keeps the sign of -0 */
+        n = signbit(v) ? 2 : 1;
+        memcpy(b, "-0", 2);
+        if (n == 1)
+            b[0] = '0';
+    } else if (fabs(v) < 1e15 && v == (double)(int64_t)v) { /* range first: the cast */
+        n = snprintf(b, 32, "%lld", (long long)v);
+    } else {
+        char t[32]; /* formatted locally: gcc -O3 -fsanitize warns about b otherwise */
+        n = sk__fmt_shortest(t, v);
+        if (n > 0 && n < 32)
+            memcpy(b, t, (size_t)n);
+        else
+            n = 0;
+    }
+    if (n > 0)
+        o->len += (size_t)n;
+}
+
+void sk__out_uint(sk__out *o, uint64_t v)
+{
+    char tmp[24];
+    int n = 0;
+    do {
+        tmp[n++] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    if (!sk__out_room(o, (size_t)n))
+        return;
+    for (int i = n - 1; i >= 0; --i)
+        o->buf[o->len++] = tmp[i];
+}
+
+void sk__out_printf(sk__out *o, const char *fmt, ...)
+{
+    char tmp[512];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (n < 0) {
+        if (!o->failed)
+            o->failed = SK_ERR_IO;
+        return;
+    }
+    if ((size_t)n < sizeof tmp) {
+        sk__out_bytes(o, tmp, (size_t)n);
+        return;
+    }
+    if (!sk__out_room(o, (size_t)n + 1))
+        return;
+    va_start(ap, fmt);
+    vsnprintf(o->buf + o->len, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    o->len += (size_t)n;
+}
+
+void sk__out_free(sk__out *o)
+{
+    sk__free(o->buf);
+    o->buf = NULL;
+    o->len = o->cap = 0;
+}
+
+sk_status sk__out_write_file(const sk__out *o, const char *path, sk_error *err)
+{
+    if (o->failed == SK_ERR_NOMEM)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if (o->failed)
+        return sk__fail(err, o->failed, "%s: cannot format the output", path);
+    sk__atomic_file af;
+    sk_status st = sk__atomic_open(&af, path, err);
+    if (st)
+        return st;
+    if (o->len && fwrite(o->buf, 1, o->len, af.fp) != o->len) {
+        int e = errno;
+        sk__atomic_abort(&af);
+        return sk__fail(err, SK_ERR_IO, "%s: write failed: %s", path, strerror(e));
+    }
+    return sk__atomic_commit(&af, err);
+}

@@ -1,0 +1,59 @@
+#!/bin/bash
+# surfkit param on meshes that are not one disk: the atlas (closed genus 0, genus 2, holes, two
+# components), per-corner output in OBJ and PLY, report keys, pictures, usage errors.
+set -u
+BIN=$1; SRC=$2; SHARED=$3; TMP=$4
+M=$SHARED/data/meshes
+rm -rf "$TMP"; mkdir -p "$TMP"
+fail() { echo "FAIL: $*"; exit 1; }
+val() { sed -n "s/^ *\"$1\": *\\([^,]*\\),*$/\\1/p" "$2" | head -1; }
+
+for m in sphere eight holes mask_cone; do
+    "$BIN" param "$M/$m.off" -o "$TMP/$m.obj" --report "$TMP/$m.json" -q || fail "$m atlas"
+    [ "$(val flipped "$TMP/$m.json")" = 0 ] || fail "$m flipped"
+    [ "$(val overlaps "$TMP/$m.json")" = 0 ] || fail "$m overlaps"
+    for k in charts seam_edges seam_length_rel mips_mean area_log_mean utilization parametrize pack; do
+        grep -q "\"$k\"" "$TMP/$m.json" || fail "$m report lacks $k"
+    done
+    # one v per mesh vertex, faces v/vt, every vt in the unit square
+    nv=$(sed -n '2s/^\([0-9]*\) .*/\1/p' "$M/$m.off")
+    [ "$(grep -c '^v ' "$TMP/$m.obj")" = "$nv" ] || fail "$m: v count"
+    grep -q '^f [0-9]*/[0-9]* [0-9]*/[0-9]* [0-9]*/[0-9]*$' "$TMP/$m.obj" || fail "$m: faces not v/vt"
+    awk '/^vt /{ if ($2 < 0 || $2 > 1 || $3 < 0 || $3 > 1) bad = 1 } END { exit bad }' "$TMP/$m.obj" \
+        || fail "$m: vt outside [0,1]^2"
+done
+# closed: more vt than v (seams); two components: at least two charts
+[ "$(grep -c '^vt ' "$TMP/sphere.obj")" -gt "$(grep -c '^v ' "$TMP/sphere.obj")" ] || fail "sphere has no seam"
+[ "$(val charts "$TMP/mask_cone.json")" -ge 2 ] || fail "mask_cone charts"
+[ "$(val charts "$TMP/eight.json")" -ge 2 ] || fail "eight charts"
+
+# PLY: the texcoord face list; --split-seams: per-vertex u v and one vertex per uv
+"$BIN" param "$M/eight.off" -o "$TMP/e.ply" --ascii -q || fail "ply"
+grep -q 'property list uchar double texcoord' "$TMP/e.ply" || fail "PLY lacks texcoord"
+"$BIN" param "$M/eight.off" -o "$TMP/es.ply" --ascii --split-seams -q || fail "split ply"
+grep -q 'property double s' "$TMP/es.ply" || fail "split PLY lacks s t (Blender's names)"
+nvt=$(grep -c '^vt ' "$TMP/eight.obj")
+grep -q "element vertex $nvt" "$TMP/es.ply" || fail "split PLY vertices != vt count $nvt"
+# the PLY reads back into an OBJ with the same uv per corner
+"$BIN" convert "$TMP/e.ply" "$TMP/e2.obj" || fail "convert ply -> obj"
+grep -c '^vt ' "$TMP/e2.obj" | grep -q "^$(grep -c '^f ' "$TMP/e2.obj" | awk '{print 3*$1}')$" \
+    || fail "one vt per corner after PLY"
+
+# a disk stays on the disk path unless --atlas; the atlas options imply --atlas
+"$BIN" param "$M/nefertiti.off" -o "$TMP/n.obj" --json | grep -q '"method": "floater"' || fail "disk path"
+"$BIN" param "$M/nefertiti.off" -o "$TMP/n.obj" --atlas --max-stretch 1.5 --json | grep -q '"charts": 1' || fail "--atlas disk"
+"$BIN" param "$M/cow.off" -o "$TMP/c.obj" --max-stretch 1.2 --padding 4 --resolution 512 \
+    --png "$TMP/c.png" --checker "$TMP/cc.png" --report "$TMP/c.json" -q || fail "cow options"
+head -c 8 "$TMP/c.png" | od -c | grep -q 'P   N   G' || fail "atlas PNG"
+head -c 8 "$TMP/cc.png" | od -c | grep -q 'P   N   G' || fail "checker PNG"
+[ "$(val overlaps "$TMP/c.json")" = 0 ] || fail "cow overlaps"
+# usage errors and refusals
+"$BIN" param "$M/cow.off" -o "$TMP/x.obj" --atlas --method floater 2>/dev/null; [ $? = 2 ] || fail "--atlas with floater"
+"$BIN" param "$M/cow.off" -o "$TMP/x.obj" --max-stretch 0.5 2>/dev/null; [ $? = 2 ] || fail "bad --max-stretch"
+printf 'OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 -1 0\n3 0 1 2\n3 0 1 3\n3 0 1 4\n' > "$TMP/nm.off"
+"$BIN" param "$TMP/nm.off" -o "$TMP/x.obj" 2> "$TMP/err"; [ $? = 1 ] || fail "non-manifold exit"
+[ "$(wc -l < "$TMP/err")" = 1 ] || fail "non-manifold: not one line"
+grep -q 'edge (0, 1) is non-manifold' "$TMP/err" || fail "non-manifold message: $(cat "$TMP/err")"
+[ ! -e "$TMP/x.obj" ] || fail "output left after an error"
+"$BIN" param --help | grep -q -- '--max-stretch' || fail "help"
+echo ok

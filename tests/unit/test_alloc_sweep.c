@@ -1,0 +1,283 @@
+/* Allocation-failure sweep (issue 17): every library pipeline runs on a small mesh under an
+ * sk_allocator that fails its k-th allocation, for every k up to the pipeline's allocation count.
+ * Each run must return SK_ERR_NOMEM (or SK_OK with exactly the reference result), leave no block
+ * of its own allocated (the allocator counts live blocks; LSan checks the rest in the ASan build)
+ * and not crash. cairo and fontconfig are not in it (no picture is drawn). */
+#include "testutil.h"
+
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* atomic: OpenMP workers allocate too (release build) */
+typedef struct counter {
+    _Atomic long count, live;
+    long fail_at;
+} counter;
+
+static void *t_malloc(void *user, size_t n)
+{
+    counter *c = user;
+    if (++c->count == c->fail_at)
+        return NULL;
+    void *p = malloc(n);
+    if (p)
+        c->live++;
+    return p;
+}
+
+static void *t_realloc(void *user, void *p, size_t n)
+{
+    counter *c = user;
+    if (++c->count == c->fail_at)
+        return NULL;
+    void *q = realloc(p, n);
+    if (q && !p)
+        c->live++;
+    return q;
+}
+
+static void t_free(void *user, void *p)
+{
+    counter *c = user;
+    c->live--;
+    free(p);
+}
+
+static counter g_cnt; /* the installed allocator's state */
+static sk_error g_err; /* the last run's message */
+
+/* One pipeline: reads the mesh from memory and runs to the end, freeing everything; fills res
+ * (at most RES_MAX doubles, counted in *nres) with what it computed. */
+#define RES_MAX 4096
+typedef sk_status (*pipeline_fn)(const char *off, size_t size, double *res, size_t *nres);
+
+static sk_status read_mesh(const char *off, size_t size, sk_soup **soup, sk_mesh **mesh)
+{
+    sk_status st = sk_soup_read_memory(off, size, "sweep.off", NULL, soup, &g_err);
+    if (st == SK_OK && mesh && (st = sk_mesh_from_soup(*soup, mesh, &g_err)) != SK_OK)
+        sk_soup_destroy(soup);
+    return st;
+}
+
+static sk_status p_read_validate(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_status st = read_mesh(off, size, &s, NULL);
+    if (st)
+        return st;
+    sk_validation r;
+    st = sk_soup_validate(s, &r, &g_err);
+    if (st == SK_OK) {
+        res[0] = (double)r.edges;
+        res[1] = (double)r.boundary_loops;
+        res[2] = r.angle_deficit_sum;
+        res[3] = r.area;
+        *nres = 4;
+    }
+    sk_soup_destroy(&s);
+    return st;
+}
+
+static sk_status p_build_loops(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    sk_loops loops = {0};
+    st = sk_mesh_boundary_loops(m, &loops, &g_err);
+    if (st == SK_OK) {
+        res[0] = (double)loops.count;
+        res[1] = loops.count ? loops.lengths[0] : 0.0;
+        *nres = 2;
+        sk_loops_free(&loops);
+    }
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
+static sk_status p_hierarchy(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    sk_hierarchy_opts o = {.seed = 3};
+    sk_hierarchy *h = NULL;
+    st = sk_hierarchy_build(m, &o, &h, &g_err);
+    if (st == SK_OK) {
+        size_t L = sk_hierarchy_num_levels(h);
+        for (size_t i = 0; i < L && 2 * i + 1 < RES_MAX; ++i) {
+            sk_level_info li = sk_hierarchy_level_info(h, i);
+            res[2 * i] = (double)li.vertices;
+            res[2 * i + 1] = (double)li.faces;
+        }
+        *nres = 2 * L;
+        sk_hierarchy_destroy(&h);
+    }
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
+static sk_status copy_uv(const sk_mesh *m, const double *uv, double *res, size_t *nres)
+{
+    size_t n = 2 * m->num_vertices;
+    assert_true(n <= RES_MAX);
+    memcpy(res, uv, n * sizeof(double));
+    *nres = n;
+    return SK_OK;
+}
+
+static sk_status param_method(const char *off, size_t size, double *res, size_t *nres, int method)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    double *uv = calloc(2 * m->num_vertices, sizeof(double)); /* the caller's, not the library's */
+    assert_non_null(uv);
+    if (method <= SK_PARAM_LSCM) {
+        sk_param_opts o = {.method = (sk_param_method)method};
+        st = sk_param_linear(m, &o, uv, NULL, &g_err);
+    } else if (method == 100) {
+        sk_hparam_opts o = {0};
+        st = sk_param_hierarchical(m, &o, uv, NULL, &g_err);
+    } else {
+        sk_mips_flat_opts o = {.boundary = {.shape = SK_BOUNDARY_CIRCLE}, .max_steps = 50, .seed = 1};
+        st = sk_param_mips_flat(m, &o, uv, NULL, &g_err);
+    }
+    if (st == SK_OK || st == SK_WARN_FLIPS)
+        copy_uv(m, uv, res, nres);
+    free(uv);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
+static sk_status p_tutte(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, SK_PARAM_TUTTE); }
+static sk_status p_floater(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, SK_PARAM_FLOATER); }
+static sk_status p_mvc(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, SK_PARAM_MEAN_VALUE); }
+static sk_status p_harmonic(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, SK_PARAM_HARMONIC); }
+static sk_status p_lscm(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, SK_PARAM_LSCM); }
+static sk_status p_mips_hier(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 100); }
+static sk_status p_mips_flat(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 101); }
+
+static sk_status p_smooth_export(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    sk_smooth *sm = NULL;
+    sk_continuity_report rep;
+    sk_export_stats es = {0};
+    sk_export_opts eo = {.timestamp = "2000-01-01T00:00:00"};
+    if ((st = sk_smooth_build(m, NULL, &sm, &g_err)) == SK_OK &&
+        (st = sk_smooth_continuity(sm, NULL, &rep, &g_err)) == SK_OK &&
+        (st = sk_export_step(skt_tmp_path("sweep.step"), &sm->surface, &eo, &es, &g_err)) == SK_OK &&
+        (st = sk_export_iges(skt_tmp_path("sweep.igs"), &sm->surface, &eo, &es, &g_err)) == SK_OK) {
+        res[0] = rep.max_normal_jump_deg;
+        res[1] = rep.max_gap;
+        res[2] = (double)sm->surface.count;
+        res[3] = (double)es.bytes;
+        *nres = 4;
+    }
+    sk_smooth_destroy(&sm);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
+typedef struct sweep_case {
+    const char *name;
+    pipeline_fn fn;
+} sweep_case;
+
+static void sweep(const sweep_case *c, const char *off, size_t size)
+{
+    static double ref[RES_MAX], got[RES_MAX];
+    size_t nref = 0, ngot = 0;
+    counter *cnt = &g_cnt;
+    cnt->count = 0;
+    cnt->live = 0;
+    cnt->fail_at = 0;
+    sk_allocator a = {t_malloc, t_realloc, t_free, cnt};
+    sk_set_allocator(&a);
+    sk_status st = c->fn(off, size, ref, &nref);
+    long total = (long)cnt->count;
+    assert_true(st == SK_OK || st == SK_WARN_FLIPS);
+    assert_int_equal(cnt->live, 0);
+    long nomem = 0, exact = 0;
+    for (long k = 1; k <= total; ++k) {
+        cnt->count = 0;
+        cnt->live = 0;
+        cnt->fail_at = k;
+        ngot = 0;
+        sk_status s2 = c->fn(off, size, got, &ngot);
+        if (cnt->live != 0) {
+            sk_set_allocator(NULL);
+            fail_msg("%s: failing allocation %ld of %ld leaked %ld blocks (status %d)", c->name, k,
+                     total, (long)cnt->live, (int)s2);
+        }
+        if (s2 == SK_ERR_NOMEM) {
+            nomem++;
+        } else if (s2 == st && ngot == nref && !memcmp(got, ref, nref * sizeof(double))) {
+            exact++; /* the failed allocation had a fallback */
+        } else {
+            sk_set_allocator(NULL);
+            fail_msg("%s: failing allocation %ld of %ld gave status %d (%s: %s) and %s result",
+                     c->name, k, total, (int)s2, sk_status_string(s2), g_err.message,
+                     ngot == nref && !memcmp(got, ref, nref * sizeof(double)) ? "the reference"
+                                                                               : "a different");
+        }
+    }
+    sk_set_allocator(NULL);
+    print_message("%-18s %6ld allocations: %6ld out of memory, %4ld exact\n", c->name, total, nomem,
+                  exact);
+}
+
+static char *disk_off(int n, size_t *size)
+{
+    sk_mesh *m = skt_planar_disk(n, 7);
+    sk_soup *s = NULL;
+    assert_int_equal(sk_mesh_to_soup(m, &s, NULL), SK_OK);
+    sk_write_opts wo = {.format = SK_FORMAT_OFF};
+    void *data = NULL;
+    assert_int_equal(sk_soup_write_memory(s, &wo, &data, size, NULL), SK_OK);
+    sk_soup_destroy(&s);
+    sk_mesh_destroy(&m);
+    return data;
+}
+
+static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **state)
+{
+    (void)state;
+    size_t size = 0;
+    char *off = disk_off(6, &size);
+    const sweep_case cases[] = {
+        {"read+validate", p_read_validate}, {"build+loops", p_build_loops},
+        {"hierarchy", p_hierarchy},         {"tutte", p_tutte},
+        {"floater", p_floater},             {"mvc", p_mvc},
+        {"harmonic", p_harmonic},           {"lscm", p_lscm},
+        {"mips-hierarchical", p_mips_hier}, {"mips-flat", p_mips_flat},
+        {"smooth+export", p_smooth_export},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
+        sweep(&cases[i], off, size);
+    free(off);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(given_kth_allocation_fails_then_every_pipeline_fails_cleanly),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,335 @@
+/* Atlases (sk_atlas_build) on every mesh of the shared data that is manifold and has no
+ * degenerate triangle: given a mesh, when its atlas is built, then every chart is a topological
+ * disk, no uv triangle is flipped and no two uv triangles overlap (checked here by a sweep with a
+ * crossing / containment test of its own, not by the library's grid), every uv lies in [0,1]^2
+ * with the gutter, and one scale serves all charts. SK_TEST_QUICK=1 skips the large scans. */
+#include "testutil.h"
+
+#include "surfkit/atlas.h"
+#include "surfkit/param.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *meshes[] = {
+    "armadillo.off", "blobby.off", "bunny00.off", "cow.off", "cube.off", "cylinder.off",
+    "degtri_sliding.off", "eight.off", "elephant.off", "fandisk.off", "fold.off", "holes.off",
+    "icosahedron.off", "in.off", "knot1.off", "lion-head.off", "lion.off", "mask_cone.off",
+    "mech-holes-shark.off", "mushroom.off", "nefertiti.off", "paraboloid-patch.off",
+    "patch-01.off", "pig.off", "sphere.off", "tetra_intersected_by_triangle.off",
+    "three_peaks.off", "triangle.off"};
+
+/* ---- an independent overlap count: sweep over u, pairwise crossing / containment ---- */
+
+typedef struct tri_box {
+    double lo[2], hi[2];
+    uint32_t id;
+} tri_box;
+
+static int box_cmp(const void *x, const void *y)
+{
+    double a = ((const tri_box *)x)->lo[0], b = ((const tri_box *)y)->lo[0];
+    return a < b ? -1 : a > b;
+}
+
+static bool proper_cross(const double *a, const double *b, const double *c, const double *d)
+{
+    return sk_orient2d(a, b, c) * sk_orient2d(a, b, d) < 0 &&
+           sk_orient2d(c, d, a) * sk_orient2d(c, d, b) < 0;
+}
+
+/* p strictly inside the counter-clockwise triangle t */
+static bool strictly_inside(const double *t, const double *p)
+{
+    return sk_orient2d(t, t + 2, p) > 0 && sk_orient2d(t + 2, t + 4, p) > 0 &&
+           sk_orient2d(t + 4, t, p) > 0;
+}
+
+static bool same_point(const double *a, const double *b) { return a[0] == b[0] && a[1] == b[1]; }
+
+static bool overlap_pair(const double *s, const double *t)
+{
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (proper_cross(s + 2 * i, s + 2 * ((i + 1) % 3), t + 2 * j, t + 2 * ((j + 1) % 3)))
+                return true;
+    double cs[2] = {(s[0] + s[2] + s[4]) / 3, (s[1] + s[3] + s[5]) / 3};
+    double ct[2] = {(t[0] + t[2] + t[4]) / 3, (t[1] + t[3] + t[5]) / 3};
+    for (int i = 0; i < 3; ++i)
+        if (strictly_inside(t, s + 2 * i) || strictly_inside(s, t + 2 * i))
+            return true;
+    if (strictly_inside(t, cs) || strictly_inside(s, ct))
+        return true;
+    int same = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            same += same_point(s + 2 * i, t + 2 * j);
+    return same == 3;
+}
+
+static size_t count_overlaps(size_t n, const double *tri)
+{
+    tri_box *b = calloc(n, sizeof *b);
+    for (size_t i = 0; i < n; ++i) {
+        const double *t = tri + 6 * i;
+        b[i].id = (uint32_t)i;
+        for (int k = 0; k < 2; ++k) {
+            b[i].lo[k] = fmin(t[k], fmin(t[2 + k], t[4 + k]));
+            b[i].hi[k] = fmax(t[k], fmax(t[2 + k], t[4 + k]));
+        }
+    }
+    qsort(b, n, sizeof *b, box_cmp);
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = i + 1; j < n && b[j].lo[0] <= b[i].hi[0]; ++j) {
+            if (b[j].lo[1] > b[i].hi[1] || b[i].lo[1] > b[j].hi[1])
+                continue;
+            if (overlap_pair(tri + 6 * (size_t)b[i].id, tri + 6 * (size_t)b[j].id))
+                count++;
+        }
+    free(b);
+    return count;
+}
+
+/* ---- per chart topology from the seam-split mesh ---- */
+
+static void check_charts_are_disks(const sk_mesh *m, const sk_atlas *a, const char *name)
+{
+    sk_mesh *s = NULL;
+    sk_error err;
+    if (sk_atlas_split_mesh(m, a, &s, &err))
+        fail_msg("%s: split mesh: %s", name, err.message);
+    assert_int_equal(s->num_faces, m->num_faces);
+    size_t nc = a->num_charts;
+    long *chi = calloc(nc, sizeof *chi);
+    size_t *loops = calloc(nc, sizeof *loops);
+    /* faces of the split mesh keep the mesh's order */
+    for (size_t f = 0; f < s->num_faces; ++f)
+        chi[a->face_chart[f]] += 1;
+    for (size_t v = 0; v < s->num_vertices; ++v) {
+        assert_int_not_equal(s->v_halfedge[v], SK_INVALID);
+        uint32_t h = s->v_halfedge[v];
+        uint32_t f = s->h_face[h] != SK_INVALID ? s->h_face[h] : s->h_face[h ^ 1u];
+        assert_int_equal(a->uv_chart[v], a->face_chart[f]);
+        chi[a->face_chart[f]] += 1;
+    }
+    for (size_t e = 0; e < sk_num_edges(s); ++e) {
+        uint32_t f0 = s->h_face[2 * e], f1 = s->h_face[2 * e + 1];
+        uint32_t f = f0 != SK_INVALID ? f0 : f1;
+        if (f0 != SK_INVALID && f1 != SK_INVALID)
+            assert_int_equal(a->face_chart[f0], a->face_chart[f1]); /* no edge joins two charts */
+        chi[a->face_chart[f]] -= 1;
+    }
+    sk_loops L;
+    assert_int_equal(sk_mesh_boundary_loops(s, &L, NULL), SK_OK);
+    for (size_t i = 0; i < L.count; ++i)
+        loops[a->face_chart[s->h_face[L.halfedges[L.offsets[i]] ^ 1u]]]++;
+    for (size_t c = 0; c < nc; ++c)
+        if (chi[c] != 1 || loops[c] != 1)
+            fail_msg("%s: chart %zu has Euler characteristic %ld and %zu boundary loops", name, c,
+                     chi[c], loops[c]);
+    sk_loops_free(&L);
+    free(chi);
+    free(loops);
+    sk_mesh_destroy(&s);
+}
+
+static void check_atlas(const char *name, const sk_mesh *m, size_t min_charts)
+{
+    sk_atlas *a = NULL;
+    sk_atlas_stats st;
+    sk_error err;
+    sk_atlas_opts o = {0};
+    if (sk_atlas_build(m, &o, &a, &st, &err))
+        fail_msg("%s: %s", name, err.message);
+    print_message("%-34s %6zu faces %4zu charts, seams %.2f, mips %.4f, area-log %.3f, "
+                  "utilization %.3f\n", name, m->num_faces, st.charts, st.seam_length_rel,
+                  st.mips_mean, st.area_log_mean, st.utilization);
+    assert_int_equal(st.charts, a->num_charts);
+    assert_true(a->num_charts >= min_charts);
+    /* every corner has a uv in the square, off the border by half the gutter */
+    double g = 2.0 / 1024.0;
+    for (size_t i = 0; i < 2 * a->num_uvs; ++i)
+        assert_true(a->uvs[i] >= 0.5 * g - 1e-12 && a->uvs[i] <= 1 - 0.5 * g + 1e-12);
+    size_t nf = m->num_faces;
+    double *tri = malloc(6 * nf * sizeof *tri);
+    size_t flipped = 0;
+    double area3 = 0, area_uv = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        uint32_t h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            uint32_t u = a->corner_uv[h];
+            assert_true(u < a->num_uvs);
+            assert_int_equal(a->uv_chart[u], a->face_chart[f]);
+            memcpy(tri + 6 * f + 2 * k, a->uvs + 2 * (size_t)u, 2 * sizeof(double));
+        }
+        const double *t = tri + 6 * f;
+        if (sk_orient2d(t, t + 2, t + 4) <= 0)
+            flipped++;
+        area3 += sk_mesh_face_area(m, (uint32_t)f);
+        area_uv += 0.5 * ((t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]));
+    }
+    if (flipped)
+        fail_msg("%s: %zu flipped uv triangles", name, flipped);
+    size_t ov = count_overlaps(nf, tri);
+    if (ov)
+        fail_msg("%s: %zu overlapping uv triangle pairs", name, ov);
+    assert_int_equal(st.flipped, 0);
+    assert_int_equal(st.overlaps, 0);
+    /* per-chart MIPS means average (face-weighted) to the total */
+    double msum = 0;
+    size_t fsum = 0;
+    for (size_t c = 0; c < a->num_charts; ++c) {
+        assert_true(a->chart_faces[c] > 0 && a->chart_mips[c] >= 2.0 - 1e-12);
+        msum += a->chart_mips[c] * a->chart_faces[c];
+        fsum += a->chart_faces[c];
+    }
+    assert_int_equal(fsum, nf);
+    assert_true(fabs(msum / (double)nf - st.mips_mean) < 1e-9);
+    /* one scale for all charts: uv area = scale^2 * 3D area, and the report's utilization */
+    assert_true(fabs(area_uv - st.scale * st.scale * area3) < 1e-9 * area_uv);
+    assert_true(fabs(area_uv - st.utilization) < 1e-9);
+    assert_true(st.utilization > 0.15 && st.utilization <= 1.0);
+    /* charts under 8 triangles are never split for distortion: the 5-face tetrahedron case has 2.8 */
+    assert_true(st.mips_mean >= 2.0 - 1e-12 && st.mips_mean < (nf < 64 ? 3.0 : 2.05));
+    check_charts_are_disks(m, a, name);
+    free(tri);
+    sk_atlas_destroy(&a);
+}
+
+static void test_shared_meshes(void **state)
+{
+    (void)state;
+    const char *quick = getenv("SK_TEST_QUICK");
+    bool q = quick && quick[0] == '1';
+    for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
+        const char *name = meshes[i];
+        if (q && (!strcmp(name, "bunny00.off") || !strcmp(name, "armadillo.off")))
+            continue;
+        sk_soup *soup = skt_read_soup(skt_shared_mesh(name));
+        sk_validation rep;
+        assert_int_equal(sk_soup_validate(soup, &rep, NULL), SK_OK);
+        if (!sk_validation_is_manifold(&rep)) {
+            print_message("%-34s skipped: not manifold (no atlas by design)\n", name);
+            sk_soup_destroy(&soup);
+            continue;
+        }
+        sk_mesh *m = NULL;
+        assert_int_equal(sk_mesh_from_soup(soup, &m, NULL), SK_OK);
+        sk_soup_destroy(&soup);
+        if (rep.degenerate_faces.count) {
+            /* refused with the face named: MIPS is undefined on a zero-area triangle */
+            sk_atlas *a = NULL;
+            sk_error err;
+            assert_int_equal(sk_atlas_build(m, NULL, &a, NULL, &err), SK_ERR_TOPOLOGY);
+            assert_non_null(strstr(err.message, "degenerate"));
+            assert_null(a);
+            print_message("%-34s skipped: %zu degenerate triangle(s), refused: %s\n", name,
+                          rep.degenerate_faces.count, err.message);
+            sk_mesh_destroy(&m);
+            continue;
+        }
+        /* closed meshes need two charts at least, several components one chart each */
+        size_t min_charts = rep.boundary_loops == 0 ? 2 : rep.components;
+        check_atlas(name, m, min_charts);
+        sk_mesh_destroy(&m);
+    }
+}
+
+/* A disk within the bounds stays one chart; above them it is split. */
+static void test_disk_stays_one_chart(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("nefertiti.off"));
+    sk_atlas *a = NULL;
+    sk_atlas_stats st;
+    sk_atlas_opts o = {0};
+    o.max_stretch = 1.5;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
+    assert_int_equal(st.charts, 1);
+    assert_int_equal(st.seam_edges, 0);
+    assert_int_equal(a->num_uvs, m->num_vertices);
+    sk_atlas_destroy(&a);
+    o.max_stretch = 1.1; /* nefertiti's one chart has exp(mean |log area scale|) about 1.3 */
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
+    assert_true(st.charts > 1);
+    assert_true(st.seam_edges > 0);
+    assert_true(a->num_uvs > m->num_vertices);
+    sk_atlas_destroy(&a);
+    sk_mesh_destroy(&m);
+}
+
+/* Tighter bounds give more charts and lower distortion. */
+static void test_bounds_trade_charts_for_distortion(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("cow.off"));
+    sk_atlas *a = NULL;
+    sk_atlas_stats loose, tight;
+    sk_atlas_opts o = {0};
+    o.max_distortion = -1;
+    o.max_stretch = 3.0;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &loose, NULL), SK_OK);
+    sk_atlas_destroy(&a);
+    o.max_distortion = 1.1;
+    o.max_stretch = 1.2;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &tight, NULL), SK_OK);
+    sk_atlas_destroy(&a);
+    assert_true(tight.charts > loose.charts);
+    assert_true(tight.area_log_mean < loose.area_log_mean);
+    assert_int_equal(tight.overlaps + loose.overlaps + tight.flipped + loose.flipped, 0);
+    sk_mesh_destroy(&m);
+}
+
+/* The library's overlap count on small cases, each decided by hand. */
+static void test_uv_overlaps_cases(void **state)
+{
+    (void)state;
+    size_t n;
+    uint32_t first[2];
+    /* two triangles sharing an edge, on opposite sides: no overlap */
+    double adj[12] = {0, 0, 1, 0, 0, 1, 1, 0, 1, 1, 0, 1};
+    assert_int_equal(sk_uv_overlaps(2, adj, &n, first, NULL), SK_OK);
+    assert_int_equal(n, 0);
+    assert_int_equal(first[0], SK_INVALID);
+    /* the same edge, both on one side (a fold): overlap */
+    double fold[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0.2, 0.2};
+    assert_int_equal(sk_uv_overlaps(2, fold, &n, first, NULL), SK_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(first[0], 0);
+    assert_int_equal(first[1], 1);
+    /* touching at one vertex only, and touching along part of an edge: none */
+    double touch[18] = {0, 0, 1, 0, 0, 1, 1, 0, 2, 0, 2, 1, 0.25, 1.0, 0.5, 0.5, 1, 1};
+    assert_int_equal(sk_uv_overlaps(3, touch, &n, NULL, NULL), SK_OK);
+    assert_int_equal(n, 0);
+    /* identical (one clockwise), and a degenerate one inside: one overlap */
+    double same[18] = {0, 0, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 0.1, 0.1, 0.2, 0.2, 0.3, 0.3};
+    assert_int_equal(sk_uv_overlaps(3, same, &n, NULL, NULL), SK_OK);
+    assert_int_equal(n, 1);
+    /* contained with all vertices on the boundary of the big one */
+    double in[12] = {0, 0, 2, 0, 0, 2, 0, 0, 1, 0, 1, 1};
+    assert_int_equal(sk_uv_overlaps(2, in, &n, NULL, NULL), SK_OK);
+    assert_int_equal(n, 1);
+    /* a star of David: overlap; far apart: none */
+    double star[12] = {0, 0, 2, 0, 1, 1.8, 0, 1.2, 1, -0.6, 2, 1.2};
+    assert_int_equal(sk_uv_overlaps(2, star, &n, NULL, NULL), SK_OK);
+    assert_int_equal(n, 1);
+    /* the independent check of this file agrees on every case */
+    assert_int_equal(count_overlaps(2, adj), 0);
+    assert_int_equal(count_overlaps(2, fold), 1);
+    assert_int_equal(count_overlaps(3, touch), 0);
+    assert_int_equal(count_overlaps(2, in), 1);
+    assert_int_equal(count_overlaps(2, star), 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_uv_overlaps_cases),
+        cmocka_unit_test(test_disk_stays_one_chart),
+        cmocka_unit_test(test_bounds_trade_charts_for_distortion),
+        cmocka_unit_test(test_shared_meshes),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -110,7 +110,7 @@ static void bad_input(void **state)
     assert_null(s);
     sk_mesh_destroy(&m);
     m = skt_planar_disk(6, 1);
-    sk_fit_opts o = {.has_corners = true, .corners = {0, 1, 2, 3}};
+    sk_fit_opts o = {.has_corners = true, .corners = {0, 8, 2, 3}}; /* 8 is inside */
     assert_int_equal(sk_fit_bspline(m, &o, &s, NULL, &err), SK_ERR_ARG);
     o = (sk_fit_opts){.degree = 9};
     assert_int_equal(sk_fit_bspline(m, &o, &s, NULL, &err), SK_ERR_ARG);

@@ -22,5 +22,7 @@
 #include "surfkit/deviation.h"
 #include "surfkit/view.h"
 #include "surfkit/intersect.h"
+#include "surfkit/bspline.h"
+#include "surfkit/fit.h"
 
 #endif

@@ -1,0 +1,62 @@
+/* Surface fitting: one tensor-product B-spline over a triangulated disk, within a tolerance.
+ *
+ * The disk is parametrized over the unit square (Floater's shape-preserving map, corners on four
+ * boundary vertices: given, or the four sharpest turns of the boundary), then a cubic B-spline is
+ * fitted to the vertices by least squares with a thin-plate smoothing term, and knots are
+ * inserted in the spans where a vertex is farther than the tolerance from its surface point,
+ * hierarchically (each round halves the offending spans), as in the hierarchical B-spline fitting
+ * the hierarchical parametrization paper names as its first use (its reference [8]). */
+#ifndef SURFKIT_FIT_H
+#define SURFKIT_FIT_H
+
+#include "surfkit/bspline.h"
+#include "surfkit/core.h"
+#include "surfkit/mesh.h"
+
+#include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sk_fit_opts {
+    double tolerance;        /* largest distance of a vertex from the surface, model units;
+                                0 = 1e-3 of the bounding-box diagonal */
+    int degree;              /* 0 = 3 (bicubic) */
+    double smoothing;        /* weight of the thin-plate energy relative to the data term
+                                (scale free: both are normalized by their traces); 0 = 1e-6 */
+    unsigned initial_spans;  /* knot spans per direction to start from; 0 = 4 */
+    unsigned max_rounds;     /* refinement rounds; 0 = 12 */
+    bool has_corners;        /* corners: four boundary vertices, counter-clockwise around the */
+    uint32_t corners[4];     /* surface, mapped to (0,0), (1,0), (1,1), (0,1) */
+    sk_progress_fn progress;
+    void *progress_user;
+} sk_fit_opts;
+
+typedef struct sk_fit_stats {
+    uint32_t corners[4];       /* the corners used */
+    size_t samples;            /* points fitted in the last round (vertices and face samples) */
+    size_t rounds;             /* refinement rounds done (the first fit is round 1) */
+    size_t control_points;     /* nu * nv of the result */
+    double tolerance;          /* the tolerance used (model units) */
+    double max_error, rms_error; /* |S(u_k, v_k) - p_k| over the samples (vertices and points of
+                                    the faces) after the foot-point correction: their distance
+                                    to the surface, to within the correction's convergence */
+    double surface_to_mesh;    /* largest distance of a grid of surface points to the mesh */
+    bool met;                  /* max_error and surface_to_mesh <= tolerance */
+    size_t flipped;            /* flipped triangles of the square parametrization */
+    double seconds_param, seconds_fit;
+} sk_fit_stats;
+
+/* Fits a B-spline to a triangulated disk (sk_param_check_disk's conditions: SK_ERR_TOPOLOGY with
+ * its message otherwise, e.g. for closed meshes). When the tolerance is not met after the last
+ * round (or the control grid would exceed the samples), the best surface is returned with
+ * stats->met false and status SK_OK: the caller decides. SK_ERR_ARG for bad options (corners
+ * not on the boundary or not in order), SK_ERR_NUMERIC when the normal equations are singular. */
+SK_API sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bspline_surface **out,
+                                sk_fit_stats *stats, sk_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,576 @@
+/* B-spline fitting of a disk (fit.h): corners, square parametrization, least squares with a
+ * thin-plate term, hierarchical knot refinement. */
+#include "surfkit/fit.h"
+#include "surfkit/deviation.h"
+#include "surfkit/param.h"
+#include "surfkit/solve.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { MAX_DEG = 5, MAX_CTRL_1D = 1024, CORRECTIONS = 3 };
+
+/* ---------------------------------------------------------------------------------------------
+ * Corners: the four sharpest turns of the boundary, apart from each other
+ * ------------------------------------------------------------------------------------------- */
+
+/* Boundary vertices counter-clockwise around the surface (boundary half-edges run clockwise). */
+static sk_status ccw_boundary(const sk_mesh *m, uint32_t **out, size_t *n, sk_error *err)
+{
+    sk_loops loops = {0};
+    sk_status st = sk_mesh_boundary_loops(m, &loops, err);
+    if (st)
+        return st;
+    size_t nb = loops.offsets[1] - loops.offsets[0];
+    uint32_t *v = sk__malloc_array(nb, sizeof *v);
+    if (!v) {
+        sk_loops_free(&loops);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    for (size_t k = 0; k < nb; ++k)
+        v[k] = sk_to(m, loops.halfedges[loops.offsets[0] + (nb - 1 - k)]);
+    sk_loops_free(&loops);
+    *out = v;
+    *n = nb;
+    return SK_OK;
+}
+
+/* Sum of the face angles at v (pi on a straight stretch of boundary, pi/2 at a square corner). */
+static double interior_angle(const sk_mesh *m, uint32_t v)
+{
+    double sum = 0;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    do {
+        if (!sk_is_boundary_h(m, h)) {
+            uint32_t a = sk_to(m, h), b = sk_from(m, sk_prev(m, h));
+            double e1[3], e2[3];
+            sk__sub3(e1, m->positions + 3 * (size_t)a, m->positions + 3 * (size_t)v);
+            sk__sub3(e2, m->positions + 3 * (size_t)b, m->positions + 3 * (size_t)v);
+            sum += sk__angle3(e1, e2);
+        }
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return sum;
+}
+
+/* Picks four corners (loop positions in pos[4], increasing): smallest interior angle first, each
+ * at least a sixth of the boundary length (cyclically) from those already picked. */
+static sk_status find_corners(const sk_mesh *m, const uint32_t *loop, size_t nb, uint32_t c[4],
+                              sk_error *err)
+{
+    double *arc = sk__malloc_array(nb + 1, sizeof *arc), *ang = sk__malloc_array(nb, sizeof *ang);
+    if (!arc || !ang) {
+        free(arc);
+        free(ang);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    arc[0] = 0;
+    for (size_t k = 0; k < nb; ++k) {
+        arc[k + 1] = arc[k] + sk__dist3(m->positions + 3 * (size_t)loop[k],
+                                        m->positions + 3 * (size_t)loop[(k + 1) % nb]);
+        ang[k] = interior_angle(m, loop[k]);
+    }
+    double L = arc[nb];
+    size_t pos[4], got = 0;
+    for (double sep = L / 6; got < 4 && sep > L / 64; sep /= 2) {
+        got = 0;
+        for (int pick = 0; pick < 4; ++pick) {
+            size_t best = SIZE_MAX;
+            for (size_t k = 0; k < nb; ++k) {
+                bool ok = true;
+                for (size_t q = 0; q < got && ok; ++q) {
+                    double d = fabs(arc[k] - arc[pos[q]]);
+                    ok = fmin(d, L - d) >= sep;
+                }
+                if (ok && (best == SIZE_MAX || ang[k] < ang[best]))
+                    best = k;
+            }
+            if (best == SIZE_MAX)
+                break;
+            pos[got++] = best;
+        }
+    }
+    free(arc);
+    free(ang);
+    if (got < 4)
+        return sk__fail(err, SK_ERR_TOPOLOGY, "the boundary has %zu vertices: too few for four corners", nb);
+    for (int i = 0; i < 4; ++i) /* into loop order */
+        for (int j = i + 1; j < 4; ++j)
+            if (pos[j] < pos[i]) {
+                size_t t = pos[i];
+                pos[i] = pos[j];
+                pos[j] = t;
+            }
+    for (int i = 0; i < 4; ++i)
+        c[i] = loop[pos[i]];
+    return SK_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Least squares with the thin-plate energy
+ * ------------------------------------------------------------------------------------------- */
+
+/* Gram matrices of one direction: G[r][i * n + k] = int_0^1 N_i^(r) N_k^(r), r = 0, 1, 2, by
+ * 6-point Gauss-Legendre per knot span (exact for the degree 2p <= 10 products). */
+static sk_status gram(const double *U, size_t n, int p, double *G[3], sk_error *err)
+{
+    static const double gx[6] = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,
+                                 0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
+    static const double gw[6] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
+                                 0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
+    for (int r = 0; r < 3; ++r) {
+        G[r] = sk__calloc_array(n * n, sizeof *G[r]);
+        if (!G[r])
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    for (size_t s = (size_t)p; s < n; ++s) {
+        double a = U[s], b = U[s + 1];
+        if (!(b > a))
+            continue;
+        for (int g = 0; g < 6; ++g) {
+            double t = 0.5 * (a + b) + 0.5 * (b - a) * gx[g], w = 0.5 * (b - a) * gw[g];
+            double d[3 * (MAX_DEG + 1)];
+            sk_bspline_basis(U, s, p, t, 2, d);
+            for (int r = 0; r < 3; ++r)
+                for (int x = 0; x <= p; ++x)
+                    for (int y = 0; y <= p; ++y)
+                        G[r][(s - (size_t)p + (size_t)x) * n + (s - (size_t)p + (size_t)y)] +=
+                            w * d[r * (p + 1) + x] * d[r * (p + 1) + y];
+        }
+    }
+    return SK_OK;
+}
+
+typedef struct samples {
+    size_t n;
+    double *pos;    /* 3 per sample: points of the mesh */
+    double *uv;     /* 2 per sample */
+    uint8_t *fixed; /* bit 0: u stays (on the sides u = 0, 1), bit 1: v stays */
+} samples;
+
+static void samples_free(samples *x)
+{
+    free(x->pos);
+    free(x->uv);
+    free(x->fixed);
+    memset(x, 0, sizeof *x);
+}
+
+/* Samples per edge of face f: its uv area should hold about two samples per knot cell of the
+ * cells around its centroid. */
+static unsigned face_density(const sk_mesh *m, uint32_t f, const double *uv,
+                             const sk_bspline_surface *s)
+{
+    uint32_t h = m->f_halfedge[f], a = sk_from(m, h), b = sk_to(m, h), c = sk_to(m, sk_next(m, h));
+    const double *A = uv + 2 * (size_t)a, *B = uv + 2 * (size_t)b, *C = uv + 2 * (size_t)c;
+    double area = 0.5 * fabs((B[0] - A[0]) * (C[1] - A[1]) - (C[0] - A[0]) * (B[1] - A[1]));
+    double cu = (A[0] + B[0] + C[0]) / 3, cv = (A[1] + B[1] + C[1]) / 3;
+    size_t su = sk_bspline_span(s->knots_u, s->nu, s->degree_u, cu);
+    size_t sv = sk_bspline_span(s->knots_v, s->nv, s->degree_v, cv);
+    double cell = (s->knots_u[su + 1] - s->knots_u[su]) * (s->knots_v[sv + 1] - s->knots_v[sv]);
+    double n = cell > 0 ? ceil(sqrt(2.0 * area / cell)) : 1;
+    return n < 1 ? 1 : n > 16 ? 16 : (unsigned)n;
+}
+
+/* The data of a round: every vertex (boundary ones keep their side of the square), and in every
+ * triangle the centroids of its n x n sub-triangles (face_density): points of the mesh where the
+ * parametrization spreads few vertices over many knot cells, so that no cell is without data. */
+static sk_status build_samples(const sk_mesh *m, const double *uv, const sk_bspline_surface *s,
+                               samples *x, sk_error *err)
+{
+    samples_free(x);
+    size_t n = m->num_vertices;
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        unsigned d = face_density(m, (uint32_t)f, uv, s);
+        n += (size_t)d * d;
+    }
+    x->pos = sk__malloc_array(3 * n, sizeof *x->pos);
+    x->uv = sk__malloc_array(2 * n, sizeof *x->uv);
+    x->fixed = sk__calloc_array(n, 1);
+    if (!x->pos || !x->uv || !x->fixed) {
+        samples_free(x);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    memcpy(x->pos, m->positions, 3 * m->num_vertices * sizeof *x->pos);
+    memcpy(x->uv, uv, 2 * m->num_vertices * sizeof *x->uv);
+    for (size_t v = 0; v < m->num_vertices; ++v) /* the square map puts the sides at exact 0, 1 */
+        x->fixed[v] = (uint8_t)((uv[2 * v] == 0 || uv[2 * v] == 1) |
+                                ((uv[2 * v + 1] == 0 || uv[2 * v + 1] == 1) << 1));
+    size_t k = m->num_vertices;
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        unsigned d = face_density(m, (uint32_t)f, uv, s);
+        uint32_t h = m->f_halfedge[f], c[3] = {sk_from(m, h), sk_to(m, h), sk_to(m, sk_next(m, h))};
+        for (unsigned i = 0; i < d; ++i)
+            for (unsigned j = 0; i + j < d; ++j)
+                for (int up = 0; up < 2; ++up) {
+                    if (up && i + j + 1 >= d)
+                        continue;
+                    double b1 = (i + (up ? 2.0 : 1.0) / 3.0) / d, b2 = (j + (up ? 2.0 : 1.0) / 3.0) / d;
+                    double w[3] = {1 - b1 - b2, b1, b2};
+                    for (int q = 0; q < 3; ++q) {
+                        x->pos[3 * k + (size_t)q] = 0;
+                        if (q < 2)
+                            x->uv[2 * k + (size_t)q] = 0;
+                        for (int t = 0; t < 3; ++t) {
+                            x->pos[3 * k + (size_t)q] += w[t] * m->positions[3 * (size_t)c[t] + (size_t)q];
+                            if (q < 2)
+                                x->uv[2 * k + (size_t)q] += w[t] * uv[2 * (size_t)c[t] + (size_t)q];
+                        }
+                    }
+                    ++k;
+                }
+    }
+    x->n = k;
+    return SK_OK;
+}
+
+/* Fits the control points of s (its knots set) to the samples: (A^T A + lambda K) P = A^T X. */
+static sk_status solve_points(sk_bspline_surface *s, const samples *x, double smoothing,
+                              sk_error *err)
+{
+    int p = s->degree_u, q = s->degree_v;
+    size_t nu = s->nu, nv = s->nv, N = nu * nv, per = (size_t)(p + 1) * (size_t)(q + 1);
+    sk_triplets t = {0};
+    double *rhs = sk__calloc_array(3 * N, sizeof *rhs), *Gu[3] = {0}, *Gv[3] = {0};
+    sk_sparse *A = NULL;
+    sk_status st = rhs ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if (!st)
+        st = sk_triplets_reserve(&t, x->n * per * (per + 1) / 2 + N * per * per, err);
+    double tr_data = 0, tr_k = 0;
+    for (size_t k = 0; !st && k < x->n; ++k) {
+        double u = x->uv[2 * k], v = x->uv[2 * k + 1], Nu[MAX_DEG + 1], Nv[MAX_DEG + 1];
+        size_t su = sk_bspline_span(s->knots_u, nu, p, u), sv = sk_bspline_span(s->knots_v, nv, q, v);
+        sk_bspline_basis(s->knots_u, su, p, u, 0, Nu);
+        sk_bspline_basis(s->knots_v, sv, q, v, 0, Nv);
+        uint32_t idx[(MAX_DEG + 1) * (MAX_DEG + 1)];
+        double w[(MAX_DEG + 1) * (MAX_DEG + 1)];
+        for (int b = 0, c = 0; b <= q; ++b)
+            for (int a = 0; a <= p; ++a, ++c) {
+                idx[c] = (uint32_t)((su - (size_t)p + (size_t)a) + nu * (sv - (size_t)q + (size_t)b));
+                w[c] = Nu[a] * Nv[b];
+            }
+        for (size_t i = 0; i < per; ++i) {
+            for (int d = 0; d < 3; ++d)
+                rhs[(size_t)d * N + idx[i]] += w[i] * x->pos[3 * k + (size_t)d];
+            tr_data += w[i] * w[i];
+            for (size_t j = 0; j < per && !st; ++j)
+                if (idx[i] >= idx[j] && (st = sk_triplets_add(&t, idx[i], idx[j], w[i] * w[j])))
+                    sk__fail(err, st, "out of memory");
+        }
+    }
+    if (!st)
+        st = gram(s->knots_u, nu, p, Gu, err);
+    if (!st)
+        st = gram(s->knots_v, nv, q, Gv, err);
+    /* thin plate: K = G2u (x) G0v + 2 G1u (x) G1v + G0u (x) G2v, banded (|i - k| <= p, ...) */
+    for (size_t i = 0; !st && i < N; ++i) {
+        size_t iu = i % nu, iv = i / nu;
+        tr_k += Gu[2][iu * nu + iu] * Gv[0][iv * nv + iv] + 2 * Gu[1][iu * nu + iu] * Gv[1][iv * nv + iv] +
+                Gu[0][iu * nu + iu] * Gv[2][iv * nv + iv];
+    }
+    double lambda = tr_k > 0 ? (smoothing * tr_data / tr_k) : 0, ridge = 1e-12 * tr_data / (double)N;
+    for (size_t i = 0; !st && i < N; ++i) {
+        size_t iu = i % nu, iv = i / nu;
+        for (size_t jv = iv >= (size_t)q ? iv - (size_t)q : 0; jv <= iv + (size_t)q && jv < nv; ++jv)
+            for (size_t ju = iu >= (size_t)p ? iu - (size_t)p : 0; ju <= iu + (size_t)p && ju < nu; ++ju) {
+                size_t j = ju + nu * jv;
+                if (j > i)
+                    continue;
+                double k = Gu[2][iu * nu + ju] * Gv[0][iv * nv + jv] +
+                           2 * Gu[1][iu * nu + ju] * Gv[1][iv * nv + jv] +
+                           Gu[0][iu * nu + ju] * Gv[2][iv * nv + jv];
+                double val = lambda * k + (i == j ? ridge : 0);
+                if (val != 0 && (st = sk_triplets_add(&t, (uint32_t)i, (uint32_t)j, val)))
+                    sk__fail(err, st, "out of memory");
+            }
+    }
+    if (!st)
+        st = sk_sparse_from_triplets(N, &t, SK_SPARSE_LOWER, &A, err);
+    double *sol = st ? NULL : sk__malloc_array(3 * N, sizeof *sol);
+    if (!st && !sol)
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if (!st)
+        st = sk_sparse_solve(A, SK_SOLVER_CHOLESKY, 3, rhs, sol, NULL, err);
+    for (size_t i = 0; !st && i < N; ++i)
+        for (int d = 0; d < 3; ++d)
+            s->points[3 * i + (size_t)d] = sol[(size_t)d * N + i];
+    free(sol);
+    sk_sparse_destroy(&A);
+    sk_triplets_free(&t);
+    free(rhs);
+    for (int r = 0; r < 3; ++r) {
+        free(Gu[r]);
+        free(Gv[r]);
+    }
+    return st;
+}
+
+/* Parameter correction (foot points, Hoschek): moves each sample's (u, v) towards the surface
+ * point nearest to it by two Gauss-Newton steps on |S(u, v) - p|^2, inside [0, 1]^2, the
+ * coordinates of boundary samples that lie on a side of the square kept. After it the fit's
+ * residuals are (close to) orthogonal distances, so a parametrization that is only roughly
+ * smooth (Floater's) no longer limits the fit. */
+static void correct_params(const sk_bspline_surface *s, samples *x)
+{
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) if (x->n > 20000)
+#endif
+    for (ptrdiff_t k = 0; k < (ptrdiff_t)x->n; ++k) {
+        double *t = x->uv + 2 * k;
+        for (int it = 0; it < 2; ++it) {
+            double p[3], su[3], sv[3], r[3];
+            sk_bspline_eval(s, t[0], t[1], p, su, sv);
+            sk__sub3(r, x->pos + 3 * k, p);
+            double a = sk__dot3(su, su), b = sk__dot3(su, sv), c = sk__dot3(sv, sv);
+            double g0 = sk__dot3(su, r), g1 = sk__dot3(sv, r), du = 0, dv = 0;
+            bool fu = x->fixed[k] & 1, fv = x->fixed[k] & 2;
+            if (!fu && !fv) {
+                double det = a * c - b * b;
+                if (!(det > 1e-300))
+                    break;
+                du = (c * g0 - b * g1) / det;
+                dv = (a * g1 - b * g0) / det;
+            } else if (!fu && a > 0) {
+                du = g0 / a;
+            } else if (!fv && c > 0) {
+                dv = g1 / c;
+            }
+            t[0] = fmin(fmax(t[0] + du, 0.0), 1.0);
+            t[1] = fmin(fmax(t[1] + dv, 0.0), 1.0);
+        }
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Refinement
+ * ------------------------------------------------------------------------------------------- */
+
+/* Errors |S(u_k, v_k) - p_k|; marks (in mark_u / mark_v, one byte per span) the spans of the
+ * samples above tol. Returns max, fills rms. */
+static double residuals(const sk_bspline_surface *s, const samples *x, double tol, uint8_t *mark_u,
+                        uint8_t *mark_v, double *rms)
+{
+    double mx = 0, sum2 = 0;
+    for (size_t k = 0; k < x->n; ++k) {
+        double u = x->uv[2 * k], v = x->uv[2 * k + 1], p[3];
+        sk_bspline_eval(s, u, v, p, NULL, NULL);
+        double e = sk__dist3(p, x->pos + 3 * k);
+        mx = fmax(mx, e);
+        sum2 += e * e;
+        if (e > tol) {
+            mark_u[sk_bspline_span(s->knots_u, s->nu, s->degree_u, u)] = 1;
+            mark_v[sk_bspline_span(s->knots_v, s->nv, s->degree_v, v)] = 1;
+        }
+    }
+    *rms = x->n ? sqrt(sum2 / (double)x->n) : 0;
+    return mx;
+}
+
+/* The other direction: the largest distance from a grid of surface points (4 per knot span and
+ * direction, at most 512) to the mesh; marks the spans of the points farther than tol, where the
+ * surface strays from the mesh between the samples. */
+static double stray(const sk_bspline_surface *s, const sk_bvh *mesh, double tol, uint8_t *mark_u,
+                    uint8_t *mark_v)
+{
+    size_t gu = 4 * (s->nu - (size_t)s->degree_u), gv = 4 * (s->nv - (size_t)s->degree_v);
+    gu = gu > 512 ? 512 : gu;
+    gv = gv > 512 ? 512 : gv;
+    double mx = 0;
+    for (size_t j = 0; j <= gv; ++j)
+        for (size_t i = 0; i <= gu; ++i) {
+            double u = (double)i / (double)gu, v = (double)j / (double)gv, p[3];
+            sk_bspline_eval(s, u, v, p, NULL, NULL);
+            sk_closest c;
+            sk_bvh_closest(mesh, p, &c);
+            mx = fmax(mx, c.distance);
+            if (c.distance > tol) {
+                mark_u[sk_bspline_span(s->knots_u, s->nu, s->degree_u, u)] = 1;
+                mark_v[sk_bspline_span(s->knots_v, s->nv, s->degree_v, v)] = 1;
+            }
+        }
+    return mx;
+}
+
+/* New knot vector with the midpoints of the marked spans inserted; *n becomes the new number of
+ * control points. Returns NULL when out of memory. */
+static double *refine_knots(const double *U, size_t *n, int p, const uint8_t *mark)
+{
+    size_t m = *n + (size_t)p + 1, add = 0;
+    for (size_t s = (size_t)p; s < *n; ++s)
+        add += mark[s] && U[s + 1] > U[s];
+    double *V = sk__malloc_array(m + add, sizeof *V);
+    if (!V)
+        return NULL;
+    size_t j = 0;
+    for (size_t i = 0; i < m; ++i) {
+        V[j++] = U[i];
+        if (i >= (size_t)p && i < *n && mark[i] && U[i + 1] > U[i])
+            V[j++] = 0.5 * (U[i] + U[i + 1]);
+    }
+    *n += add;
+    return V;
+}
+
+static double mesh_diagonal(const sk_mesh *m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, d[3];
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = fmin(lo[k], m->positions[3 * v + k]);
+            hi[k] = fmax(hi[k], m->positions[3 * v + k]);
+        }
+    sk__sub3(d, hi, lo);
+    return sk__norm3(d);
+}
+
+static sk_status check_corners(const uint32_t *loop, size_t nb, const uint32_t c[4], sk_error *err)
+{
+    size_t pos[4];
+    for (int i = 0; i < 4; ++i) {
+        for (pos[i] = 0; pos[i] < nb && loop[pos[i]] != c[i]; ++pos[i])
+            ;
+        if (pos[i] == nb)
+            return sk__fail(err, SK_ERR_ARG, "corner %u is not a boundary vertex", c[i]);
+    }
+    /* counter-clockwise: the positions increase cyclically from the first corner */
+    for (int i = 1; i < 4; ++i)
+        if ((pos[i] + nb - pos[0]) % nb <= (pos[i - 1] + nb - pos[0]) % nb)
+            return sk__fail(err, SK_ERR_ARG,
+                            "the corners are not four distinct boundary vertices in "
+                            "counter-clockwise order");
+    return SK_OK;
+}
+
+/* The square parametrization with the corners, and its flip count. */
+static sk_status square_map(const sk_mesh *disk, const uint32_t c[4], double *uv, size_t *flipped,
+                            sk_error *err)
+{
+    sk_param_opts po = {0};
+    po.method = SK_PARAM_FLOATER;
+    po.boundary.shape = SK_BOUNDARY_SQUARE;
+    po.boundary.has_corners = true;
+    memcpy(po.boundary.corners, c, 4 * sizeof *c);
+    sk_status st = sk_param_linear(disk, &po, uv, NULL, err);
+    sk_param_metrics pm;
+    if (!st)
+        st = sk_param_metrics_compute(disk, uv, &pm, err);
+    if (!st)
+        *flipped = pm.flipped;
+    return st;
+}
+
+sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bspline_surface **out,
+                         sk_fit_stats *stats, sk_error *err)
+{
+    *out = NULL;
+    sk_fit_opts o = {0};
+    if (opts)
+        o = *opts;
+    sk_fit_stats fs = {0};
+    int deg = o.degree ? o.degree : 3;
+    if (deg < 2 || deg > MAX_DEG || o.tolerance < 0 || o.smoothing < 0 || o.initial_spans > 256)
+        return sk__fail(err, SK_ERR_ARG, "fit options out of range (degree 2..%d, spans <= 256)",
+                        MAX_DEG);
+    double t0 = sk_seconds();
+    sk_status st = sk_param_check_disk(disk, err);
+    if (st)
+        return st;
+    uint32_t *loop = NULL;
+    size_t nb = 0;
+    double *uv = sk__malloc_array(2 * disk->num_vertices, sizeof *uv);
+    sk_bspline_surface *s = NULL;
+    uint8_t *mark_u = NULL, *mark_v = NULL;
+    samples x = {0};
+    sk_soup *soup = NULL;
+    sk_bvh *bvh = NULL;
+    if (!uv) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    st = ccw_boundary(disk, &loop, &nb, err);
+    if (!st && o.has_corners)
+        st = check_corners(loop, nb, o.corners, err);
+    if (!st && !o.has_corners)
+        st = find_corners(disk, loop, nb, o.corners, err);
+    if (!st)
+        st = square_map(disk, o.corners, uv, &fs.flipped, err);
+    if (st)
+        goto done;
+    memcpy(fs.corners, o.corners, sizeof fs.corners);
+    if ((st = sk_mesh_to_soup(disk, &soup, err)) || (st = sk_bvh_build(soup, &bvh, err)))
+        goto done;
+    fs.seconds_param = sk_seconds() - t0;
+    fs.tolerance = o.tolerance > 0 ? o.tolerance : 1e-3 * mesh_diagonal(disk);
+    size_t spans = o.initial_spans ? o.initial_spans : 4;
+    unsigned rounds = o.max_rounds ? o.max_rounds : 12;
+    st = sk_bspline_create(deg, deg, spans + (size_t)deg, spans + (size_t)deg, &s, err);
+    for (unsigned r = 1; !st && r <= rounds; ++r) {
+        fs.rounds = r;
+        if ((st = build_samples(disk, uv, s, &x, err)))
+            break;
+        fs.samples = x.n;
+        double smoothing = o.smoothing > 0 ? o.smoothing : 1e-6;
+        st = solve_points(s, &x, smoothing, err);
+        for (int c = 0; c < CORRECTIONS && !st; ++c) {
+            correct_params(s, &x);
+            st = solve_points(s, &x, smoothing, err);
+        }
+        free(mark_u);
+        free(mark_v);
+        mark_u = sk__calloc_array(s->nu + 1, 1);
+        mark_v = sk__calloc_array(s->nv + 1, 1);
+        if (!st && (!mark_u || !mark_v))
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        if (st)
+            break;
+        fs.max_error = residuals(s, &x, fs.tolerance, mark_u, mark_v, &fs.rms_error);
+        fs.surface_to_mesh = stray(s, bvh, fs.tolerance, mark_u, mark_v);
+        fs.control_points = s->nu * s->nv;
+        fs.met = fs.max_error <= fs.tolerance && fs.surface_to_mesh <= fs.tolerance;
+        if (fs.met || r == rounds)
+            break;
+        if ((st = sk__progress(o.progress, o.progress_user, (double)r / rounds, err)))
+            break;
+        size_t nu = s->nu, nv = s->nv;
+        double *ku = refine_knots(s->knots_u, &nu, s->degree_u, mark_u);
+        double *kv = refine_knots(s->knots_v, &nv, s->degree_v, mark_v);
+        bool grow = ku && kv && nu * nv <= x.n && nu <= MAX_CTRL_1D &&
+                    nv <= MAX_CTRL_1D;
+        double *pts = grow ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
+        if (!ku || !kv || (grow && !pts)) {
+            free(ku);
+            free(kv);
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            break;
+        }
+        if (!grow) { /* more control points than the data supports: keep the last fit */
+            free(ku);
+            free(kv);
+            break;
+        }
+        free(s->knots_u);
+        free(s->knots_v);
+        free(s->points);
+        s->knots_u = ku, s->knots_v = kv, s->points = pts, s->nu = nu, s->nv = nv;
+    }
+    fs.seconds_fit = sk_seconds() - t0 - fs.seconds_param;
+    if (!st) {
+        *out = s;
+        s = NULL;
+    }
+done:
+    if (stats)
+        *stats = fs;
+    sk_bspline_destroy(&s);
+    free(mark_u);
+    free(mark_v);
+    free(loop);
+    free(uv);
+    samples_free(&x);
+    sk_bvh_destroy(&bvh);
+    sk_soup_destroy(&soup);
+    return st;
+}

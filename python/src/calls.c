@@ -212,3 +212,49 @@ sk_status skpy_smooth(const skpy_mesh *m, const skpy_smooth_args *a, skpy_surfac
     sk_mesh_destroy(&mesh);
     return st;
 }
+
+/* The patch set of the arrays, checked: kinds, degrees and point ranges. */
+static sk_status surface_to_set(const skpy_surface *s, sk_patch_set *set, sk_error *err)
+{
+    for (size_t p = 0; p < s->num_patches; ++p) {
+        unsigned n = s->degree[p];
+        if ((s->kind[p] != 3 && s->kind[p] != 4) || n < 1 || n > SK_PATCH_MAX_DEGREE)
+            return fail(err, SK_ERR_ARG, "patch has a bad kind or degree");
+        sk_patch_kind kind = s->kind[p] == 3 ? SK_PATCH_TRIANGLE : SK_PATCH_TENSOR;
+        size_t count = sk_bezier_num_points(kind, n, kind == SK_PATCH_TENSOR ? n : 0);
+        if ((size_t)s->first[p] + count > s->num_points)
+            return fail(err, SK_ERR_ARG, "patch control points beyond the point array");
+        sk_status st = sk_patch_set_add(set, kind, n, kind == SK_PATCH_TENSOR ? n : 0,
+                                        s->points + 3 * (size_t)s->first[p], s->corners + 4 * p,
+                                        NULL, err);
+        if (st)
+            return st;
+    }
+    return SK_OK;
+}
+
+sk_status skpy_write_surface(const char *path, const skpy_surface *s, unsigned tess,
+                             sk_error *err)
+{
+    sk_patch_set set = {0};
+    sk_soup *soup = NULL;
+    sk_export_opts eo;
+    memset(&eo, 0, sizeof eo);
+    sk_status st = surface_to_set(s, &set, err);
+    if (st == SK_OK) {
+        if (sk_path_has_ext(path, ".step") || sk_path_has_ext(path, ".stp"))
+            st = sk_export_step(path, &set, &eo, NULL, err);
+        else if (sk_path_has_ext(path, ".igs") || sk_path_has_ext(path, ".iges"))
+            st = sk_export_iges(path, &set, &eo, NULL, err);
+        else if (sk_format_from_path(path) != SK_FORMAT_UNKNOWN) {
+            st = sk_patch_set_tessellate(&set, tess ? tess : 4, &soup, err);
+            if (st == SK_OK)
+                st = sk_soup_write(path, soup, NULL, err);
+        } else
+            st = fail(err, SK_ERR_ARG, "a surface is written as .step, .igs, or a tessellation "
+                                       "(.obj, .ply, .off, .stl)");
+    }
+    sk_soup_destroy(&soup);
+    sk_patch_set_free(&set);
+    return st;
+}

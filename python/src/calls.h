@@ -69,4 +69,10 @@ sk_status skpy_smooth(const skpy_mesh *m, const skpy_smooth_args *args, skpy_sur
                       sk_error *err);
 void skpy_surface_free(skpy_surface *s);
 
+/* Writes a surface given as arrays (kind/degree/first/corners per patch, points) by the path's
+ * extension: .step/.stp (STEP), .igs/.iges (IGES), .obj/.ply/.off/.stl (the watertight
+ * tessellation, tess segments per patch side). */
+sk_status skpy_write_surface(const char *path, const skpy_surface *s, unsigned tess,
+                             sk_error *err);
+
 #endif

@@ -278,9 +278,43 @@ static PyObject *py_smooth(PyObject *self, PyObject *args)
     return d;
 }
 
+static PyObject *py_write_surface(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *path_obj, *pts, *kind, *degree, *first, *corners;
+    unsigned tess = 0;
+    if (!PyArg_ParseTuple(args, "O&OOOOOI", PyUnicode_FSConverter, &path_obj, &pts, &kind,
+                          &degree, &first, &corners, &tess))
+        return NULL;
+    skpy_surface s;
+    memset(&s, 0, sizeof s);
+    npy_intp np_ = 0, npts = 0;
+    if (!(s.points = array_data(pts, "points", NPY_FLOAT64, 2, -1, 3, &npts)) ||
+        !(s.kind = array_data(kind, "kind", NPY_UINT8, 1, -1, 0, &np_)) ||
+        !(s.degree = array_data(degree, "degree", NPY_UINT8, 1, np_, 0, NULL)) ||
+        !(s.first = array_data(first, "first", NPY_UINT32, 1, np_, 0, NULL)) ||
+        !(s.corners = array_data(corners, "corners", NPY_UINT32, 2, np_, 4, NULL))) {
+        Py_DECREF(path_obj);
+        return NULL;
+    }
+    s.num_patches = (size_t)np_;
+    s.num_points = (size_t)npts;
+    sk_error err;
+    sk_status st;
+    Py_BEGIN_ALLOW_THREADS
+    st = skpy_write_surface(PyBytes_AS_STRING(path_obj), &s, tess, &err);
+    Py_END_ALLOW_THREADS
+    Py_DECREF(path_obj);
+    if (st < 0)
+        return raise_status(st, &err);
+    Py_RETURN_NONE;
+}
+
 static PyMethodDef methods[] = {
     {"read", py_read, METH_VARARGS, "read(path) -> (vertices, offsets, indices, normals, uv)"},
     {"write", py_write, METH_VARARGS, "write(path, vertices, offsets, indices, normals, uv)"},
+    {"write_surface", py_write_surface, METH_VARARGS,
+     "write_surface(path, points, kind, degree, first, corners, tess)"},
     {"info", py_info, METH_VARARGS, "info(vertices, offsets, indices) -> dict"},
     {"parametrize", py_parametrize, METH_VARARGS,
      "parametrize(vertices, offsets, indices, method, boundary, seed, steps) -> (uv, metrics)"},

@@ -147,10 +147,20 @@ def read(path):
     return Mesh(v, faces, normals, uv)
 
 
-def write(path, mesh):
+def write(path, mesh_or_surface, tess=4):
     """Writes a Mesh (with its normals and uv when present) as OFF, OBJ, PLY or STL by the
-    extension; atomically (no partial file on error)."""
-    m = _mesh(mesh)
+    extension, or a Surface as STEP (.step/.stp), IGES (.igs/.iges) or its watertight
+    tessellation (.obj, .ply, .off, .stl; tess segments per patch side); atomically (no partial
+    file on error)."""
+    if isinstance(mesh_or_surface, Surface):
+        s = mesh_or_surface
+        _core.write_surface(path, np.ascontiguousarray(s.points, dtype=np.float64),
+                            np.ascontiguousarray(s.kind, dtype=np.uint8),
+                            np.ascontiguousarray(s.degree, dtype=np.uint8),
+                            np.ascontiguousarray(s.first, dtype=np.uint32),
+                            np.ascontiguousarray(s.corners, dtype=np.uint32), int(tess))
+        return
+    m = _mesh(mesh_or_surface)
     _core.write(path, m.vertices, *m._flat(), m.normals, m.uv)
 
 

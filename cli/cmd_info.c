@@ -154,7 +154,7 @@ static void print_json(const char *path, sk_format fmt, const sk_validation *r, 
     cli_json j;
     json_begin(&j, stdout);
     json_obj_open(&j);
-    json_kstr(&j, "file", path);
+    json_kstr(&j, "input", path);
     json_kstr(&j, "format", sk_format_name(fmt));
     json_kuint(&j, "vertices", r->vertices);
     json_kuint(&j, "faces", r->faces);

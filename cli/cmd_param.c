@@ -82,7 +82,7 @@ static void write_json(FILE *fp, const void *ctx)
     cli_json j;
     json_begin(&j, fp);
     json_obj_open(&j);
-    json_kstr(&j, "file", r->in);
+    json_kstr(&j, "input", r->in);
     json_kstr(&j, "method", r->ps.name);
     json_kstr(&j, "boundary", sk_boundary_shape_name(r->ps.boundary));
     json_kuint(&j, "faces", pm->faces);

@@ -41,7 +41,7 @@ static void write_json(FILE *fp, const void *ctx)
     cli_json j;
     json_begin(&j, fp);
     json_obj_open(&j);
-    json_kstr(&j, "file", r->in);
+    json_kstr(&j, "input", r->in);
     json_kstr(&j, "method", "atlas-mips-hierarchical");
     json_kuint(&j, "faces", r->faces);
     json_kuint(&j, "charts", s->charts);

@@ -119,8 +119,9 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_kuint(&j, "max_iterations", s->stats.max_iterations);
     json_knum(&j, "max_constraint_residual", s->stats.max_residual);
     json_knum(&j, "mean_target_deviation", s->stats.mean_target_deviation);
-    json_kbool(&j, "pass_g1_0.5deg", r->pass_g1);
-    json_kbool(&j, "pass_gap_0.005", r->pass_gap);
+    json_kbool(&j, "pass_g1", r->pass_g1); /* normal jumps within max_angle_deg (0.5) */
+    json_kbool(&j, "pass_gap", r->pass_gap);   /* gaps within max_gap (0.005) */
+    json_kbool(&j, "pass_intersections", r->pass_intersections);
     json_key(&j, "stage_seconds");
     json_obj_open(&j);
     json_knum(&j, "normals", s->stats.seconds_normals);

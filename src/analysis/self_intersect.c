@@ -133,7 +133,8 @@ static sk_status check_groups(const sk_soup *surface, const uint32_t *face_group
 static void summarize(pairs *all, size_t num_groups, sk_intersection_report *rep, sk_error *err,
                       sk_status *st)
 {
-    qsort(all->key, all->n, sizeof *all->key, cmp_u64);
+    if (all->n) /* (qsort wants a valid pointer even for no elements) */
+        qsort(all->key, all->n, sizeof *all->key, cmp_u64);
     size_t m = 0;
     for (size_t i = 0; i < all->n; ++i)
         if (m == 0 || all->key[i] != all->key[m - 1])

@@ -24,8 +24,10 @@ for k, (c, _) in enumerate(cmds):
     c = re.sub(r"(^|&& |\| )surfkit ", lambda m: m.group(1) + '"$SK" ', c)
     # the marker, then $? restored to the previous command's status (for `echo $?`)
     script += f'echo "@@{k}"; (exit $rc); {c} 2>&1; rc=$?\n'
-out = subprocess.run(["bash", "-c", script], cwd=tmp, env={"SK": bin, "PATH": "/usr/bin:/bin"},
-                     capture_output=True, text=True).stdout
+import os
+env = dict(os.environ, SK=bin)   # the caller's environment (sanitizer options) plus the tool
+out = subprocess.run(["bash", "-c", script], cwd=tmp, env=env, capture_output=True,
+                     text=True).stdout
 parts = re.split(r"^@@(\d+)\n", out, flags=re.M)
 got = {int(parts[i]): parts[i + 1] for i in range(1, len(parts) - 1, 2)}
 bad = 0

@@ -1,7 +1,16 @@
 /* surfkit core: status codes, error reports, progress callbacks.
  *
  * Every fallible call returns an sk_status (0 ok, negative error, positive warning) and takes an
- * optional sk_error * that receives a one-line message. The library never prints and never exits. */
+ * optional sk_error * that receives a one-line message. The library never prints and never exits.
+ *
+ * Conventions of every public declaration unless it says otherwise:
+ *  - `err` may be NULL; an `opts` pointer may be NULL (all defaults), and a zero field means its
+ *    default; `stats` / report outputs may be NULL.
+ *  - Objects returned through `**out` belong to the caller and are freed with the matching
+ *    sk_x_destroy(&x) (NULL-safe, sets the pointer to NULL); on failure *out is NULL. Arrays the
+ *    caller passes in (positions, uv) stay the caller's; the library copies what it keeps.
+ *  - Lengths and coordinates are in model units (whatever the input file used); angles in
+ *    degrees where the name says _deg, radians otherwise; times in seconds. */
 #ifndef SURFKIT_CORE_H
 #define SURFKIT_CORE_H
 

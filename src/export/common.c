@@ -136,3 +136,16 @@ sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_
         return sk__fail(err, SK_ERR_ARG, "sk_export_tensor_patches: NULL argument");
     return sk_patch_set_to_tensor(patches, opts && opts->degenerate_triangles, out, err);
 }
+
+void sk__bezier_halve(const double *cp, unsigned n, double *left, double *right)
+{
+    double w[3 * (SK_PATCH_MAX_DEGREE + 1)];
+    memcpy(w, cp, 3 * (n + 1) * sizeof(double));
+    for (unsigned r = 0; r <= n; ++r) {
+        memcpy(left + 3 * r, w, 3 * sizeof(double));
+        memcpy(right + 3 * (n - r), w + 3 * (n - r), 3 * sizeof(double));
+        for (unsigned i = 0; i + r < n; ++i)
+            for (int x = 0; x < 3; ++x)
+                w[3 * i + (unsigned)x] = 0.5 * (w[3 * i + (unsigned)x] + w[3 * (i + 1) + (unsigned)x]);
+    }
+}

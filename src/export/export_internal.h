@@ -26,6 +26,10 @@ const char *sk__fmt_real(char buf[32], double x);
 /* "YYYY-MM-DDTHH:MM:SS" of opts->timestamp or now (UTC). */
 void sk__export_time(const sk_export_opts *opts, char out[32]);
 
+/* Splits a Bezier curve of degree n (3 doubles per control point) at t = 1/2 (de Casteljau):
+ * left and right halves, same direction. */
+void sk__bezier_halve(const double *cp, unsigned n, double *left, double *right);
+
 /* Largest absolute coordinate of the control points. */
 double sk__patches_max_coord(const sk_patch_set *patches);
 

@@ -334,28 +334,13 @@ static bool edge_match(const bedge *e, size_t a, size_t b, size_t m)
     return e->mid == m && ((e->v0 == a && e->v1 == b) || (e->v0 == b && e->v1 == a));
 }
 
-/* Splits a Bezier curve at t = 1/2 (de Casteljau): left and right halves, same direction. */
-static void halve(const double *cp, unsigned n, double *left, double *right)
-{
-    double w[3 * (SK_PATCH_MAX_DEGREE + 1)];
-    memcpy(w, cp, 3 * (n + 1) * sizeof(double));
-    for (unsigned r = 0; r <= n; ++r) {
-        memcpy(left + 3 * r, w, 3 * sizeof(double));
-        memcpy(right + 3 * (n - r), w + 3 * (n - r), 3 * sizeof(double));
-        for (unsigned i = 0; i + r < n; ++i)
-            for (int x = 0; x < 3; ++x)
-                w[3 * i + (unsigned)x] =
-                    0.5 * (w[3 * i + (unsigned)x] + w[3 * (i + 1) + (unsigned)x]);
-    }
-}
-
 /* Adds a loop piece: the curve cp (degree deg) from vertex a to vertex b, parameter-space ends
  * uv0 -> uv1. Returns false on allocation failure. */
 static bool add_use(brep *br, size_t a, size_t b, const double *cp, unsigned deg,
                     const double uv0[2], const double uv1[2])
 {
     double l[3 * (SK_PATCH_MAX_DEGREE + 1)], r[3 * (SK_PATCH_MAX_DEGREE + 1)];
-    halve(cp, deg, l, r);
+    sk__bezier_halve(cp, deg, l, r);
     size_t m = pool_add(&br->mids, r);
     if (m == SIZE_MAX)
         return false;
@@ -462,7 +447,7 @@ static sk_status build_brep(brep *br, const sk_patch_set *t, double size, bool *
             unsigned deg = sk_patch_edge_curve(t, i, k, cp);
             size_t a = cv[4 * i + k], b = cv[4 * i + (k + 1) % 4];
             const double *uv0 = corner_uv[k], *uv1 = corner_uv[(k + 1) % 4];
-            halve(cp, deg, l, r);
+            sk__bezier_halve(cp, deg, l, r);
             size_t vm = pool_find(&br->verts, r);
             if (a == b) { /* a collapsed side: no edge; the caller writes free surfaces */
                 *collapsed = true;

@@ -161,20 +161,6 @@ static size_t oriented_edge(writer *w, key k, size_t from, size_t to, const doub
     return id;
 }
 
-/* Splits a Bezier curve at t = 1/2 (de Casteljau): left and right halves, same direction. */
-static void halve(const double *cp, unsigned n, double *left, double *right)
-{
-    double w[3 * (SK_PATCH_MAX_DEGREE + 1)];
-    memcpy(w, cp, 3 * (n + 1) * sizeof(double));
-    for (unsigned r = 0; r <= n; ++r) {
-        memcpy(left + 3 * r, w, 3 * sizeof(double));
-        memcpy(right + 3 * (n - r), w + 3 * (n - r), 3 * sizeof(double));
-        for (unsigned i = 0; i + r < n; ++i)
-            for (int x = 0; x < 3; ++x)
-                w[3 * i + (unsigned)x] = 0.5 * (w[3 * i + (unsigned)x] + w[3 * (i + 1) + (unsigned)x]);
-    }
-}
-
 static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *loop, size_t nloop,
                  size_t *face_id)
 {
@@ -284,7 +270,7 @@ static void tensor_face(writer *w, const map *split, const sk_patch_set *set, si
         if (!map_find(split, edge_key(K_FULL, a, b))) {
             loop[nl++] = oriented_edge(w, edge_key(K_FULL, a, b), vid[k], vid[(k + 1) % 4], cp, deg);
         } else {
-            halve(cp, deg, l, r);
+            sk__bezier_halve(cp, deg, l, r);
             size_t mid = vertex(w, edge_key(K_MID, a, b), r);
             loop[nl++] = oriented_edge(w, (key){K_HALF, a, b}, vid[k], mid, l, deg);
             loop[nl++] = oriented_edge(w, (key){K_HALF, b, a}, mid, vid[(k + 1) % 4], r, deg);

@@ -82,6 +82,8 @@ int cli_take_path(int argc, char **argv, int *i, const char *cmd, const cli_path
                   size_t n);
 bool cli_parse_uint(const char *s, unsigned long *out);
 bool cli_parse_double(const char *s, double *out);
+/* "X,Y,Z" (e.g. a --view direction); false for anything else (s may be NULL). */
+bool cli_parse_vec3(const char *s, double v[3]);
 
 /* Subcommands */
 int cmd_info(int argc, char **argv);

@@ -97,18 +97,6 @@ static void print_summary(const run *x)
            r->surface_to_mesh.samples);
 }
 
-static bool parse_view(const char *s, double v[3])
-{
-    char *end;
-    for (int k = 0; k < 3; ++k) {
-        v[k] = strtod(s, &end);
-        if (end == s || (k < 2 && *end != ','))
-            return false;
-        s = end + (k < 2);
-    }
-    return *end == '\0';
-}
-
 /* Picture of `shown` coloured by its distance to `other`. */
 static sk_status draw_map(const sk_soup *shown, const char *name, const sk_soup *other,
                           const char *label, double scale, sk_render_opts *ro, const char *path,
@@ -159,7 +147,7 @@ int cmd_deviation(int argc, char **argv)
             if (!cli_parse_double(val, &tol_rel) || !(tol_rel > 0))
                 return cli_usage("deviation", "--tolerance-rel takes a positive number");
         } else if (cli_opt_value(argc, argv, &i, "--view", &val)) {
-            if (!val || !parse_view(val, ro.view))
+            if (!val || !cli_parse_vec3(val, ro.view))
                 return cli_usage("deviation", "--view takes X,Y,Z");
         } else if (a[0] == '-' && a[1]) {
             return cli_usage("deviation", "unknown option '%s'", a);

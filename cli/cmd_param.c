@@ -49,25 +49,6 @@ static const char help[] =
     "  surfkit param face.off -o face.ply --method mips --report metrics.json\n"
     "  surfkit param face.off -o face.obj --method mips --flat --steps 100000\n";
 
-static bool parse_view(const char *s, double v[3])
-{
-    if (!s)
-        return false;
-    char *end;
-    for (int k = 0; k < 3; ++k) {
-        v[k] = strtod(s, &end);
-        if (end == s)
-            return false;
-        s = end;
-        if (k < 2) {
-            if (*s != ',')
-                return false;
-            ++s;
-        }
-    }
-    return *s == '\0';
-}
-
 /* What a run did, for the report. */
 typedef struct run_info {
     const char *in;
@@ -217,7 +198,7 @@ static int parse_args(int argc, char **argv, param_args *a)
                 return cli_usage("param", "--seed takes a whole number");
             a->po.seed = seed;
         } else if (cli_opt_value(argc, argv, &i, "--view", &val)) {
-            if (!parse_view(val, a->ro.view))
+            if (!cli_parse_vec3(val, a->ro.view))
                 return cli_usage("param", "--view takes three numbers X,Y,Z");
         } else if (s[0] == '-' && s[1]) {
             return cli_usage("param", "unknown option '%s'", s);

@@ -291,3 +291,22 @@ bool cli_parse_double(const char *s, double *out)
     *out = v;
     return true;
 }
+
+bool cli_parse_vec3(const char *s, double v[3])
+{
+    if (!s)
+        return false;
+    char *end;
+    for (int k = 0; k < 3; ++k) {
+        v[k] = strtod(s, &end);
+        if (end == s)
+            return false;
+        s = end;
+        if (k < 2) {
+            if (*s != ',')
+                return false;
+            ++s;
+        }
+    }
+    return *s == '\0';
+}

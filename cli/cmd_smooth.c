@@ -10,6 +10,7 @@
 static const char help[] =
     "usage: surfkit smooth IN -o OUT.obj|OUT.ply|OUT.igs|OUT.step [--tess N] [--patches OUT.json]\n"
     "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
+    "                      [--zebra zebra.png] [--patch-map map.png]\n"
     "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
     "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
     "                      [--iges-triangles split|degenerate] [--allow-fail] [-q]\n"
@@ -41,13 +42,20 @@ static const char help[] =
     "  --patches F     control nets as JSON\n"
     "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
     "                  problem vertices in orange\n"
-    "  --render F      flat-shaded picture of the tessellated surface\n"
+    "  --render F      picture of the surface shaded with its exact normals (per pixel)\n"
+    "  --zebra F       zebra stripes (reflection lines): a kink in the stripes is a kink in\n"
+    "                  the surface\n"
+    "  --patch-map F   the patches, those with overshoot > 0.5 (orange) or a singular point\n"
+    "                  (magenta) highlighted\n"
     "  --report F      continuity report as JSON (--json prints it on stdout): gaps and normal\n"
     "                  jumps across patch boundaries, vertex and normal errors, singular patches\n"
     "                  (the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
     "                  patches (the normal-cone test cannot prove them regular; most are),\n"
     "                  self-intersecting patch pairs (patches sharing no corner that cross each\n"
-    "                  other: what CAD checkers flag), pass/fail against 0.5 deg and 0.005\n"
+    "                  other: what CAD checkers flag), shape: max_overshoot (distance from the\n"
+    "                  flat face / its longest edge; a spike is > 1) and fairness (angle between\n"
+    "                  the patch normal and the interpolated vertex normals), worst patch ids,\n"
+    "                  pass/fail against 0.5 deg and 0.005\n"
     "  --allow-fail    write the surface even when the vc1 continuity report fails\n"
     "\n"
     "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
@@ -93,6 +101,18 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     for (size_t i = 0; i < r->num_singular_examples; ++i)
         json_uint(&j, r->singular_examples[i]);
     json_arr_close(&j);
+    json_knum(&j, "max_overshoot", r->max_overshoot);
+    json_kuint(&j, "max_overshoot_patch", r->max_overshoot_patch);
+    json_knum(&j, "mean_overshoot", r->mean_overshoot);
+    json_kuint(&j, "overshoot_patches", r->overshoot_patches);
+    json_key(&j, "overshoot_patch_examples");
+    json_arr_open(&j);
+    for (size_t i = 0; i < r->num_overshoot_examples; ++i)
+        json_uint(&j, r->overshoot_examples[i]);
+    json_arr_close(&j);
+    json_knum(&j, "max_fairness_deg", r->max_fairness_deg);
+    json_kuint(&j, "max_fairness_patch", r->max_fairness_patch);
+    json_knum(&j, "mean_fairness_deg", r->mean_fairness_deg);
     if (r->intersecting_pairs != SIZE_MAX) {
         json_kuint(&j, "self_intersecting_pairs", r->intersecting_pairs);
         json_kuint(&j, "self_intersecting_patches", r->intersecting_patches);
@@ -143,6 +163,11 @@ static void patches_json(FILE *fp, const void *ctx)
                 "0..n-k; quads: b[i + 4 j]\", \"patches\": [\n",
             s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
     const sk_patch_set *set = &s->surface;
+    sk_patch_shape *shape = malloc((set->count + 1) * sizeof *shape); /* per patch, if it can */
+    if (shape && sk_smooth_patch_shapes(s, 0, shape, NULL) != SK_OK) {
+        free(shape);
+        shape = NULL;
+    }
     for (size_t p = 0; p < set->count; ++p) {
         const sk_patch *pa = &set->patches[p];
         bool quad = pa->kind == SK_PATCH_TENSOR;
@@ -151,7 +176,10 @@ static void patches_json(FILE *fp, const void *ctx)
                 pa->corner_ids[2]);
         if (quad)
             fprintf(fp, ", %u", pa->corner_ids[3]);
-        fprintf(fp, "], \"points\": [");
+        if (shape)
+            fprintf(fp, "], \"overshoot\": %.6g, \"fairness_deg\": %.6g, \"singular\": %s",
+                    shape[p].overshoot, shape[p].fairness_deg, shape[p].singular ? "true" : "false");
+        fprintf(fp, "%s\"points\": [", shape ? ", " : "], ");
         const double *cp = sk_patch_cp(set, p);
         for (size_t i = 0; i < sk_patch_num_points(pa); ++i) {
             const double *x = cp + 3 * i;
@@ -160,6 +188,7 @@ static void patches_json(FILE *fp, const void *ctx)
         fprintf(fp, "]}%s\n", p + 1 < set->count ? "," : "");
     }
     fprintf(fp, "]}\n");
+    free(shape);
 }
 
 typedef struct report_ctx {
@@ -215,13 +244,14 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
 int cmd_smooth(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
-               *report = NULL, *val;
+               *report = NULL, *zebra = NULL, *patch_map = NULL, *val;
     unsigned long tess = 4;
     bool quiet = false, json = false, freeform = false, allow_fail = false;
     sk_smooth_opts so = {0};
     sk_export_opts eo = {0};
     const cli_path_opt paths[] = {{"-o", &out}, {"--patches", &patches}, {"--layout", &layout},
-                                  {"--render", &render}, {"--report", &report}};
+                                  {"--render", &render}, {"--report", &report},
+                                  {"--zebra", &zebra}, {"--patch-map", &patch_map}};
     int took;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -240,7 +270,7 @@ int cmd_smooth(int argc, char **argv)
             so.estimate_normals = true;
         } else if (!strcmp(a, "--obj-freeform")) {
             freeform = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "smooth", paths, 5)) != 0) {
+        } else if ((took = cli_take_path(argc, argv, &i, "smooth", paths, 7)) != 0) {
             if (took < 0)
                 return EXIT_USAGE;
         } else if (cli_opt_value(argc, argv, &i, "--units", &val)) {
@@ -279,9 +309,9 @@ int cmd_smooth(int argc, char **argv)
     }
     if (!in)
         return cli_usage("smooth", "needs an input file");
-    if (!out && !patches && !layout && !render && !report && !json)
+    if (!out && !patches && !layout && !render && !report && !json && !zebra && !patch_map)
         return cli_usage("smooth", "nothing to write: give -o, --patches, --layout, --render, "
-                                   "--report or --json");
+                                   "--zebra, --patch-map, --report or --json");
     cad_kind cad = out ? cad_kind_of(out, freeform) : CAD_NONE;
     if (out && cad == CAD_NONE) {
         sk_format f = sk_format_from_path(out);
@@ -327,7 +357,7 @@ int cmd_smooth(int argc, char **argv)
         goto report_only;
     if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
         goto done;
-    if ((out && cad == CAD_NONE) || render) {
+    if (out && cad == CAD_NONE) {
         if ((st = sk_patch_set_tessellate(&s->surface, (unsigned)tess, &tes, &err)) != SK_OK) {
             rc = cli_fail(st, &err);
             goto done;
@@ -337,10 +367,12 @@ int cmd_smooth(int argc, char **argv)
         rc = cli_fail(st, &err);
         goto done;
     }
-    if (render && (st = sk_render_shaded(tes, render, NULL, &err)) != SK_OK) {
-        rc = cli_fail(st, &err);
-        goto done;
-    }
+    const char *pics[3] = {render, zebra, patch_map};
+    for (int k = 0; k < 3; ++k)
+        if (pics[k] && (st = sk_render_surface(s, (sk_surface_picture)k, pics[k], NULL, &err))) {
+            rc = cli_fail(st, &err);
+            goto done;
+        }
     if (layout && (st = sk_render_patch_layout(s, layout, NULL, &err)) != SK_OK) {
         rc = cli_fail(st, &err);
         goto done;

@@ -46,6 +46,26 @@ SK_API sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path
 SK_API sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
                                   sk_error *err);
 
+/* Pictures of the smooth surface itself, shaded per pixel with the exact patch normals (no
+ * facets), seen along opts->view (zero: (-0.4, -0.5, -1)), orthographic, width x height (0: 900 x
+ * 900), PNG written atomically; the back side (through a hole or a fold) is drawn in orange:
+ *  - SK_SURFACE_SHADED: diffuse light and a little specular;
+ *  - SK_SURFACE_ZEBRA: reflection lines (zebra stripes): the view direction reflected in the
+ *    surface against a fixed direction; a kink in the stripes is a kink in the surface, stripes
+ *    that bend smoothly across patch boundaries show tangent-plane continuity;
+ *  - SK_SURFACE_PATCH_MAP: the patches (triangles grey, quads blue) with their boundaries,
+ *    patches with overshoot > 0.5 in orange, with a singular point in magenta, with both in
+ *    dark red
+ *    (sk_smooth_patch_shapes), a legend with the counts. */
+typedef enum {
+    SK_SURFACE_SHADED = 0,
+    SK_SURFACE_ZEBRA = 1,
+    SK_SURFACE_PATCH_MAP = 2
+} sk_surface_picture;
+SK_API sk_status sk_render_surface(const sk_smooth *s, sk_surface_picture kind,
+                                   const char *png_path, const sk_render_opts *opts,
+                                   sk_error *err);
+
 /* A scalar field over a surface (e.g. the distance to another surface, sk_bvh_distance). */
 typedef double (*sk_field_fn)(void *user, const double p[3]);
 

@@ -124,6 +124,7 @@ typedef struct sk_continuity_opts {
     double max_gap;        /* gap tolerance in model units (0 = 0.005, i.e. mm) */
     unsigned intersection_tess; /* tessellation per patch side for the self-intersection check
                                    (0 = 6); (unsigned)-1 skips the check */
+    unsigned shape_samples; /* grid steps per patch side for overshoot and fairness (0 = 12) */
 } sk_continuity_opts;
 
 typedef struct sk_continuity_report {
@@ -150,7 +151,36 @@ typedef struct sk_continuity_report {
     uint32_t intersection_examples[2 * SK_CONTINUITY_EXAMPLES]; /* patch id pairs */
     bool pass_g1, pass_gap;           /* against the tolerances */
     bool pass_intersections;          /* no crossing patch pair (or not checked) */
+    /* shape (sk_patch_shape, per patch: sk_smooth_patch_shapes). Patch ids are SK_INVALID when
+     * there are no patches; the examples are the patches with overshoot > 0.5, worst first. */
+    double max_overshoot, mean_overshoot;
+    uint32_t max_overshoot_patch;
+    size_t overshoot_patches;         /* patches with overshoot > 0.5 */
+    size_t num_overshoot_examples;
+    uint32_t overshoot_examples[SK_CONTINUITY_EXAMPLES];
+    double max_fairness_deg, mean_fairness_deg; /* worst and mean over the patches */
+    uint32_t max_fairness_patch;
 } sk_continuity_report;
+
+/* Shape measures of one patch, on a grid of `samples` steps per side (0 = 12; triangles: the
+ * (samples + 1)(samples + 2)/2 points of the barycentric grid, quads (samples + 1)^2):
+ *  - overshoot: largest distance of the patch from the flat triangle(s) of the face it replaces
+ *    (a quad: the two triangles on either side of its deleted edge), divided by the longest edge
+ *    of those triangles. 0 for a patch in its face; a spike is > 1.
+ *  - fairness_deg: largest angle (degrees) between the patch normal and the normal interpolated
+ *    from the vertex normals at its corners (linear over triangles, bilinear over quads, then
+ *    normalized); 180 where the patch normal vanishes. 0 at the corners of an interpolating
+ *    patch; ripples, bulges and spikes raise it, a fold makes it exceed 90.
+ *  - singular: the regularity test of the continuity report. */
+typedef struct sk_patch_shape {
+    double overshoot;
+    double fairness_deg;
+    bool singular;
+} sk_patch_shape;
+
+/* Fills out[p] (s->surface.count entries) for every patch p. */
+SK_API sk_status sk_smooth_patch_shapes(const sk_smooth *s, unsigned samples, sk_patch_shape *out,
+                                        sk_error *err);
 
 SK_API sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
                                       sk_continuity_report *rep, sk_error *err);

@@ -172,8 +172,10 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
 }
 
 /* Interpolation errors at the corners of patch p and its regularity (sk__patch_regularity). */
-static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out)
+static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out,
+                        const sk__shape_ctx *shape, double *overshoot, double *fairness)
 {
+    sk__patch_shape(shape, p, overshoot + p, fairness + p);
     const sk_mesh *m = s->config;
     const sk_patch *pa = &s->surface.patches[p];
     for (unsigned i = 0; i < sk_patch_num_corners(pa); ++i) {
@@ -233,6 +235,42 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
     return st;
 }
 
+/* Worst and mean overshoot and fairness, the worst patches (first index among equals) and the
+ * patches over 0.5 (worst first), independent of the number of threads. */
+static void shape_summary(const double *over, const double *fair, size_t np,
+                          sk_continuity_report *rep)
+{
+    double so = 0.0, sf = 0.0;
+    rep->max_overshoot_patch = rep->max_fairness_patch = SK_INVALID;
+    for (size_t p = 0; p < np; ++p) {
+        so += over[p];
+        sf += fair[p];
+        if (rep->max_overshoot_patch == SK_INVALID || over[p] > rep->max_overshoot) {
+            rep->max_overshoot = over[p];
+            rep->max_overshoot_patch = (uint32_t)p;
+        }
+        if (rep->max_fairness_patch == SK_INVALID || fair[p] > rep->max_fairness_deg) {
+            rep->max_fairness_deg = fair[p];
+            rep->max_fairness_patch = (uint32_t)p;
+        }
+        if (!(over[p] > 0.5))
+            continue;
+        rep->overshoot_patches++;
+        size_t n = rep->num_overshoot_examples, i = n < SK_CONTINUITY_EXAMPLES ? n : n - 1;
+        if (n == SK_CONTINUITY_EXAMPLES && !(over[p] > over[rep->overshoot_examples[i]]))
+            continue;
+        while (i > 0 && over[p] > over[rep->overshoot_examples[i - 1]]) {
+            rep->overshoot_examples[i] = rep->overshoot_examples[i - 1];
+            --i;
+        }
+        rep->overshoot_examples[i] = (uint32_t)p;
+        if (n < SK_CONTINUITY_EXAMPLES)
+            rep->num_overshoot_examples++;
+    }
+    rep->mean_overshoot = np ? so / (double)np : 0.0;
+    rep->mean_fairness_deg = np ? sf / (double)np : 0.0;
+}
+
 sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opts,
                                sk_continuity_report *rep, sk_error *err)
 {
@@ -248,10 +286,15 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     edge_block *eb = sk__malloc_array((size_t)neb + 1, sizeof *eb);
     patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);
     uint8_t *singular = sk__malloc_array((size_t)np + 1, 1);
-    if (!eb || !pb || !singular) {
+    double *shape_v = sk__malloc_array(2 * (size_t)np + 1, sizeof *shape_v);
+    sk__shape_ctx shape;
+    sk_status shape_st = sk__shape_ctx_init(&shape, s, opts ? opts->shape_samples : 0, err);
+    if (!eb || !pb || !singular || !shape_v || shape_st) {
         sk__free(eb);
         sk__free(pb);
         sk__free(singular);
+        sk__free(shape_v);
+        sk__shape_ctx_free(&shape);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the continuity report");
     }
 #ifdef SK_HAVE_OPENMP
@@ -270,7 +313,7 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
             memset(pb + k, 0, sizeof pb[k]);
             long p1 = k + 1 < npb ? (k + 1) * BLOCK : np;
             for (long p = k * BLOCK; p < p1; ++p)
-                patch_check(s, (size_t)p, pb + k, singular + p);
+                patch_check(s, (size_t)p, pb + k, singular + p, &shape, shape_v, shape_v + np);
         }
     }
     double max_gap = 0.0, sum_gap = 0.0, max_jump = 0.0, sum_jump = 0.0;
@@ -312,9 +355,12 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
             rep->singular_examples[rep->num_singular_examples++] = (uint32_t)p;
         rep->singular_patches++;
     }
+    shape_summary(shape_v, shape_v + np, (size_t)np, rep);
     sk__free(eb);
     sk__free(pb);
     sk__free(singular);
+    sk__free(shape_v);
+    sk__shape_ctx_free(&shape);
     rep->max_vertex_error = max_verr;
     rep->max_normal_error_deg = max_nerr;
     rep->uncertified_patches = uncert;

@@ -67,4 +67,18 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
 /* PN triangles on the triangle mesh s->config with normals s->normals (fills s->surface). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);
 
+/* Shape measures (shape.c): a context holding the deleted edges (to know the diagonal each quad
+ * replaces) and the grid size; sk__patch_shape gives patch p's overshoot and fairness
+ * (sk_patch_shape in smooth.h). */
+typedef struct sk__shape_ctx {
+    const sk_smooth *s;
+    uint64_t *keys; /* sorted deleted edges, (min id << 32) | max id */
+    size_t nkeys;
+    unsigned n;     /* grid steps per patch side */
+} sk__shape_ctx;
+sk_status sk__shape_ctx_init(sk__shape_ctx *c, const sk_smooth *s, unsigned samples,
+                             sk_error *err);
+void sk__shape_ctx_free(sk__shape_ctx *c);
+void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double *fairness_deg);
+
 #endif

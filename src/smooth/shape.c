@@ -1,0 +1,177 @@
+/* Shape measures of the patches of a smooth surface (smooth.h, sk_smooth_patch_shapes):
+ *
+ *  - overshoot: the largest distance of a patch from the flat triangle(s) of the mesh face it
+ *    replaces, over a grid of samples, divided by the longest edge of those triangles (a quad
+ *    replaces the two input triangles on either side of its deleted edge; that edge counts as
+ *    one of its edges). 0 for a patch lying in its face; a spike is > 1.
+ *  - fairness: the largest angle between the patch normal and the normal interpolated from the
+ *    vertex normals at its corners (linearly over a triangle, bilinearly over a quad, then
+ *    normalized: the Phong normal), over the same grid; 180 where the patch normal vanishes.
+ *    The patches interpolate those normals at the corners, so the angle is 0 there; in between it
+ *    grows with every ripple, bulge, spike or fold (a fold turns the normal over: above 90). It
+ *    is scale invariant, 0 on a flat face with equal normals, and small (second order in the edge
+ *    length) on a densely sampled smooth shape such as the sphere. */
+#include "smooth/smooth_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define RAD2DEG (180.0 / M_PI)
+
+static uint64_t edge_key(uint32_t a, uint32_t b)
+{
+    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+}
+
+static int key_cmp(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+sk_status sk__shape_ctx_init(sk__shape_ctx *c, const sk_smooth *s, unsigned samples,
+                             sk_error *err)
+{
+    memset(c, 0, sizeof *c);
+    c->s = s;
+    c->n = samples ? samples : 12;
+    if (!s->num_deleted)
+        return SK_OK;
+    c->keys = sk__malloc_array(s->num_deleted, sizeof *c->keys);
+    if (!c->keys)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for the shape measures");
+    for (size_t i = 0; i < s->num_deleted; ++i)
+        c->keys[i] = edge_key(s->deleted[2 * i], s->deleted[2 * i + 1]);
+    qsort(c->keys, s->num_deleted, sizeof *c->keys, key_cmp);
+    c->nkeys = s->num_deleted;
+    return SK_OK;
+}
+
+void sk__shape_ctx_free(sk__shape_ctx *c)
+{
+    sk__free(c->keys);
+    c->keys = NULL;
+    c->nkeys = 0;
+}
+
+static bool is_deleted(const sk__shape_ctx *c, uint32_t a, uint32_t b)
+{
+    uint64_t k = edge_key(a, b);
+    return c->nkeys && bsearch(&k, c->keys, c->nkeys, sizeof k, key_cmp) != NULL;
+}
+
+static double seg_dist2(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3], q[3];
+    sk__sub3(ab, b, a);
+    sk__sub3(ap, p, a);
+    double ll = sk__dot3(ab, ab), t = ll > 0 ? sk__dot3(ap, ab) / ll : 0.0;
+    t = fmin(fmax(t, 0.0), 1.0);
+    for (int k = 0; k < 3; ++k)
+        q[k] = a[k] + t * ab[k] - p[k];
+    return sk__dot3(q, q);
+}
+
+/* distance from p to the triangle abc (a segment or a point when it is degenerate) */
+static double tri_dist(const double p[3], const double *a, const double *b, const double *c)
+{
+    double e1[3], e2[3], ap[3], n[3], t[3];
+    sk__sub3(e1, b, a);
+    sk__sub3(e2, c, a);
+    sk__sub3(ap, p, a);
+    sk__cross3(n, e1, e2);
+    double nn = sk__dot3(n, n);
+    if (nn > 0) {
+        sk__cross3(t, ap, e2);
+        double v = sk__dot3(t, n) / nn;
+        sk__cross3(t, e1, ap);
+        double w = sk__dot3(t, n) / nn;
+        if (v >= 0 && w >= 0 && v + w <= 1)
+            return fabs(sk__dot3(ap, n)) / sqrt(nn);
+    }
+    return sqrt(fmin(seg_dist2(p, a, b), fmin(seg_dist2(p, b, c), seg_dist2(p, c, a))));
+}
+
+void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double *fairness_deg)
+{
+    const sk_smooth *s = c->s;
+    const sk_patch *pa = &s->surface.patches[p];
+    unsigned nc = sk_patch_num_corners(pa), N = c->n;
+    const double *X[4], *Nv[4];
+    for (unsigned i = 0; i < nc; ++i) {
+        X[i] = s->config->positions + 3 * (size_t)pa->corner_ids[i];
+        Nv[i] = s->normals + 3 * (size_t)pa->corner_ids[i];
+    }
+    /* the flat triangles the patch replaces, as corner triples */
+    int tri[4][3] = {{0, 1, 2}}, ntri = 1;
+    double longest = 0.0;
+    for (unsigned i = 0; i < nc; ++i)
+        longest = fmax(longest, sk__dist3(X[i], X[(i + 1) % nc]));
+    if (nc == 4) {
+        bool d02 = is_deleted(c, pa->corner_ids[0], pa->corner_ids[2]);
+        bool d13 = is_deleted(c, pa->corner_ids[1], pa->corner_ids[3]);
+        static const int split02[2][3] = {{0, 1, 2}, {0, 2, 3}}, split13[2][3] = {{0, 1, 3}, {1, 2, 3}};
+        ntri = 0;
+        if (d02 || !d13) { /* unknown diagonal: both splits (the nearer one counts) */
+            memcpy(tri[ntri], split02, sizeof split02);
+            ntri += 2;
+            longest = fmax(longest, sk__dist3(X[0], X[2]));
+        }
+        if (d13 || !d02) {
+            memcpy(tri[ntri], split13, sizeof split13);
+            ntri += 2;
+            longest = fmax(longest, sk__dist3(X[1], X[3]));
+        }
+    }
+    double dmax = 0.0, amax = 0.0;
+    for (unsigned i = 0; i <= N; ++i)
+        for (unsigned j = 0; j <= N; ++j) {
+            if (pa->kind == SK_PATCH_TRIANGLE && i + j > N)
+                continue;
+            double a = (double)i / N, b = (double)j / N, x[3], nrm[3], w[4];
+            double len = sk_patch_eval(&s->surface, p, a, b, x, NULL, NULL, nrm);
+            if (pa->kind == SK_PATCH_TRIANGLE)
+                w[0] = 1.0 - a - b, w[1] = a, w[2] = b;
+            else
+                w[0] = (1 - a) * (1 - b), w[1] = a * (1 - b), w[2] = a * b, w[3] = (1 - a) * b;
+            double phong[3] = {0, 0, 0};
+            for (unsigned k = 0; k < nc; ++k)
+                for (int q = 0; q < 3; ++q)
+                    phong[q] += w[k] * Nv[k][q];
+            double ang = 180.0;
+            if (len > 0 && sk__norm3(phong) > 0)
+                ang = sk__angle3(nrm, phong) * RAD2DEG;
+            amax = fmax(amax, ang);
+            double d = INFINITY;
+            for (int t = 0; t < ntri; ++t)
+                d = fmin(d, tri_dist(x, X[tri[t][0]], X[tri[t][1]], X[tri[t][2]]));
+            dmax = fmax(dmax, d);
+        }
+    *overshoot = longest > 0 ? dmax / longest : (dmax > 0 ? INFINITY : 0.0);
+    *fairness_deg = amax;
+}
+
+sk_status sk_smooth_patch_shapes(const sk_smooth *s, unsigned samples, sk_patch_shape *out,
+                                 sk_error *err)
+{
+    if (!s || (!out && s->surface.count))
+        return sk__fail(err, SK_ERR_ARG, "sk_smooth_patch_shapes: NULL argument");
+    sk__shape_ctx c;
+    sk_status st = sk__shape_ctx_init(&c, s, samples, err);
+    if (st)
+        return st;
+    long np = (long)s->surface.count;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+    for (long p = 0; p < np; ++p) {
+        sk__patch_shape(&c, (size_t)p, &out[p].overshoot, &out[p].fairness_deg);
+        out[p].singular = sk__patch_singular(s, (size_t)p, NULL);
+    }
+    sk__shape_ctx_free(&c);
+    sk__ok(err);
+    return SK_OK;
+}

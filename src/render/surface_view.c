@@ -78,7 +78,7 @@ static void shade(void *user, uint32_t id, const double b[3], int px, int py, do
             return;
         }
         spec = 0.0;
-        sh = 0.3 + 0.7 * l;
+        sh = 0.45 + 0.55 * l; /* the colours stay readable */
     }
     for (int k = 0; k < 3; ++k)
         rgb[k] = fmin(1.0, base[k] * sh + spec);

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# surfkit smooth: the shape measures in --json / --report and --patches (overshoot, fairness,
+# worst patch ids), and the pictures --render (exact normals), --zebra, --patch-map.
+set -u
+bin=$1 shared=$3 tmp=$4
+rm -rf "$tmp"; mkdir -p "$tmp"
+fail() { echo "FAIL: $*"; exit 1; }
+m=$shared/data/meshes
+"$bin" smooth "$m/sphere.off" --json --patches "$tmp/p.json" --render "$tmp/s.png" \
+  --zebra "$tmp/z.png" --patch-map "$tmp/m.png" -q > "$tmp/r.json" || fail "sphere exit $?"
+for f in s z m; do
+  head -c 8 "$tmp/$f.png" | od -An -c | grep -q 'P   N   G' || fail "$f.png is not a PNG"
+done
+python3 - "$tmp/r.json" "$tmp/p.json" <<'PY' || fail "sphere shape values"
+import json, sys
+r = json.load(open(sys.argv[1]))
+p = json.load(open(sys.argv[2]))["patches"]
+assert len(p) == r["triangles"] + r["quads"], (len(p), r)
+over = [q["overshoot"] for q in p]
+fair = [q["fairness_deg"] for q in p]
+# the report's worst values are those of the named patches; the sphere bulges a little, no spike
+assert 0.01 < r["max_overshoot"] < 0.1, r
+assert abs(over[r["max_overshoot_patch"]] - r["max_overshoot"]) <= 1e-5 * r["max_overshoot"], r
+assert abs(max(over) - r["max_overshoot"]) <= 1e-5 * r["max_overshoot"], r
+assert abs(fair[r["max_fairness_patch"]] - r["max_fairness_deg"]) <= 1e-5 * r["max_fairness_deg"]
+assert 0 < r["max_fairness_deg"] < 5 and r["mean_fairness_deg"] <= r["max_fairness_deg"], r
+assert r["overshoot_patches"] == 0 and r["overshoot_patch_examples"] == [], r
+assert not any(q["singular"] for q in p)
+PY
+# a rough scan: spikes over 0.5 are listed worst first and flagged in --patches
+"$bin" smooth "$m/cow.off" --json --allow-fail --patches "$tmp/cp.json" -q > "$tmp/cow.json" ||
+  fail "cow exit $?"
+python3 - "$tmp/cow.json" "$tmp/cp.json" <<'PY' || fail "cow shape values"
+import json, sys
+r = json.load(open(sys.argv[1]))
+p = json.load(open(sys.argv[2]))["patches"]
+ex = r["overshoot_patch_examples"]
+assert r["overshoot_patches"] == sum(q["overshoot"] > 0.5 for q in p) > 0, r
+assert ex and ex[0] == r["max_overshoot_patch"], r
+assert all(p[i]["overshoot"] > 0.5 for i in ex)
+assert all(p[a]["overshoot"] >= p[b]["overshoot"] for a, b in zip(ex, ex[1:]))
+assert r["singular_patches"] == sum(q["singular"] for q in p), r
+PY
+"$bin" smooth "$m/sphere.off" --zebra 2>/dev/null; [ $? -eq 2 ] || fail "--zebra without a file"
+echo ok

@@ -1,5 +1,6 @@
 /* bench_smooth MESH: VC1 surface of a mesh, one table row per stage (read excluded), plus the
- * deletion counts and the continuity result (report stage: 4 samples per edge). */
+ * deletion counts and the continuity result (report stage: 4 samples per edge, shape measures on a
+ * 4-step grid per patch). */
 #include "surfkit/surfkit.h"
 
 #include <stdio.h>
@@ -27,6 +28,7 @@ int main(int argc, char **argv)
     sk_continuity_report r;
     sk_continuity_opts co = {0};
     co.samples = 4;
+    co.shape_samples = 4; /* overshoot and fairness on a 4-step grid per patch, like the edges */
     sk_smooth_continuity(s, &co, &r, &err);
     double t3 = sk_seconds();
     const sk_smooth_stats *st = &s->stats;
@@ -44,6 +46,10 @@ int main(int argc, char **argv)
            st->deletion.lower_bound, st->deletion.deleted_edges,
            st->deletion.lower_bound ? (double)st->deletion.deleted_edges / st->deletion.lower_bound : 1.0,
            st->deletion.triangles, st->deletion.quads, st->deletion.forced_edges);
+    printf("max overshoot %.3g (patch %u, %zu over 0.5), fairness max %.3g deg (patch %u) mean %.3g "
+           "deg\n",
+           r.max_overshoot, r.max_overshoot_patch, r.overshoot_patches, r.max_fairness_deg,
+           r.max_fairness_patch, r.mean_fairness_deg);
     printf("max normal jump %.3g deg, mean %.3g deg, max gap %.3g, singular patches %zu (before repair %zu, repaired vertices %zu), relaxed "
            "vertices %zu, angle violations %zu, failed vertices %zu, max iterations %zu\n",
            r.max_normal_jump_deg, r.mean_normal_jump_deg, r.max_gap, r.singular_patches,

@@ -213,7 +213,8 @@ static PyObject *surface_dict(const skpy_surface *s)
     npy_intp np_ = (npy_intp)s->num_patches;
     const sk_continuity_report *r = &s->report;
     PyObject *report = Py_BuildValue(
-        "{s:n,s:n,s:d,s:d,s:d,s:d,s:(II),s:d,s:d,s:n,s:n,s:O,s:O}", "interior_edges",
+        "{s:n,s:n,s:d,s:d,s:d,s:d,s:(II),s:d,s:d,s:n,s:n,s:O,s:O,s:d,s:I,s:d,s:n,s:d,s:I,s:d}",
+        "interior_edges",
         (Py_ssize_t)r->interior_edges, "samples", (Py_ssize_t)r->samples, "max_gap", r->max_gap,
         "mean_gap", r->mean_gap, "max_normal_jump_deg", r->max_normal_jump_deg,
         "mean_normal_jump_deg", r->mean_normal_jump_deg, "worst_edge_vertices",
@@ -221,7 +222,11 @@ static PyObject *surface_dict(const skpy_surface *s)
         r->max_vertex_error, "max_normal_error_deg", r->max_normal_error_deg, "singular_patches",
         (Py_ssize_t)r->singular_patches, "uncertified_patches",
         (Py_ssize_t)r->uncertified_patches, "pass_g1", r->pass_g1 ? Py_True : Py_False,
-        "pass_gap", r->pass_gap ? Py_True : Py_False);
+        "pass_gap", r->pass_gap ? Py_True : Py_False, "max_overshoot", r->max_overshoot,
+        "max_overshoot_patch", (unsigned)r->max_overshoot_patch, "mean_overshoot",
+        r->mean_overshoot, "overshoot_patches", (Py_ssize_t)r->overshoot_patches,
+        "max_fairness_deg", r->max_fairness_deg, "max_fairness_patch",
+        (unsigned)r->max_fairness_patch, "mean_fairness_deg", r->mean_fairness_deg);
     const sk_smooth_stats *t = &s->stats;
     PyObject *stats = Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:n,s:n}", "deleted_edges",
                                     (Py_ssize_t)t->deletion.deleted_edges, "lower_bound",

@@ -120,7 +120,9 @@ def test_smooth_equals_cli(lion, tmp_path):
     assert int((s.kind == 3).sum()) == ref["triangles"] and int((s.kind == 4).sum()) == ref["quads"]
     assert s.stats["deleted_edges"] == ref["deleted_edges"] == len(s.deleted)
     for key in ("max_gap", "mean_gap", "max_normal_jump_deg", "max_vertex_error",
-                "max_normal_error_deg", "singular_patches", "uncertified_patches"):
+                "max_normal_error_deg", "singular_patches", "uncertified_patches",
+                "max_overshoot", "max_overshoot_patch", "mean_overshoot", "overshoot_patches",
+                "max_fairness_deg", "max_fairness_patch", "mean_fairness_deg"):
         assert s.report[key] == ref[key], key
     assert list(s.report["worst_edge_vertices"]) == ref["worst_edge"]
     assert s.report["pass_g1"] == ref["pass_g1"] is True

@@ -8,44 +8,20 @@
 #include <cairo.h>
 #include <stdlib.h>
 
-typedef struct view {
-    double f[3], r[3], u[3];
-    double scale, ox, oy, cx, cy;
-    int w, h;
-} view;
-
-static void view_setup(view *v, const sk_render_opts *o, const double *pos, size_t n)
+/* The one camera of the pictures (sk__view_fit, raster.c), 900 x 900 unless opts say otherwise. */
+static void view_setup(sk__view *v, const sk_render_opts *o, const double *pos, size_t n)
 {
-    v->w = o && o->width ? (int)o->width : 900;
-    v->h = o && o->height ? (int)o->height : 900;
-    double d[3] = {-0.4, -0.5, -1.0};
-    if (o && (o->view[0] != 0 || o->view[1] != 0 || o->view[2] != 0))
-        d[0] = o->view[0], d[1] = o->view[1], d[2] = o->view[2];
-    sk__normalize3(d);
-    v->f[0] = d[0], v->f[1] = d[1], v->f[2] = d[2];
-    double up[3] = {0, 1, 0};
-    if (fabs(d[1]) > 0.9)
-        up[1] = 0, up[2] = 1;
-    sk__cross3(v->r, v->f, up);
-    sk__normalize3(v->r);
-    sk__cross3(v->u, v->r, v->f);
-    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-    for (size_t i = 0; i < n; ++i) {
-        double x = sk__dot3(pos + 3 * i, v->r), y = sk__dot3(pos + 3 * i, v->u);
-        lo[0] = fmin(lo[0], x), hi[0] = fmax(hi[0], x);
-        lo[1] = fmin(lo[1], y), hi[1] = fmax(hi[1], y);
-    }
-    double sx = (hi[0] - lo[0]) > 0 ? (v->w * 0.9) / (hi[0] - lo[0]) : 1.0;
-    double sy = (hi[1] - lo[1]) > 0 ? (v->h * 0.9) / (hi[1] - lo[1]) : 1.0;
-    v->scale = fmin(sx, sy);
-    v->cx = 0.5 * (lo[0] + hi[0]);
-    v->cy = 0.5 * (lo[1] + hi[1]);
+    const double zero[3] = {0, 0, 0}, fallback[3] = {-0.4, -0.5, -1.0};
+    int w = o && o->width ? (int)o->width : 900, h = o && o->height ? (int)o->height : 900;
+    sk__view_fit(v, o ? o->view : zero, fallback, pos, n, w, h, 0.9);
 }
 
-static void project(const view *v, const double p[3], double *x, double *y)
+static void project(const sk__view *v, const double p[3], double *x, double *y)
 {
-    *x = v->w * 0.5 + (sk__dot3(p, v->r) - v->cx) * v->scale;
-    *y = v->h * 0.5 - (sk__dot3(p, v->u) - v->cy) * v->scale;
+    double s[3];
+    sk__view_project(v, p, s);
+    *x = s[0];
+    *y = s[1];
 }
 
 typedef struct item {
@@ -70,7 +46,7 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
                                  const sk_render_opts *opts, sk_error *err)
 {
     const sk_mesh *m = s->config;
-    view v;
+    sk__view v;
     view_setup(&v, opts, m->positions, m->num_vertices);
     item *items = sk__malloc_array(m->num_faces + 1, sizeof *items);
     if (!items)
@@ -79,10 +55,10 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
     for (uint32_t f = 0; f < m->num_faces; ++f) {
         double n[3];
         sk_mesh_face_normal(m, f, n);
-        if (sk__dot3(n, v.f) >= 0.0)
+        if (sk__dot3(n, v.d) >= 0.0)
             continue;
         const double *p = m->positions + 3 * (size_t)sk_from(m, m->f_halfedge[f]);
-        items[ni++] = (item){sk__dot3(p, v.f), f};
+        items[ni++] = (item){sk__dot3(p, v.d), f};
     }
     qsort(items, ni, sizeof *items, item_cmp);
     cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, v.w, v.h);
@@ -94,7 +70,7 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
         uint32_t f = items[i].id, h0 = m->f_halfedge[f], h = h0;
         double n[3];
         sk_mesh_face_normal(m, f, n);
-        double shade = 0.35 + 0.65 * fmax(0.0, -sk__dot3(n, v.f));
+        double shade = 0.35 + 0.65 * fmax(0.0, -sk__dot3(n, v.d));
         int quad = sk_mesh_face_size(m, f) == 4;
         do {
             double x, y;
@@ -121,7 +97,7 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
         const double *a = m->positions + 3 * (size_t)s->deleted[2 * i];
         const double *b = m->positions + 3 * (size_t)s->deleted[2 * i + 1];
         const double *na = s->normals + 3 * (size_t)s->deleted[2 * i];
-        if (sk__dot3(na, v.f) >= 0.0)
+        if (sk__dot3(na, v.d) >= 0.0)
             continue;
         double x0, y0, x1, y1;
         project(&v, a, &x0, &y0);
@@ -145,7 +121,7 @@ sk_status sk_render_patch_layout(const sk_smooth *s, const char *png_path,
 sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_render_opts *opts,
                            sk_error *err)
 {
-    view v;
+    sk__view v;
     view_setup(&v, opts, soup->positions, soup->num_vertices);
     item *items = sk__malloc_array(soup->num_faces + 1, sizeof *items);
     if (!items)
@@ -161,9 +137,9 @@ sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_r
         sk__sub3(e1, b, a);
         sk__sub3(e2, c, a);
         sk__cross3(n, e1, e2);
-        if (sk__dot3(n, v.f) >= 0.0)
+        if (sk__dot3(n, v.d) >= 0.0)
             continue;
-        items[ni++] = (item){(sk__dot3(a, v.f) + sk__dot3(b, v.f) + sk__dot3(c, v.f)) / 3.0, f};
+        items[ni++] = (item){(sk__dot3(a, v.d) + sk__dot3(b, v.d) + sk__dot3(c, v.d)) / 3.0, f};
     }
     qsort(items, ni, sizeof *items, item_cmp);
     cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, v.w, v.h);
@@ -174,7 +150,7 @@ sk_status sk_render_shaded(const sk_soup *soup, const char *png_path, const sk_r
     /* light travelling from the upper left of the viewer into the scene */
     double light[3];
     for (int k = 0; k < 3; ++k)
-        light[k] = v.f[k] - 0.5 * v.u[k] + 0.3 * v.r[k];
+        light[k] = v.d[k] - 0.5 * v.y[k] + 0.3 * v.x[k];
     sk__normalize3(light);
     for (size_t i = 0; i < ni; ++i) {
         const uint32_t *t = soup->face_indices + soup->face_offsets[items[i].id];

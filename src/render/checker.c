@@ -17,42 +17,37 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
         o = *opts;
     int W = o.width > 0 ? o.width : 1024, H = W;
     int checks = o.checks > 0 ? o.checks : 16;
-    double d[3] = {o.view[0], o.view[1], o.view[2]};
-    if (sk__normalize3(d) == 0) {
-        d[0] = d[1] = 0;
-        d[2] = -1;
-    }
-    /* camera frame: x right, y up, looking along d */
-    double up[3] = {0, 1, 0}, x[3], y[3];
-    if (fabs(d[1]) > 0.9) {
-        up[1] = 0;
-        up[2] = 1;
-    }
-    sk__cross3(x, d, up);
-    sk__normalize3(x);
-    sk__cross3(y, x, d);
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    /* the one camera of the pictures (sk__view_fit), fitted to the vertices in use */
+    double *pos = sk__malloc_array(3 * m->num_vertices + 3, sizeof *pos);
+    if (!pos)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    size_t np = 0;
     double ulo[2] = {INFINITY, INFINITY}, uhi[2] = {-INFINITY, -INFINITY};
     for (size_t v = 0; v < m->num_vertices; ++v) {
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
             continue;
-        const double *p = m->positions + 3 * v;
-        double px = sk__dot3(p, x), py = sk__dot3(p, y);
-        lo[0] = fmin(lo[0], px);
-        hi[0] = fmax(hi[0], px);
-        lo[1] = fmin(lo[1], py);
-        hi[1] = fmax(hi[1], py);
+        memcpy(pos + 3 * np++, m->positions + 3 * v, 3 * sizeof *pos);
         for (int c = 0; c < 2; ++c) {
             ulo[c] = fmin(ulo[c], uv[2 * v + c]);
             uhi[c] = fmax(uhi[c], uv[2 * v + c]);
         }
     }
+    sk__view view;
+    const double fallback[3] = {0, 0, -1};
+    sk__view_fit(&view, o.view, fallback, pos, np, W, H, 0.92);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t k = 0; k < np; ++k) {
+        double q[3];
+        sk__view_project(&view, pos + 3 * k, q);
+        lo[0] = fmin(lo[0], q[0]), hi[0] = fmax(hi[0], q[0]);
+        lo[1] = fmin(lo[1], q[1]), hi[1] = fmax(hi[1], q[1]);
+    }
+    sk__free(pos);
+    const double *d = view.d;
     double span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
     double uspan = fmax(uhi[0] - ulo[0], uhi[1] - ulo[1]);
     if (!(span > 0) || !(uspan > 0) || !isfinite(span) || !isfinite(uspan))
         return sk__fail(err, SK_ERR_ARG, "nothing to draw (empty or flat mesh or uv)");
-    double s = 0.92 * W / span;
-    double ox = 0.5 * W - s * 0.5 * (lo[0] + hi[0]), oy = 0.5 * H + s * 0.5 * (lo[1] + hi[1]);
     cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
     float *zbuf = sk__malloc_array((size_t)W * H, sizeof *zbuf);
     if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS || !zbuf) {
@@ -80,9 +75,9 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
         for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
             vv[k] = sk_from(m, h);
             const double *p = m->positions + 3 * (size_t)vv[k];
-            sx[k] = ox + s * sk__dot3(p, x);
-            sy[k] = oy - s * sk__dot3(p, y);
-            sz[k] = sk__dot3(p, d);
+            double q[3];
+            sk__view_project(&view, p, q);
+            sx[k] = q[0], sy[k] = q[1], sz[k] = q[2];
         }
         double area = (sx[1] - sx[0]) * (sy[2] - sy[0]) - (sx[2] - sx[0]) * (sy[1] - sy[0]);
         if (fabs(area) < 1e-12)

@@ -365,8 +365,9 @@ static void test_flips_sheared_grid(void **state)
 static void test_targets_reached(void **state)
 {
     (void)state;
-    const char *names[] = {"fandisk.off", "nefertiti.off", "knot1.off", "bunny00.off"};
-    size_t n = getenv("SK_TEST_QUICK") ? 3 : 4;
+    const char *names[] = {"fandisk.off", "nefertiti.off", "knot1.off", "mushroom.off",
+                           "bunny00.off"};
+    size_t n = getenv("SK_TEST_QUICK") ? 4 : 5;
     for (size_t i = 0; i < n; ++i) {
         shape_result r = measure(names[i], false);
         assert_int_equal(r.singular, 0);

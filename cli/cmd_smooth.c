@@ -14,6 +14,7 @@ static const char help[] =
     "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
     "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
     "                      [--iges-triangles split|degenerate] [--allow-fail] [-q]\n"
+    "                      [--keep-triangulation]\n"
     "\n"
     "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
@@ -26,6 +27,8 @@ static const char help[] =
     "A closed mesh with an odd number of vertices has no edge deletion (every vertex odd is\n"
     "impossible by Euler's formula): it is refused unless --allow-split, which splits its\n"
     "longest edge at the midpoint of its wire frame curve.\n"
+    "vc1 first flips edges (same vertices) to remove slivers and near-folds where the shape is\n"
+    "kept (the new edge bends under 10 degrees); --keep-triangulation keeps the input's.\n"
     "\n"
     "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
     "                  .igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
@@ -83,6 +86,7 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_kuint(&j, "deleted_edges", s->stats.deletion.deleted_edges);
     json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
     json_kuint(&j, "split_edges", s->stats.split_edges);
+    json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
     json_knum(&j, "max_gap", r->max_gap);
     json_knum(&j, "mean_gap", r->mean_gap);
     json_knum(&j, "max_normal_jump_deg", r->max_normal_jump_deg);
@@ -265,6 +269,8 @@ int cmd_smooth(int argc, char **argv)
             json = true;
         } else if (!strcmp(a, "--allow-fail")) {
             allow_fail = true;
+        } else if (!strcmp(a, "--keep-triangulation")) {
+            so.keep_triangulation = true;
         } else if (!strcmp(a, "--allow-split")) {
             so.allow_split = true;
         } else if (!strcmp(a, "--estimate-normals")) {

@@ -69,12 +69,18 @@ typedef struct sk_smooth_opts {
                                   edge at the midpoint of its wire frame curve instead of failing */
     double alpha;              /* angle bound alpha < angle/pi < 1 - alpha between neighbouring
                                   tangent control points (paper section 4); 0 = 0.01 */
+    double max_nu;             /* VC1: bound on the ratio |nu| of eq. (6) between neighbouring
+                                  patches (r_m lowered where a sliver or a long quad makes it
+                                  extreme); 0 = 16, negative = unbounded */
+    bool keep_triangulation;   /* VC1: keep the input's triangulation; by default edges are first
+                                  flipped (same vertices) to remove slivers and near-folds */
     sk_progress_fn progress;
     void *progress_user;
 } sk_smooth_opts;
 
 typedef struct sk_smooth_stats {
     sk_edge_deletion_stats deletion;
+    size_t flipped_edges;      /* edges flipped by the triangulation pass before the deletion */
     size_t split_edges;        /* 1 when --allow-split split an edge */
     size_t vertex_systems;     /* vertices whose system (8) was solved */
     size_t max_iterations;     /* Gauss-Newton iterations of the hardest vertex */
@@ -84,7 +90,7 @@ typedef struct sk_smooth_stats {
     size_t angle_violations;   /* vertices violating alpha < angle < pi (1 - alpha) even so */
     double max_residual;       /* largest |residual of (8)| relative to the vertex's scale */
     double mean_target_deviation; /* mean |P - P*| / |P* - V| */
-    double seconds_normals, seconds_deletion, seconds_systems, seconds_patches;
+    double seconds_normals, seconds_flips, seconds_deletion, seconds_systems, seconds_patches;
     size_t singular_before_repair; /* patches the regularity test found singular before ... */
     size_t repaired_vertices;  /* ... vertex systems were re-solved with varied targets to make
                                   their patches regular (the VC1 property is kept exactly) */
@@ -106,8 +112,9 @@ typedef struct sk_smooth {
 /* Builds the smooth surface of a manifold triangle mesh. Uses mesh->normals when present (and not
  * opts->estimate_normals), else estimates them. Errors: SK_ERR_TOPOLOGY (non-triangle faces, odd
  * closed component without allow_split), SK_ERR_NUMERIC (an edge whose normals make a cubic
- * boundary curve impossible, named in the message), SK_ERR_CANCELLED. Vertices whose angle bounds
- * are violated or whose system failed are listed in problems; the surface is still returned. */
+ * boundary curve impossible, named in the message; a vertex whose system (8) does not converge to
+ * rounding, named in the message: never a silent residual), SK_ERR_CANCELLED. Vertices whose
+ * angle bounds are violated are listed in problems; the surface is still returned. */
 SK_API sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts, sk_smooth **out,
                                  sk_error *err);
 SK_API void sk_smooth_destroy(sk_smooth **smooth);

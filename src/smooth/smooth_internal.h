@@ -64,6 +64,12 @@ bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
 sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_mesh **out,
                                    double **out_normals, size_t *splits, sk_error *err);
 
+/* The triangulation pass before the edge deletion (edge_flips.c): flips edges of the triangle
+ * mesh m in place (same vertices; normals per vertex) to remove slivers and near-folds, bounded
+ * by a dihedral-angle limit so the shape is kept; *flipped counts the flips. Drops per-corner uvs. */
+sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
+                                    sk_error *err);
+
 /* PN triangles on the triangle mesh s->config with normals s->normals (fills s->surface). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);
 

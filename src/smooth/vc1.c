@@ -43,7 +43,7 @@ static sk_status add_patches(sk_smooth *s, sk_error *err)
     return st;
 }
 
-static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
+static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *err)
 {
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
@@ -78,6 +78,13 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
                           "eq. 7), the wire frame targets are collinear",
                           sk_from(m, (uint32_t)h), sk_to(m, (uint32_t)h));
             goto done;
+        }
+    }
+    if (max_nu > 0.0) {
+        sk__bound_ratios(m, r, max_nu);
+        for (size_t h = 0; h < nh; ++h) {
+            uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
+            W.nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
         }
     }
     /* the vertex systems (8) */
@@ -156,6 +163,18 @@ static sk_status vc1_build(sk_smooth *s, double alpha, sk_error *err)
         s->stats.failed_vertices += status[v] == 2;
         nprob += status[v] != 0;
     }
+    /* exactness or a named failure: eq. (8) holds to rounding at every vertex, else no surface */
+    for (size_t v = 0; v < nv && s->stats.failed_vertices; ++v)
+        if (status[v] == 2) {
+            sk__vsys sys;
+            sk__vc1_solve_vertex(&W, (uint32_t)v, &sys, 0.0, 1.0);
+            st = sk__fail(err, SK_ERR_NUMERIC,
+                          "vertex %zu: its vertex system (eq. 8) did not converge (residual %.3g "
+                          "of its scale), so the surface would not be VC1 there (%zu such "
+                          "vertices)",
+                          v, sys.residual, s->stats.failed_vertices);
+            goto done;
+        }
     if (nprob) {
         s->problems = sk__malloc_array(nprob, sizeof(uint32_t));
         if (!s->problems) {
@@ -189,6 +208,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     if (opts.scheme != SK_SMOOTH_VC1 && opts.scheme != SK_SMOOTH_PN)
         return sk__fail(err, SK_ERR_ARG, "unknown smooth scheme %d", (int)opts.scheme);
     double alpha = opts.alpha > 0.0 ? opts.alpha : 0.01;
+    double max_nu = opts.max_nu > 0.0 ? opts.max_nu : opts.max_nu < 0.0 ? 0.0 : 16.0;
     sk_status st = SK_OK;
     sk_mesh *work = NULL;
     double *normals = NULL;
@@ -264,6 +284,16 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             base = work;
         }
     }
+    /* a better triangulation of the same vertices */
+    if (!opts.keep_triangulation) {
+        t0 = sk_seconds();
+        if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
+            goto fail;
+        if ((st = sk__improve_triangulation(work, normals, &s->stats.flipped_edges, err)) != SK_OK)
+            goto fail;
+        base = work;
+        s->stats.seconds_flips = sk_seconds() - t0;
+    }
     t0 = sk_seconds();
     if ((st = sk_edge_deletion(base, &s->config, &s->deleted, &s->stats.deletion, err)) != SK_OK)
         goto fail;
@@ -273,7 +303,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     normals = NULL;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
         goto fail;
-    if ((st = vc1_build(s, alpha, err)) != SK_OK)
+    if ((st = vc1_build(s, alpha, max_nu, err)) != SK_OK)
         goto fail;
     sk_mesh_destroy(&work);
     *out = s;

@@ -37,6 +37,12 @@ int sk__vc1_ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed
  * relaxed further (blend up to 1). */
 int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale);
 
+/* Bounds the ratios nu between neighbouring patches: r (per face, r_m of eq. 7, all positive) is
+ * lowered where needed so that r_f / r_g <= max_ratio for neighbouring faces (see
+ * vertex_targets.c). */
+#define SK_RATIO_SWEEPS 16
+void sk__bound_ratios(const sk_mesh *m, double *r, double max_ratio);
+
 /* System (4) around v: the interior control points W->C of the patches at v. */
 void sk__vc1_interior_points(sk__vc1_work *W, uint32_t v);
 

@@ -134,3 +134,46 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
         return 1;
     return 0;
 }
+
+void sk__bound_ratios(const sk_mesh *m, double *r, double max_ratio)
+{
+    /* Any positive r per face gives ratios nu = -r_up / r_down that satisfy the product condition
+     * (5) around every vertex (the product telescopes), so r may be changed freely. A sliver or a
+     * long quad next to small faces makes r_up / r_down extreme (cow: 110), which makes the
+     * recurrence (8) stiff and its fitted tangents fold. r is replaced by its lower Lipschitz
+     * envelope in log r over the face adjacency: log r_f <- min over faces g of (log r_g +
+     * log(max_ratio) * distance(f, g)), so that neighbouring ratios stay within max_ratio while
+     * faces that already satisfy the bound next to all their neighbours keep their r. Computed
+     * by forward and backward relaxation sweeps (at most SK_RATIO_SWEEPS pairs; the VC1 property
+     * does not depend on reaching the bound). */
+    size_t nf = m->num_faces;
+    double L = log(max_ratio);
+    for (size_t f = 0; f < nf; ++f)
+        if (!m->f_deleted[f])
+            r[f] = log(r[f]); /* all positive: checked by the caller */
+    for (int sweep = 0; sweep < 2 * SK_RATIO_SWEEPS; ++sweep) {
+        int changed = 0;
+        for (size_t i = 0; i < nf; ++i) {
+            size_t f = sweep & 1 ? nf - 1 - i : i;
+            if (m->f_deleted[f])
+                continue;
+            uint32_t h0 = m->f_halfedge[f], h = h0;
+            double lo = r[f];
+            do {
+                uint32_t g = m->h_face[sk_opp(h)];
+                if (g != SK_INVALID && r[g] + L < lo)
+                    lo = r[g] + L;
+                h = m->h_next[h];
+            } while (h != h0);
+            if (lo < r[f]) {
+                r[f] = lo;
+                changed = 1;
+            }
+        }
+        if (!changed)
+            break;
+    }
+    for (size_t f = 0; f < nf; ++f)
+        if (!m->f_deleted[f])
+            r[f] = exp(r[f]);
+}

@@ -34,5 +34,11 @@ python3 -c "import json,sys; r=json.load(open('$tmp/pn.json')); assert r['max_no
 "$bin" smooth "$m/blobby.off" --allow-split --json -q > "$tmp/b.json" || fail "allow-split exit"
 python3 -c "import json; r=json.load(open('$tmp/b.json')); assert r['split_edges']==1 and r['max_normal_jump_deg']<1e-7" ||
   fail "allow-split report"
+# the triangulation pass: cow's edges are flipped by default (reported), none with --keep-triangulation
+"$bin" smooth "$m/cow.off" --json -q --allow-fail > "$tmp/cf.json"; rc=$?; [ $rc -le 4 ] || fail "cow exit $rc"
+"$bin" smooth "$m/cow.off" --json -q --allow-fail --keep-triangulation > "$tmp/ck.json"; rc=$?
+[ $rc -le 4 ] || fail "cow --keep-triangulation exit $rc"
+python3 -c "import json; f=json.load(open('$tmp/cf.json')); k=json.load(open('$tmp/ck.json')); assert f['flipped_edges'] > 0 and k['flipped_edges'] == 0 and f['max_normal_jump_deg'] < 1e-7, (f['flipped_edges'], k['flipped_edges'])" ||
+  fail "flipped_edges"
 "$bin" smooth "$m/sphere.off" 2>/dev/null; [ $? -eq 2 ] || fail "no output should be a usage error"
 echo ok

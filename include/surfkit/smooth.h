@@ -44,6 +44,9 @@ typedef struct sk_edge_deletion_stats {
     size_t forced_edges;      /* deleted edges making a quad corner above 160 degrees (an even
                                  vertex without another choice, or a case-(2b) replacement) */
     size_t triangles, quads;  /* faces after deletion */
+    size_t adjacent_pairs;    /* pairs of neighbouring even vertices matched before Initialise
+                                 (one edge each; included in pairs) */
+    size_t augmenting_paths;  /* augmenting paths that enlarged that matching */
 } sk_edge_deletion_stats;
 
 /* Deletes interior edges of a triangle mesh so that every interior vertex lies in an odd number of

@@ -71,9 +71,10 @@ typedef struct sk_crease_opts {
 
 /* Marks the sharp interior edges of mesh: crease[e] = 1 for edge e (sk_num_edges(mesh) entries,
  * written in full) when the dihedral angle of its two faces and that of their area-weighted side
- * normals (each face with its neighbours across its other edges) both reach A, and the edge is
- * not a lone sharp edge (another such edge meets one of its end points); after Belyaev &
- * Anoshkina's detection: smooth the normals, keep the lines. *count (may be NULL) receives the
+ * normals (each face with its neighbours across its other edges) both reach A, and the edge lies
+ * on a line of at least 3 such edges (chained through vertices with exactly two) or joins two
+ * corners (vertices with three or more); after Belyaev & Anoshkina's detection: smooth the
+ * normals, keep the lines. *count (may be NULL) receives the
  * number of crease edges. SK_ERR_ARG for an angle outside (0, 180). */
 SK_API sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts,
                                       uint8_t *crease, size_t *count, sk_error *err);

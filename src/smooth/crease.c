@@ -9,8 +9,10 @@
  *   2. so must the angle between the two side normals, each the area-weighted normal of a face
  *      and its neighbours across its two other edges (one smoothing step per side, not across
  *      the edge tested): a sliver weighs by its area, so its own normal hardly counts;
- *   3. a crease edge must continue a line: an edge with no other crease edge at either end
- *      point is dropped (hysteresis in its simplest form). */
+ *   3. crease edges must form lines (the paper's hysteresis, simplified): the edges of steps 1-2
+ *      are joined into chains through the vertices with exactly two of them; a chain of fewer
+ *      than SK_CREASE_MIN_CHAIN edges is dropped, unless both its ends are corners (three or
+ *      more such edges meet there: the cube's feature lines are single edges). */
 #include "surfkit/smooth.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -56,6 +58,18 @@ static void side_normal(const sk_mesh *m, const double *fa, uint32_t h, double o
     }
 }
 
+/* shortest line of crease edges kept (step 3) */
+#define SK_CREASE_MIN_CHAIN 3
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
 sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, uint8_t *crease,
                                size_t *count, sk_error *err)
 {
@@ -68,9 +82,12 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
     size_t ne = sk_num_edges(m), nv = m->num_vertices, nf = m->num_faces, n = 0;
     double *fa = sk__malloc_array(nf + 1, 3 * sizeof(double));
     uint32_t *deg = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    uint32_t *first = sk__malloc_array(nv + 1, sizeof(uint32_t)); /* a crease edge at v */
+    uint32_t *parent = sk__malloc_array(ne + 1, sizeof(uint32_t)); /* chains (union-find) */
+    uint32_t *size = sk__calloc_array(ne + 1, sizeof(uint32_t));
     sk_status st = SK_OK;
     memset(crease, 0, ne);
-    if (!fa || !deg) {
+    if (!fa || !deg || !first || !parent || !size) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory detecting creases");
         goto done;
     }
@@ -92,11 +109,34 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
         deg[sk_from(m, h)]++;
         deg[sk_to(m, h)]++;
     }
+    /* chains: the two crease edges of a vertex with exactly two are one line */
+    for (uint32_t e = 0; e < ne; ++e)
+        parent[e] = e;
+    for (uint32_t v = 0; v < nv; ++v)
+        first[v] = SK_INVALID;
     for (uint32_t e = 0; e < ne; ++e) {
         if (!crease[e])
             continue;
-        if (deg[sk_from(m, 2 * e)] < 2 && deg[sk_to(m, 2 * e)] < 2)
-            crease[e] = 0; /* a lone sharp edge, not a line */
+        uint32_t ends[2] = {sk_from(m, 2 * e), sk_to(m, 2 * e)};
+        for (int k = 0; k < 2; ++k) {
+            uint32_t v = ends[k];
+            if (deg[v] != 2)
+                continue;
+            if (first[v] == SK_INVALID)
+                first[v] = e;
+            else
+                parent[uf_find(parent, e)] = uf_find(parent, first[v]);
+        }
+    }
+    for (uint32_t e = 0; e < ne; ++e)
+        if (crease[e])
+            size[uf_find(parent, e)]++;
+    for (uint32_t e = 0; e < ne; ++e) {
+        if (!crease[e])
+            continue;
+        bool corners = deg[sk_from(m, 2 * e)] >= 3 && deg[sk_to(m, 2 * e)] >= 3;
+        if (size[uf_find(parent, e)] < SK_CREASE_MIN_CHAIN && !corners)
+            crease[e] = 0; /* a short piece, not a line */
         else
             n++;
     }
@@ -106,5 +146,8 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
 done:
     sk__free(fa);
     sk__free(deg);
+    sk__free(first);
+    sk__free(parent);
+    sk__free(size);
     return st;
 }

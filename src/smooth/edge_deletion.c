@@ -94,6 +94,13 @@ static bool is_face(const sk_mesh *m, uint32_t a, uint32_t b, uint32_t c)
     return m->h_face[o] != SK_INVALID && sk_to(m, m->h_next[o]) == c;
 }
 
+/* the edge a - b exists and is flagged in mflag */
+static bool matched_edge(const sk_mesh *m, const uint8_t *mflag, uint32_t a, uint32_t b)
+{
+    uint32_t h = find_halfedge(m, a, b);
+    return h != SK_INVALID && mflag[sk_edge(h)];
+}
+
 /* Reduce Path on the vertex list p[0..n): returns the new length. */
 static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, const uint8_t *mflag,
                           uint32_t *p, size_t n, size_t *reductions)
@@ -124,8 +131,8 @@ static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, const uint8_t
                 break;
             /* a path that crosses a matched edge removes it: a short cut there would keep it
              * and add one (case (2b) still resolves the triangle after the union) */
-            if (mflag[sk_edge(find_halfedge(m, p[k - 3], p[k - 2]))] ||
-                mflag[sk_edge(find_halfedge(m, p[k - 2], p[k - 1]))])
+            if (matched_edge(m, mflag, p[k - 3], p[k - 2]) ||
+                matched_edge(m, mflag, p[k - 2], p[k - 1]))
                 break;
             p[k - 2] = p[k - 1];
             --k;
@@ -173,7 +180,8 @@ static void corner_cos_sin(const sk_mesh *m, uint32_t h, double *c, double *s)
     k[0] = x[1] * y[2] - x[2] * y[1];
     k[1] = x[2] * y[0] - x[0] * y[2];
     k[2] = x[0] * y[1] - x[1] * y[0];
-    double n = sqrt((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) * (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]));
+    double n = sqrt((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) *
+                    (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]));
     if (!(n > 0.0)) {
         *c = 1.0;
         *s = 0.0;
@@ -483,7 +491,8 @@ static sk_status initialise_search(ed_state *S, sk_error *err)
                     DQ_BACK(w);
                 }
                 uint32_t b = S->medge[w];
-                if (b != SK_INVALID && !S->done[b] && (S->dist[b] == SK_INVALID || S->dist[b] > dv)) {
+                if (b != SK_INVALID && !S->done[b] &&
+                    (S->dist[b] == SK_INVALID || S->dist[b] > dv)) {
                     S->dist[b] = dv;
                     S->src[b] = S->src[v];
                     S->pred[b] = v;

@@ -35,8 +35,8 @@ static void run_mesh(const char *name, size_t expect_even)
     if (s != SK_OK)
         fail_msg("%s: %s", name, err.message);
     check_config(c);
-    print_message("%-20s even %6zu bound %6zu deleted %6zu (%.3f) adj %5zu aug %4zu pairs %5zu bnd %4zu rounds %zu "
-                  "reductions %zu shared %zu fixes %zu tri %zu quad %zu\n",
+    print_message("%-20s even %6zu bound %6zu deleted %6zu (%.3f) adj %5zu aug %4zu pairs %5zu "
+                  "bnd %4zu rounds %zu reductions %zu shared %zu fixes %zu tri %zu quad %zu\n",
                   name, st.even_vertices, st.lower_bound, st.deleted_edges,
                   st.lower_bound ? (double)st.deleted_edges / (double)st.lower_bound : 1.0,
                   st.adjacent_pairs, st.augmenting_paths, st.pairs,

@@ -42,6 +42,8 @@ static const char help[] =
     "                  collapsed side instead (IGES only, loose faces in one group)\n"
     "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
     "  --tess N        grid of N x N per patch (default 4)\n"
+    "  --crease-angle A  sharp edges (dihedral angle >= A degrees, default 40) are detected and\n"
+    "                  counted (crease_edges in the report); the surface stays G1 across them\n"
     "  --patches F     control nets as JSON\n"
     "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
     "                  problem vertices in orange\n"
@@ -84,6 +86,7 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_kuint(&j, "quads", quad);
     json_kuint(&j, "even_vertices", s->stats.deletion.even_vertices);
     json_kuint(&j, "deleted_edges", s->stats.deletion.deleted_edges);
+    json_kuint(&j, "crease_edges", s->num_creases);
     json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
     json_kuint(&j, "split_edges", s->stats.split_edges);
     json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
@@ -291,6 +294,10 @@ int cmd_smooth(int argc, char **argv)
                 eo.degenerate_triangles = true;
             else
                 return cli_usage("smooth", "--iges-triangles takes split or degenerate");
+        } else if (cli_opt_value(argc, argv, &i, "--crease-angle", &val)) {
+            if (!cli_parse_double(val, &so.crease_angle_deg) || !(so.crease_angle_deg > 0.0) ||
+                !(so.crease_angle_deg < 180.0))
+                return cli_usage("smooth", "--crease-angle takes degrees between 0 and 180");
         } else if (cli_opt_value(argc, argv, &i, "--tess", &val)) {
             if (!cli_parse_uint(val, &tess) || tess < 1 || tess > 64)
                 return cli_usage("smooth", "--tess takes a whole number from 1 to 64");

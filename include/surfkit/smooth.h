@@ -44,6 +44,9 @@ typedef struct sk_edge_deletion_stats {
     size_t forced_edges;      /* deleted edges making a quad corner above 160 degrees (an even
                                  vertex without another choice, or a case-(2b) replacement) */
     size_t triangles, quads;  /* faces after deletion */
+    size_t adjacent_pairs;    /* pairs of neighbouring even vertices matched before Initialise
+                                 (one edge each; included in pairs) */
+    size_t augmenting_paths;  /* augmenting paths that enlarged that matching */
 } sk_edge_deletion_stats;
 
 /* Deletes interior edges of a triangle mesh so that every interior vertex lies in an odd number of
@@ -54,6 +57,27 @@ typedef struct sk_edge_deletion_stats {
  * even vertices (equivalently an odd number of vertices, by Euler's formula: no solution exists). */
 SK_API sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t **deleted,
                                   sk_edge_deletion_stats *stats, sk_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Crease edges (sharp features; the G0 construction at creases is designed in docs/creases.md,
+ * not built yet: today the surface stays G1 across them and they are only detected and reported)
+ * ------------------------------------------------------------------------------------------- */
+
+#define SK_CREASE_ANGLE_DEFAULT 40.0 /* degrees */
+
+typedef struct sk_crease_opts {
+    double angle_deg; /* crease angle A in degrees, 0 < A < 180 (0 = SK_CREASE_ANGLE_DEFAULT) */
+} sk_crease_opts;
+
+/* Marks the sharp interior edges of mesh: crease[e] = 1 for edge e (sk_num_edges(mesh) entries,
+ * written in full) when the dihedral angle of its two faces and that of their area-weighted side
+ * normals (each face with its neighbours across its other edges) both reach A, and the edge lies
+ * on a line of at least 3 such edges (chained through vertices with exactly two) or joins two
+ * corners (vertices with three or more); after Belyaev & Anoshkina's detection: smooth the
+ * normals, keep the lines. *count (may be NULL) receives the
+ * number of crease edges. SK_ERR_ARG for an angle outside (0, 180). */
+SK_API sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts,
+                                      uint8_t *crease, size_t *count, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * The smooth surface
@@ -76,6 +100,8 @@ typedef struct sk_smooth_opts {
                                   flipped (same vertices) to remove slivers and near-folds */
     sk_progress_fn progress;
     void *progress_user;
+    double crease_angle_deg;   /* crease detection (sk_mesh_crease_edges): 0 = 40 degrees,
+                                  negative = none */
 } sk_smooth_opts;
 
 typedef struct sk_smooth_stats {
@@ -106,6 +132,8 @@ typedef struct sk_smooth {
     uint32_t *deleted;         /* ... as 2 vertex ids each */
     size_t num_problems;       /* vertices with a failed system or violated angle bound */
     uint32_t *problems;        /* their ids */
+    size_t num_creases;        /* crease edges of the input mesh ... */
+    uint32_t *creases;         /* ... as 2 vertex ids each (reported; not yet G0 boundaries) */
     sk_smooth_stats stats;
 } sk_smooth;
 

@@ -2,11 +2,17 @@
  * every interior vertex is surrounded by an odd number of faces, and every face is a triangle or a
  * quad.
  *
- * Algorithm Initialise: multi-source breadth-first search from the unpaired even vertices; every
- * edge where two searches meet (or a boundary vertex one search reaches: boundary vertices may stay
- * even, so they absorb a path) is a candidate pair, of length dist(u) + dist(v) + 1; candidates are
- * taken shortest first while both ends are unpaired ("grow distances until pairs meet"). Rounds
- * repeat with the vertices still unpaired.
+ * Near-minimal deletions (a minimum T-join, T the even interior vertices, approximated): first
+ * the largest matching we can find of the edges joining two even vertices (Karp-Sipser, then
+ * augmenting paths; see match_adjacent), each such pair costing the one edge of the lower bound;
+ * then Algorithm Initialise for the rest.
+ *
+ * Algorithm Initialise: multi-source search from the unpaired even vertices; every edge where two
+ * searches meet (or a boundary vertex one search reaches: boundary vertices may stay even, so they
+ * absorb a path) is a candidate pair, of length dist(u) + dist(v) + 1; candidates are taken
+ * shortest first while both ends are unpaired ("grow distances until pairs meet"). Rounds repeat
+ * with the vertices still unpaired. The distances count the cost in deleted edges: crossing a
+ * matched edge removes it (0-1 distances, see initialise_search).
  *
  * Algorithm Reduce Path: (1) cut loops at repeated vertices, (2) replace two consecutive edges of
  * one triangle by its third edge (Fig. 3).
@@ -88,9 +94,16 @@ static bool is_face(const sk_mesh *m, uint32_t a, uint32_t b, uint32_t c)
     return m->h_face[o] != SK_INVALID && sk_to(m, m->h_next[o]) == c;
 }
 
+/* the edge a - b exists and is flagged in mflag */
+static bool matched_edge(const sk_mesh *m, const uint8_t *mflag, uint32_t a, uint32_t b)
+{
+    uint32_t h = find_halfedge(m, a, b);
+    return h != SK_INVALID && mflag[sk_edge(h)];
+}
+
 /* Reduce Path on the vertex list p[0..n): returns the new length. */
-static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, uint32_t *p, size_t n,
-                          size_t *reductions)
+static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, const uint8_t *mflag,
+                          uint32_t *p, size_t n, size_t *reductions)
 {
     /* (1) loops: keep the first occurrence, drop everything up to the last occurrence */
     size_t k = 0;
@@ -115,6 +128,11 @@ static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, uint32_t *p, 
         while (k >= 3 && is_face(m, p[k - 3], p[k - 2], p[k - 1])) {
             uint32_t h = find_halfedge(m, p[k - 3], p[k - 1]);
             if (h == SK_INVALID || sk_is_boundary_e(m, sk_edge(h)) || forbid[sk_edge(h)])
+                break;
+            /* a path that crosses a matched edge removes it: a short cut there would keep it
+             * and add one (case (2b) still resolves the triangle after the union) */
+            if (matched_edge(m, mflag, p[k - 3], p[k - 2]) ||
+                matched_edge(m, mflag, p[k - 2], p[k - 1]))
                 break;
             p[k - 2] = p[k - 1];
             --k;
@@ -146,6 +164,50 @@ static double corner_angle(const sk_mesh *m, uint32_t h)
     c[2] = x[0] * y[1] - x[1] * y[0];
     return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
                  x[0] * y[0] + x[1] * y[1] + x[2] * y[2]);
+}
+
+/* cosine and sine of the corner angle at from(h) in face(h) */
+static void corner_cos_sin(const sk_mesh *m, uint32_t h, double *c, double *s)
+{
+    const double *v = m->positions + 3 * (size_t)sk_from(m, h);
+    const double *a = m->positions + 3 * (size_t)sk_to(m, h);
+    const double *b = m->positions + 3 * (size_t)sk_from(m, m->h_prev[h]);
+    double x[3], y[3], k[3];
+    for (int i = 0; i < 3; ++i) {
+        x[i] = a[i] - v[i];
+        y[i] = b[i] - v[i];
+    }
+    k[0] = x[1] * y[2] - x[2] * y[1];
+    k[1] = x[2] * y[0] - x[0] * y[2];
+    k[2] = x[0] * y[1] - x[1] * y[0];
+    double n = sqrt((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) *
+                    (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]));
+    if (!(n > 0.0)) {
+        *c = 1.0;
+        *s = 0.0;
+        return;
+    }
+    *c = (x[0] * y[0] + x[1] * y[1] + x[2] * y[2]) / n;
+    *s = sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]) / n;
+}
+
+/* true when the two corners h1, h2 (angles in [0, pi]) sum to more than SK_MAX_QUAD_CORNER_DEG:
+ * the sum is above pi when its sine is negative, else compare its cosine (no atan2 per edge) */
+static bool corner_sum_above(const sk_mesh *m, uint32_t h1, uint32_t h2, double cos_max)
+{
+    double c1, s1, c2, s2;
+    corner_cos_sin(m, h1, &c1, &s1);
+    corner_cos_sin(m, h2, &c2, &s2);
+    double cs = c1 * c2 - s1 * s2, sn = s1 * c2 + c1 * s2;
+    return sn < 0.0 || cs < cos_max;
+}
+
+/* deleting interior edge e makes a quad corner above SK_MAX_QUAD_CORNER_DEG */
+static bool deletion_forbidden(const sk_mesh *m, uint32_t e, double cos_max)
+{
+    uint32_t h = 2 * e, o = h + 1;
+    return corner_sum_above(m, h, m->h_next[o], cos_max) ||
+           corner_sum_above(m, o, m->h_next[h], cos_max);
 }
 
 /* largest quad corner (degrees) created by deleting interior edge e */
@@ -206,6 +268,10 @@ typedef struct ed_state {
     uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
     uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
     uint32_t *comp, *queue, *dist, *src, *pred, *partner;
+    uint32_t *medge;     /* per vertex: its mate across a matched (deleted) edge, or SK_INVALID */
+    uint8_t *mflag;      /* per edge: an edge of the matching of adjacent even vertices */
+    uint32_t *via, *deque; /* Initialise's 0-1 search (see initialise_search) */
+    uint8_t *done;
     uint32_t *remaining; /* even vertices not yet paired */
     size_t nrem;
     cand *cands;
@@ -228,7 +294,13 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     S->remaining = sk__malloc_array(nv + 1, sizeof *S->remaining);
     S->dcnt = sk__calloc_array(ne ? ne : 1, 1);
     S->forbid = sk__calloc_array(ne ? ne : 1, 1);
-    if (!S->even || !S->bnd || !S->comp || !S->queue || !S->dist || !S->src || !S->pred ||
+    S->medge = sk__malloc_array(nv + 1, sizeof *S->medge);
+    S->mflag = sk__calloc_array(ne ? ne : 1, 1);
+    S->via = sk__malloc_array(nv + 1, sizeof *S->via);
+    S->deque = sk__malloc_array(2 * nv + 2, sizeof *S->deque);
+    S->done = sk__malloc_array(nv + 1, 1);
+    if (!S->medge || !S->mflag || !S->via || !S->deque || !S->done ||
+        !S->even || !S->bnd || !S->comp || !S->queue || !S->dist || !S->src || !S->pred ||
         !S->partner || !S->remaining || !S->dcnt || !S->forbid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     return SK_OK;
@@ -247,6 +319,11 @@ static void ed_free(ed_state *S)
     sk__free(S->pred);
     sk__free(S->partner);
     sk__free(S->remaining);
+    sk__free(S->medge);
+    sk__free(S->mflag);
+    sk__free(S->via);
+    sk__free(S->deque);
+    sk__free(S->done);
     sk__free(S->cands);
     sk__free(S->ps.v);
     sk__free(S->ps.start);
@@ -262,6 +339,7 @@ static void find_even_vertices(ed_state *S)
     for (uint32_t v = 0; v < S->nv; ++v) {
         S->comp[v] = SK_INVALID;
         S->partner[v] = SK_INVALID;
+        S->medge[v] = SK_INVALID;
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
             continue;
         S->bnd[v] = sk_is_boundary_v(m, v);
@@ -271,16 +349,22 @@ static void find_even_vertices(ed_state *S)
         }
     }
     S->st.even_vertices = S->nrem;
+    double cos_max = cos(SK_MAX_QUAD_CORNER_DEG * (3.14159265358979323846 / 180.0));
     for (uint32_t e = 0; e < S->ne; ++e)
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, e))
-            S->forbid[e] = deletion_corner(m, e) > SK_MAX_QUAD_CORNER_DEG;
+            S->forbid[e] = deletion_forbidden(m, e, cos_max);
     for (size_t i = 0; i < S->nrem; ++i) {
         uint32_t v = S->remaining[i], h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
         double best_c = 1e300;
         bool any = false;
         do {
+            any |= !S->forbid[sk_edge(h)];
+            h = sk_cw_out(m, h);
+        } while (h != h0 && !any);
+        if (any)
+            continue;
+        do {
             uint32_t e = sk_edge(h);
-            any |= !S->forbid[e];
             double c = deletion_corner(m, e);
             if (c < best_c) {
                 best_c = c;
@@ -346,55 +430,99 @@ static bool push_cand(ed_state *S, cand c)
     return true;
 }
 
-/* One round of Initialise, the search: breadth-first from every unpaired even vertex at once,
- * over edges that are not forbidden; a meeting edge of two searches, or a boundary vertex a search
- * reaches, is a candidate of length dist(u) + dist(v) + 1 (resp. dist). */
+/* One round of Initialise, the search: from every unpaired even vertex at once, over edges that
+ * are not forbidden; a meeting edge of two searches, or a boundary vertex a search reaches, is a
+ * candidate of length dist(u) + dist(v) + 1 (resp. dist).
+ *
+ * The distance counts what a path costs once it is added to the deleted set D (the matched edges
+ * so far) as a symmetric difference: an edge not in D costs 1, an edge of D it crosses is removed
+ * and saves 1. So after an edge x - a into a matched vertex a, the search steps on along a's
+ * matched edge to its mate b at no cost (b inherits a's parity fix, a keeps one deleted edge):
+ * distances are 0-1 (a double-ended queue), and b remembers a in via[b]. Any path, whatever it
+ * crosses, changes the parity exactly at its ends, so the result stays an edge deletion. */
 static sk_status initialise_search(ed_state *S, sk_error *err)
 {
     const sk_mesh *m = S->m;
-    size_t qh = 0, qt = 0;
-    for (uint32_t v = 0; v < S->nv; ++v)
+    size_t cap = 2 * S->nv + 2, qh = 0, qt = 0; /* ring; a vertex is queued at most twice */
+    uint32_t *dq = S->deque;
+#define DQ_FRONT(x) (qh = (qh + cap - 1) % cap, dq[qh] = (x))
+#define DQ_BACK(x) (dq[qt] = (x), qt = (qt + 1) % cap)
+    for (uint32_t v = 0; v < S->nv; ++v) {
         S->dist[v] = SK_INVALID;
+        S->via[v] = SK_INVALID;
+        S->done[v] = 0;
+    }
     for (size_t i = 0; i < S->nrem; ++i) {
         uint32_t v = S->remaining[i];
         S->dist[v] = 0;
         S->src[v] = v;
         S->pred[v] = SK_INVALID;
-        S->queue[qt++] = v;
+        DQ_BACK(v);
     }
     S->nc = 0;
-    while (qh < qt) {
-        uint32_t v = S->queue[qh++];
-        if (S->bnd[v])
-            continue; /* boundary vertices end paths, the search does not pass them */
-        uint32_t h0 = m->v_halfedge[v], h = h0;
-        do {
-            uint32_t w = sk_to(m, h);
-            bool ok = true;
-            if (S->forbid[sk_edge(h)]) {
-                /* avoided */
-            } else if (S->dist[w] == SK_INVALID) {
-                S->dist[w] = S->dist[v] + 1;
-                S->src[w] = S->src[v];
-                S->pred[w] = v;
-                S->queue[qt++] = w;
-                if (S->bnd[w])
-                    ok = push_cand(S, (cand){S->dist[w], w, SK_INVALID});
-            } else if (S->src[w] != S->src[v] && !S->bnd[w] && v < w) {
-                /* a meeting edge is seen from its endpoint expanded last (the other one was
-                 * reached already, by another search); v < w keeps one of the two sightings */
-                ok = push_cand(S, (cand){S->dist[v] + S->dist[w] + 1, v, w});
-            }
-            if (!ok)
+    while (qh != qt) {
+        uint32_t v = dq[qh];
+        qh = (qh + 1) % cap;
+        if (S->done[v])
+            continue;
+        S->done[v] = 1;
+        if (S->bnd[v]) {
+            /* boundary vertices end paths, the search does not pass them */
+            if (!push_cand(S, (cand){S->dist[v], v, SK_INVALID}))
                 return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+            continue;
+        }
+        uint32_t h0 = m->v_halfedge[v], h = h0, dv = S->dist[v];
+        do {
+            uint32_t w = sk_to(m, h), e = sk_edge(h);
+            if (S->forbid[e] || S->medge[v] == w) {
+                /* avoided; a matched edge is only crossed right after entering its end */
+            } else if (S->done[w]) {
+                /* a meeting edge, seen from its endpoint finished last */
+                if (S->src[w] != S->src[v] && !S->bnd[w] &&
+                    !push_cand(S, (cand){dv + S->dist[w] + 1, v, w}))
+                    return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+            } else {
+                if (S->dist[w] == SK_INVALID || S->dist[w] > dv + 1) {
+                    S->dist[w] = dv + 1;
+                    S->src[w] = S->src[v];
+                    S->pred[w] = v;
+                    S->via[w] = SK_INVALID;
+                    DQ_BACK(w);
+                }
+                uint32_t b = S->medge[w];
+                if (b != SK_INVALID && !S->done[b] &&
+                    (S->dist[b] == SK_INVALID || S->dist[b] > dv)) {
+                    S->dist[b] = dv;
+                    S->src[b] = S->src[v];
+                    S->pred[b] = v;
+                    S->via[b] = w;
+                    DQ_FRONT(b);
+                }
+            }
             h = sk_cw_out(m, h);
         } while (h != h0);
     }
+#undef DQ_FRONT
+#undef DQ_BACK
     return SK_OK;
 }
 
+/* the search path from x back to its source: x, (via), pred, ... */
+static bool push_chain(ed_state *S, uint32_t x)
+{
+    for (; x != SK_INVALID; x = S->pred[x]) {
+        if (!ps_push_vertex(&S->ps, x))
+            return false;
+        if (S->via[x] != SK_INVALID && !ps_push_vertex(&S->ps, S->via[x]))
+            return false;
+    }
+    return true;
+}
+
 /* One round of Initialise, the pairing: candidates shortest first while both ends are unpaired;
- * each pairing stores its path (a ... u, then v ... b). Returns the number of pairs made, or -1
+ * each pairing stores its path (a ... u, then v ... b). The matched edges a path crosses leave the
+ * matching (a later round must not count them again). Returns the number of pairs made, or -1
  * when out of memory. */
 static long initialise_pair(ed_state *S)
 {
@@ -407,20 +535,24 @@ static long initialise_pair(ed_state *S)
         if (S->partner[a] != SK_INVALID || (b != SK_INVALID && S->partner[b] != SK_INVALID))
             continue;
         size_t first = ps->nv;
-        for (uint32_t x = c.u; x != SK_INVALID; x = S->pred[x])
-            if (!ps_push_vertex(ps, x))
-                return -1;
+        if (!push_chain(S, c.u))
+            return -1;
         for (size_t i0 = first, i1 = ps->nv - 1; i0 < i1; ++i0, --i1) {
             uint32_t t = ps->v[i0];
             ps->v[i0] = ps->v[i1];
             ps->v[i1] = t;
         }
-        if (b != SK_INVALID)
-            for (uint32_t x = c.v; x != SK_INVALID; x = S->pred[x])
-                if (!ps_push_vertex(ps, x))
-                    return -1;
+        if (b != SK_INVALID && !push_chain(S, c.v))
+            return -1;
         if (!ps_close_path(ps))
             return -1;
+        for (size_t k = first; k < ps->nv; ++k) {
+            uint32_t x = ps->v[k], y = S->medge[x];
+            if (y != SK_INVALID) {
+                S->medge[x] = SK_INVALID;
+                S->medge[y] = SK_INVALID;
+            }
+        }
         S->st.path_edges += ps->nv - first - 1;
         S->partner[a] = b == SK_INVALID ? c.u : b;
         if (b != SK_INVALID) {
@@ -432,6 +564,189 @@ static long initialise_pair(ed_state *S)
         ++paired;
     }
     return paired;
+}
+
+/* Matching of adjacent even vertices (before Initialise). Deleting the edge between two even
+ * vertices fixes both at the cost of one edge, so the lower bound #even / 2 is met exactly when the
+ * even vertices have a perfect matching in the graph G1 of the edges joining two of them (a
+ * matching never puts two deleted edges into one triangle). The minimum T-join, of which the
+ * lower bound is the ideal case, pairs as many even vertices as possible at distance 1, so the
+ * largest matching of G1 comes first: Karp-Sipser (a vertex with one free neighbour is matched to
+ * it; else the next free vertex to its free neighbour with the fewest free neighbours), then
+ * augmenting paths found by bounded alternating breadth-first searches (no blossom shrinking, so
+ * a few are missed). Only the even vertices still free go on to Initialise, whose shortest paths
+ * may run through matched vertices (shared edges cancel, case (2a)). */
+
+/* free even neighbour of v across an allowed edge */
+static bool g1_edge(const ed_state *S, uint32_t h)
+{
+    uint32_t w = sk_to(S->m, h);
+    return S->even[w] && S->partner[w] == SK_INVALID && !S->forbid[sk_edge(h)];
+}
+
+static void g1_match(ed_state *S, uint32_t a, uint32_t b, uint32_t *deg, uint32_t *stack,
+                     size_t *sp)
+{
+    const sk_mesh *m = S->m;
+    S->partner[a] = b;
+    S->partner[b] = a;
+    uint32_t ends[2] = {a, b};
+    for (int k = 0; k < 2; ++k) {
+        uint32_t h0 = m->v_halfedge[ends[k]], h = h0;
+        do {
+            if (g1_edge(S, h)) {
+                uint32_t x = sk_to(m, h);
+                if (--deg[x] == 1)
+                    stack[(*sp)++] = x;
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+}
+
+/* Karp-Sipser greedy matching of G1 (deg and stack: scratch of nv entries). */
+static void g1_greedy(ed_state *S, uint32_t *deg, uint32_t *stack)
+{
+    const sk_mesh *m = S->m;
+    size_t sp = 0;
+    for (size_t i = 0; i < S->nrem; ++i) {
+        uint32_t v = S->remaining[i], h0 = m->v_halfedge[v], h = h0, d = 0;
+        do {
+            d += g1_edge(S, h);
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        deg[v] = d;
+        if (d == 1)
+            stack[sp++] = v;
+    }
+    size_t next = 0;
+    for (;;) {
+        uint32_t v = SK_INVALID;
+        while (sp > 0 && v == SK_INVALID) {
+            uint32_t x = stack[--sp];
+            if (S->partner[x] == SK_INVALID && deg[x] > 0)
+                v = x;
+        }
+        while (v == SK_INVALID && next < S->nrem) {
+            uint32_t x = S->remaining[next++];
+            if (S->partner[x] == SK_INVALID && deg[x] > 0)
+                v = x;
+        }
+        if (v == SK_INVALID)
+            break;
+        uint32_t h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
+        do {
+            if (g1_edge(S, h) && (best == SK_INVALID || deg[sk_to(m, h)] < deg[best]))
+                best = sk_to(m, h);
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        g1_match(S, v, best, deg, stack, &sp);
+    }
+}
+
+/* Vertices one alternating search may label before it gives up: the augmenting paths that
+ * matter are short, and the bound keeps a search that finds none from scanning the mesh. */
+#define SK_AUGMENT_MAX_LABELS 512
+
+/* One alternating search in G1 from the free even vertex r; on success the augmenting path is
+ * flipped (one more matched pair). stamp/label: per-vertex scratch, pred the search tree. */
+static bool g1_augment(ed_state *S, uint32_t r, uint32_t *stamp, uint32_t cur)
+{
+    const sk_mesh *m = S->m;
+    size_t qh = 0, qt = 0, labels = 1;
+    stamp[r] = cur;
+    S->pred[r] = SK_INVALID;
+    S->queue[qt++] = r;
+    while (qh < qt && labels < SK_AUGMENT_MAX_LABELS) {
+        uint32_t x = S->queue[qh++]; /* an outer vertex: r, or reached through its matched edge */
+        uint32_t h0 = m->v_halfedge[x], h = h0;
+        do {
+            uint32_t y = sk_to(m, h);
+            if (S->even[y] && !S->forbid[sk_edge(h)] && y != S->partner[x] && stamp[y] != cur) {
+                if (S->partner[y] == SK_INVALID) {
+                    /* r ... x - y: unmatched and matched edges alternate; flip them */
+                    uint32_t a = x, b = y;
+                    for (;;) {
+                        uint32_t inner = a == r ? SK_INVALID : S->pred[a];
+                        S->partner[a] = b;
+                        S->partner[b] = a;
+                        if (a == r)
+                            break;
+                        b = inner;
+                        a = S->pred[inner];
+                    }
+                    return true;
+                }
+                uint32_t z = S->partner[y];
+                stamp[y] = cur;
+                S->pred[y] = x;
+                labels++;
+                if (stamp[z] != cur) {
+                    stamp[z] = cur;
+                    S->pred[z] = y;
+                    S->queue[qt++] = z;
+                    labels++;
+                }
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+    return false;
+}
+
+/* Passes over the free even vertices while they find augmenting paths. */
+#define SK_AUGMENT_PASSES 4
+
+static sk_status match_adjacent(ed_state *S, sk_error *err)
+{
+    size_t nv = S->nv;
+    uint32_t *deg = sk__malloc_array(nv + 1, sizeof *deg);
+    uint32_t *scratch = sk__malloc_array(nv + 1, sizeof *scratch);
+    sk_status st = SK_OK;
+    if (!deg || !scratch) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+        goto done;
+    }
+    g1_greedy(S, deg, scratch);
+    /* scratch becomes the search stamp */
+    memset(scratch, 0, (nv + 1) * sizeof *scratch);
+    uint32_t cur = 0;
+    for (int pass = 0; pass < SK_AUGMENT_PASSES; ++pass) {
+        size_t found = 0;
+        for (size_t i = 0; i < S->nrem; ++i) {
+            uint32_t v = S->remaining[i];
+            if (S->partner[v] == SK_INVALID && g1_augment(S, v, scratch, ++cur))
+                found++;
+        }
+        S->st.augmenting_paths += found;
+        if (found == 0)
+            break;
+    }
+    /* the matched pairs as paths of one edge; the free vertices stay for Initialise */
+    size_t k = 0;
+    for (size_t i = 0; i < S->nrem; ++i) {
+        uint32_t v = S->remaining[i], w = S->partner[v];
+        if (w == SK_INVALID) {
+            S->remaining[k++] = v;
+            continue;
+        }
+        S->medge[v] = w;
+        if (v > w)
+            continue;
+        S->mflag[sk_edge(find_halfedge(S->m, v, w))] = 1;
+        if (!ps_push_vertex(&S->ps, v) || !ps_push_vertex(&S->ps, w) || !ps_close_path(&S->ps)) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+            goto done;
+        }
+        S->st.pairs++;
+        S->st.adjacent_pairs++;
+        S->st.path_edges++;
+    }
+    S->nrem = k;
+done:
+    sk__free(deg);
+    sk__free(scratch);
+    return st;
 }
 
 /* Algorithm Initialise (section 3): pair the even vertices (or connect them to the boundary) by
@@ -475,7 +790,7 @@ static sk_status reduce_paths(ed_state *S, sk_error *err)
     const path_store *ps = &S->ps;
     for (size_t p = 0; p < ps->np; ++p) {
         uint32_t *pv = ps->v + ps->start[p];
-        size_t n = reduce_path(m, S->forbid, pv, ps->start[p + 1] - ps->start[p],
+        size_t n = reduce_path(m, S->forbid, S->mflag, pv, ps->start[p + 1] - ps->start[p],
                                &S->st.reductions);
         for (size_t i = 0; i + 1 < n; ++i) {
             uint32_t h = find_halfedge(m, pv[i], pv[i + 1]);
@@ -650,6 +965,8 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
         find_even_vertices(&S);
         st = check_parity(&S, err);
     }
+    if (st == SK_OK)
+        st = match_adjacent(&S, err);
     if (st == SK_OK)
         st = initialise(&S, err);
     if (st == SK_OK)

@@ -19,6 +19,7 @@ void sk_smooth_destroy(sk_smooth **smooth)
     sk_patch_set_free(&s->surface);
     sk__free(s->deleted);
     sk__free(s->problems);
+    sk__free(s->creases);
     sk__free(s);
     *smooth = NULL;
 }
@@ -196,6 +197,30 @@ done:
     return st;
 }
 
+/* The crease edges of the input as vertex pairs (s->creases). */
+static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle, sk_error *err)
+{
+    size_t ne = sk_num_edges(mesh), n = 0;
+    uint8_t *crease = sk__malloc_array(ne ? ne : 1, 1);
+    sk_crease_opts co = {.angle_deg = angle};
+    sk_status st = crease ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if (st == SK_OK)
+        st = sk_mesh_crease_edges(mesh, &co, crease, &n, err);
+    if (st == SK_OK && n > 0) {
+        s->creases = sk__malloc_array(2 * n, sizeof(uint32_t));
+        if (!s->creases)
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        for (uint32_t e = 0; st == SK_OK && e < ne; ++e)
+            if (crease[e]) {
+                s->creases[2 * s->num_creases] = sk_from(mesh, 2 * e);
+                s->creases[2 * s->num_creases + 1] = sk_to(mesh, 2 * e);
+                s->num_creases++;
+            }
+    }
+    sk__free(crease);
+    return st;
+}
+
 sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
                           sk_error *err)
 {
@@ -252,6 +277,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         goto fail;
     }
     s->stats.seconds_normals = sk_seconds() - t0;
+    if (opts.crease_angle_deg >= 0.0 && (st = detect_creases(s, mesh, opts.crease_angle_deg, err)))
+        goto fail;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.1, err)) != SK_OK)
         goto fail;
 

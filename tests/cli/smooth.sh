@@ -18,7 +18,11 @@ import json, sys
 r = json.load(open(sys.argv[1]))
 assert r["max_normal_jump_deg"] < 1e-7, r
 assert r["singular_patches"] == 0 and r["quads"] == r["deleted_edges"] == 75
+assert r["crease_edges"] == 0, r
 PY
+"$bin" smooth "$m/cube.off" --crease-angle 60 --scheme pn --json -q > "$tmp/c.json" || fail "cube exit"
+python3 -c "import json; assert json.load(open('$tmp/c.json'))['crease_edges'] == 12" || fail "cube creases"
+"$bin" smooth "$m/cube.off" --crease-angle 200 -o "$tmp/c.obj" 2>/dev/null; [ $? -eq 2 ] || fail "--crease-angle 200 accepted"
 grep -q '^vn ' "$tmp/s.obj" || fail "no normals in the OBJ"
 # the tessellation of the closed sphere is watertight: one component, no boundary edge
 "$bin" info "$tmp/s.obj" > "$tmp/info.txt" || fail "info on the tessellation"

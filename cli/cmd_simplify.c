@@ -10,24 +10,17 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static const char help[] =
-    "usage: surfkit simplify IN -o OUT [--levels K | --faces N] [--seed S] [--max-angle DEG]\n"
-    "                        [--all-levels DIR] [--report report.json] [-q]\n"
-    "\n"
+static const char about[] =
     "Builds the progressive-mesh hierarchy of a triangle mesh by half-edge collapses in random\n"
     "independent sets (about 25% fewer triangles per level) and writes the coarsest level M^0 to OUT.\n"
     "Collapses keep the Euler characteristic, the boundary loops and manifoldness; no face normal\n"
-    "turns by more than --max-angle (default 90 degrees).\n"
-    "\n"
-    "  --levels K        stop when the hierarchy has K levels, the input included\n"
-    "  --faces N         stop once a level has at most N faces\n"
-    "                    (without either: until a level removes less than 3% of the faces)\n"
-    "  --seed S          random order of the vertices (default 1); the same seed gives the same result\n"
-    "  --all-levels DIR  also write every level as DIR/level_<i>.<ext of OUT>, i = 0 the coarsest,\n"
-    "                    rebuilt from the coarsest level by the stored vertex splits\n"
-    "  --report FILE     JSON: {\"levels\": [{vertices, faces, seconds}, ...]} from the finest\n"
-    "                    (the input) to the coarsest, and the totals\n"
-    "  -q                no progress bar, no summary line\n";
+    "turns by more than --max-angle (default 90 degrees).\n";
+
+static const char examples[] =
+    "  surfkit simplify data/nefertiti.off -o coarse.off\n"
+    "  surfkit simplify data/sphere.off -o coarse.ply --faces 100 --seed 7\n"
+    "  surfkit simplify data/nefertiti.off -o c.obj --all-levels levels "
+    "--report levels.json\n";
 
 typedef struct report_ctx {
     const char *in;
@@ -104,53 +97,38 @@ static int write_all_levels(const char *dir, const char *out, const sk_hierarchy
 
 int cmd_simplify(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL, *val, *all_dir = NULL, *report = NULL;
+    const char *out = NULL, *all_dir = NULL, *report = NULL;
     sk_hierarchy_opts ho = {0};
     sk_write_opts wo = {0};
-    bool quiet = false, have_levels = false, have_faces = false;
+    bool quiet = false;
     unsigned long seed = 1;
-    const cli_path_opt paths[] = {{"-o", &out}, {"--all-levels", &all_dir}, {"--report", &report}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        unsigned long n;
-        double d;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "simplify", paths, 3)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--levels", &val)) {
-            if (!cli_parse_uint(val, &n) || n < 1 || n > 1000)
-                return cli_usage("simplify", "--levels takes a whole number from 1 to 1000");
-            ho.max_levels = (unsigned)n;
-            have_levels = true;
-        } else if (cli_opt_value(argc, argv, &i, "--faces", &val)) {
-            if (!cli_parse_uint(val, &n) || n < 1)
-                return cli_usage("simplify", "--faces takes a positive whole number");
-            ho.target_faces = n;
-            have_faces = true;
-        } else if (cli_opt_value(argc, argv, &i, "--seed", &val)) {
-            if (!cli_parse_uint(val, &n))
-                return cli_usage("simplify", "--seed takes a whole number");
-            seed = n;
-        } else if (cli_opt_value(argc, argv, &i, "--max-angle", &val)) {
-            if (!cli_parse_double(val, &d) || !(d > 0.0 && d <= 180.0))
-                return cli_usage("simplify", "--max-angle takes degrees in (0, 180]");
-            ho.collapse.max_normal_deviation_deg = d;
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("simplify", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else {
-            return cli_usage("simplify", "more than one input file");
-        }
-    }
-    if (!in || !out)
-        return cli_usage("simplify", "needs an input file and -o OUT");
+    const cli_opt opts[] = {
+        OPT_OUTPUT(out, "OUT", "the coarsest level (OFF, OBJ, PLY, STL)"),
+        OPT_INT("--levels", ho.max_levels, 1, 1000, "K",
+                "stop when the hierarchy has K levels, the input included"),
+        OPT_INT("--faces", ho.target_faces, 1, 0, "N", "stop once a level has at most N faces\n"
+                "(without either: until a level removes less than 3% of the faces)"),
+        OPT_INT("--seed", seed, 0, 0, "S",
+                "random order of the vertices (default 1); the same seed gives the same result"),
+        OPT_DOUBLE("--max-angle", ho.collapse.max_normal_deviation_deg, 0, 180, CLI_LO_OPEN, "DEG",
+                   "largest turn of a face normal by a collapse (default 90)"),
+        OPT_FILE("--all-levels", all_dir, "DIR",
+                 "also write every level as DIR/level_<i>.<ext of OUT>, i = 0 the coarsest,\n"
+                 "rebuilt from the coarsest level by the stored vertex splits"),
+        OPT_FILE("--report", report, "FILE",
+                 "JSON: {\"levels\": [{vertices, faces, seconds}, ...]} from the finest\n"
+                 "(the input) to the coarsest, and the totals"),
+        OPT_FLAG("--ascii", wo.ascii, "PLY and STL as text (default binary)"),
+        OPT_FLAG("-q", quiet, "no progress bar, no summary line"),
+    };
+    const cli_spec spec = {"simplify", "IN -o OUT", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, NULL};
+    cli_args args;
+    int prc = cli_parse(&spec, argc, argv, &args);
+    if (prc)
+        return prc == CLI_HELP ? EXIT_OK : prc;
+    const char *in = cli_input(&args, 0);
+    bool have_levels = cli_given(&args, "--levels"), have_faces = cli_given(&args, "--faces");
     if (have_levels && have_faces)
         return cli_usage("simplify", "--levels and --faces exclude each other");
     if (sk_format_from_path(out) == SK_FORMAT_UNKNOWN)

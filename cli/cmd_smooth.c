@@ -7,13 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit smooth IN -o OUT.obj|OUT.ply|OUT.igs|OUT.step [--tess N] [--patches OUT.json]\n"
-    "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
-    "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
-    "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
-    "                      [--iges-triangles split|degenerate] [--allow-fail] [-q]\n"
-    "\n"
+static const char about[] =
     "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
     "and quads in which every interior vertex is odd, then quartic triangles and bicubic quads\n"
@@ -24,37 +18,20 @@ static const char help[] =
     "--normals (default angle); --estimate-normals ignores the file's normals.\n"
     "A closed mesh with an odd number of vertices has no edge deletion (every vertex odd is\n"
     "impossible by Euler's formula): it is refused unless --allow-split, which splits its\n"
-    "longest edge at the midpoint of its wire frame curve.\n"
-    "\n"
-    "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
-    "                  .igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
-    "                  and vertices, a solid (186) when the surface is closed, else a shell;\n"
-    "                  .step/.stp STEP AP214, faces sharing edges and vertices, a solid\n"
-    "                  (MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
-    "                  .obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
-    "                  B-spline with clamped knots (cstype bspline).\n"
-    "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
-    "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
-    "                  collapsed side instead (IGES only, loose faces in one group)\n"
-    "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
-    "  --tess N        grid of N x N per patch (default 4)\n"
-    "  --patches F     control nets as JSON\n"
-    "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
-    "                  problem vertices in orange\n"
-    "  --render F      flat-shaded picture of the tessellated surface\n"
-    "  --report F      continuity report as JSON (--json prints it on stdout): gaps and normal\n"
-    "                  jumps across patch boundaries, vertex and normal errors, singular patches\n"
-    "                  (the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
-    "                  patches (the normal-cone test cannot prove them regular; most are),\n"
-    "                  self-intersecting patch pairs (patches sharing no corner that cross each\n"
-    "                  other: what CAD checkers flag), pass/fail against 0.5 deg and 0.005\n"
-    "  --allow-fail    write the surface even when the vc1 continuity report fails\n"
+    "longest edge at the midpoint of its wire frame curve.\n";
+
+static const char examples[] =
+    "  surfkit smooth data/sphere.off -o sphere.step\n"
+    "  surfkit smooth data/sphere.off -o sphere.obj --tess 8 --report "
+    "sphere.json -q\n"
+    "  surfkit smooth data/sphere.off --scheme pn --json -q\n";
+
+static const char more[] =
     "\n"
     "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
     "0.5 degrees, a gap over 0.005, or a singular patch); the report (--report, --json) is\n"
     "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
     "0). pn is C0 by construction: its report is information only.\n";
-
 
 static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
                          const char *normals_src, double seconds, double report_seconds)
@@ -212,110 +189,153 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
     return EXIT_OK;
 }
 
-int cmd_smooth(int argc, char **argv)
+static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
+
+/* argv -> options */
+typedef struct smooth_args {
+    const char *in, *out, *patches, *layout, *render, *report;
+    unsigned tess;
+    bool quiet, json, freeform, allow_fail;
+    cad_kind cad;
+    sk_smooth_opts so;
+    sk_export_opts eo;
+} smooth_args;
+
+/* EXIT_OK to run, CLI_HELP, or the usage error's exit code */
+static int parse_args(int argc, char **argv, smooth_args *a)
 {
-    const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
-               *report = NULL, *val;
-    unsigned long tess = 4;
-    bool quiet = false, json = false, freeform = false, allow_fail = false;
-    sk_smooth_opts so = {0};
-    sk_export_opts eo = {0};
-    const cli_path_opt paths[] = {{"-o", &out}, {"--patches", &patches}, {"--layout", &layout},
-                                  {"--render", &render}, {"--report", &report}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if (!strcmp(a, "--json")) {
-            json = true;
-        } else if (!strcmp(a, "--allow-fail")) {
-            allow_fail = true;
-        } else if (!strcmp(a, "--allow-split")) {
-            so.allow_split = true;
-        } else if (!strcmp(a, "--estimate-normals")) {
-            so.estimate_normals = true;
-        } else if (!strcmp(a, "--obj-freeform")) {
-            freeform = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "smooth", paths, 5)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--units", &val)) {
-            if (!val || !sk_export_units_known(val))
-                return cli_usage("smooth", "--units takes mm, cm, m, um, in or ft");
-            eo.units = val;
-        } else if (cli_opt_value(argc, argv, &i, "--iges-triangles", &val)) {
-            if (val && !strcmp(val, "split"))
-                eo.degenerate_triangles = false;
-            else if (val && !strcmp(val, "degenerate"))
-                eo.degenerate_triangles = true;
-            else
-                return cli_usage("smooth", "--iges-triangles takes split or degenerate");
-        } else if (cli_opt_value(argc, argv, &i, "--tess", &val)) {
-            if (!cli_parse_uint(val, &tess) || tess < 1 || tess > 64)
-                return cli_usage("smooth", "--tess takes a whole number from 1 to 64");
-        } else if (cli_opt_value(argc, argv, &i, "--normals", &val)) {
-            int mth = sk_normal_method_from_name(val);
-            if (mth < 0)
-                return cli_usage("smooth", "--normals takes angle, area, mean or quadric");
-            so.normals = (sk_normal_method)mth;
-        } else if (cli_opt_value(argc, argv, &i, "--scheme", &val)) {
-            if (val && !strcmp(val, "vc1"))
-                so.scheme = SK_SMOOTH_VC1;
-            else if (val && !strcmp(val, "pn"))
-                so.scheme = SK_SMOOTH_PN;
-            else
-                return cli_usage("smooth", "--scheme takes vc1 or pn");
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("smooth", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else {
-            return cli_usage("smooth", "more than one input file");
-        }
-    }
-    if (!in)
-        return cli_usage("smooth", "needs an input file");
-    if (!out && !patches && !layout && !render && !report && !json)
+    unsigned units = 0;
+    a->tess = 4;
+    const cli_opt opts[] = {
+        OPT_FILE("-o", a->out, "OUT",
+                 "by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
+                 ".igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
+                 "and vertices, a solid (186) when the surface is closed, else a shell;\n"
+                 ".step/.stp STEP AP214, faces sharing edges and vertices, a solid\n"
+                 "(MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
+                 ".obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
+                 "B-spline with clamped knots (cstype bspline).\n"
+                 "CAD formats write each quartic triangle as three biquartic patches (exact,\n"
+                 "no singular point)"),
+        OPT_CHOICE("--scheme", a->so.scheme, "vc1|pn", "vc1 (default) or PN triangles"),
+        OPT_INT("--tess", a->tess, 1, 64, "N", "grid of N x N per patch (default 4)"),
+        OPT_FILE("--patches", a->patches, "FILE", "control nets as JSON"),
+        OPT_FILE("--layout", a->layout, "FILE",
+                 "picture of the triangle/quad configuration, deleted edges in red,\n"
+                 "problem vertices in orange"),
+        OPT_FILE("--render", a->render, "FILE", "flat-shaded picture of the tessellated surface"),
+        OPT_FILE("--report", a->report, "FILE",
+                 "continuity report as JSON (--json prints it on stdout): gaps and normal\n"
+                 "jumps across patch boundaries, vertex and normal errors, singular patches\n"
+                 "(the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
+                 "patches (the normal-cone test cannot prove them regular; most are),\n"
+                 "self-intersecting patch pairs (patches sharing no corner that cross each\n"
+                 "other: what CAD checkers flag), pass/fail against 0.5 deg and 0.005"),
+        OPT_FLAG("--json", a->json, "print the continuity report as JSON"),
+        OPT_CHOICE("--normals", a->so.normals, "angle|area|mean|quadric",
+                   "normal estimate when the file has none (default angle)"),
+        OPT_FLAG("--estimate-normals", a->so.estimate_normals, "ignore the file's normals"),
+        OPT_FLAG("--allow-split", a->so.allow_split,
+                 "split the longest edge of a closed mesh with an odd vertex count"),
+        OPT_FLAG("--obj-freeform", a->freeform, "-o .obj writes OBJ free-form B-spline surfaces"),
+        OPT_CHOICE("--units", units, "mm|cm|m|um|in|ft", "CAD length unit of the coordinates "
+                   "(default mm)"),
+        OPT_CHOICE("--iges-triangles", a->eo.degenerate_triangles, "split|degenerate",
+                   "split (default): three biquartic patches per triangle; degenerate: one\n"
+                   "patch with a collapsed side (IGES only, loose faces in one group)"),
+        OPT_FLAG("--allow-fail", a->allow_fail,
+                 "write the surface even when the vc1 continuity report fails"),
+        OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
+    };
+    const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, more};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc;
+    if (cli_given(&args, "--units"))
+        a->eo.units = unit_names[units];
+    a->in = cli_input(&args, 0);
+    if (!a->out && !a->patches && !a->layout && !a->render && !a->report && !a->json)
         return cli_usage("smooth", "nothing to write: give -o, --patches, --layout, --render, "
                                    "--report or --json");
-    cad_kind cad = out ? cad_kind_of(out, freeform) : CAD_NONE;
-    if (out && cad == CAD_NONE) {
-        sk_format f = sk_format_from_path(out);
+    a->cad = a->out ? cad_kind_of(a->out, a->freeform) : CAD_NONE;
+    if (a->out && a->cad == CAD_NONE) {
+        sk_format f = sk_format_from_path(a->out);
         if (f != SK_FORMAT_OBJ && f != SK_FORMAT_PLY)
             return cli_usage("smooth", "-o must name an .obj, .ply, .igs, .iges, .step or .stp "
                                        "file");
     }
-    if (freeform && cad != CAD_OBJ_FREEFORM)
+    if (a->freeform && a->cad != CAD_OBJ_FREEFORM)
         return cli_usage("smooth", "--obj-freeform needs -o with an .obj file");
+    return EXIT_OK;
+}
+
+/* The surface files and pictures (after the report has passed, or --allow-fail). */
+static int write_surface(const smooth_args *a, const sk_smooth *s)
+{
+    sk_error err = {0};
+    sk_soup *tes = NULL;
+    sk_status st = SK_OK;
+    int rc = EXIT_OK;
+    sk_export_opts eo = a->eo;
+    if (a->cad != CAD_NONE && (rc = write_cad(a->out, a->cad, s, &eo, a->quiet)) != EXIT_OK)
+        return rc;
+    if ((a->out && a->cad == CAD_NONE) || a->render)
+        st = sk_patch_set_tessellate(&s->surface, a->tess, &tes, &err);
+    if (!st && a->out && a->cad == CAD_NONE)
+        st = sk_soup_write(a->out, tes, NULL, &err);
+    if (!st && a->render)
+        st = sk_render_shaded(tes, a->render, NULL, &err);
+    if (!st && a->layout)
+        st = sk_render_patch_layout(s, a->layout, NULL, &err);
+    sk_soup_destroy(&tes);
+    if (st)
+        return cli_fail(st, &err);
+    if (a->patches)
+        rc = cli_write_file(a->patches, patches_json, s);
+    return rc;
+}
+
+static void print_summary(const sk_smooth *s, const sk_continuity_report *rep, bool failed)
+{
+    printf("smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
+           "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
+           "vertices %zu, report %s\n",
+           s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
+           s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
+           rep->max_normal_jump_deg, rep->max_gap, rep->singular_patches, rep->intersecting_pairs,
+           s->num_problems, failed ? "FAIL" : "pass");
+}
+
+int cmd_smooth(int argc, char **argv)
+{
+    smooth_args a;
+    memset(&a, 0, sizeof a);
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
     double t0 = sk_seconds();
     cli_progress bar;
-    cli_progress_init(&bar, "smooth", quiet);
-    so.progress = cli_progress_cb;
-    so.progress_user = &bar;
+    cli_progress_init(&bar, "smooth", a.quiet);
+    a.so.progress = cli_progress_cb;
+    a.so.progress_user = &bar;
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     sk_smooth *s = NULL;
-    sk_soup *tes = NULL;
-    int rc = EXIT_OK;
-    sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
+    sk_continuity_report rep;
+    sk_status st = sk_mesh_read(a.in, NULL, &mesh, &err);
     const char *normals_src = "";
     if (st == SK_OK) {
-        normals_src = mesh->normals && !so.estimate_normals ? "file"
-                                                             : sk_normal_method_name(so.normals);
-        st = sk_smooth_build(mesh, &so, &s, &err);
+        bool from_file = mesh->normals && !a.so.estimate_normals;
+        normals_src = from_file ? "file" : sk_normal_method_name(a.so.normals);
+        st = sk_smooth_build(mesh, &a.so, &s, &err);
     }
     cli_progress_done(&bar);
-    if (st != SK_OK) {
-        rc = cli_fail(st, &err);
-        goto done;
-    }
     double t1 = sk_seconds();
-    sk_continuity_report rep;
-    if ((st = sk_smooth_continuity(s, NULL, &rep, &err)) != SK_OK) {
+    if (st == SK_OK)
+        st = sk_smooth_continuity(s, NULL, &rep, &err);
+    if (st != SK_OK) {
         rc = cli_fail(st, &err);
         goto done;
     }
@@ -323,53 +343,23 @@ int cmd_smooth(int argc, char **argv)
     /* the surface fails its own report (a singular patch has no tangent plane somewhere, e.g.
      * every patch of a thin strip): the report is written, the surface only on request */
     bool failed = !(rep.pass_g1 && rep.pass_gap) || rep.singular_patches > 0;
-    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail)
-        goto report_only;
-    if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
+    bool refuse = failed && s->scheme == SK_SMOOTH_VC1 && !a.allow_fail;
+    if (!refuse && (rc = write_surface(&a, s)) != EXIT_OK)
         goto done;
-    if ((out && cad == CAD_NONE) || render) {
-        if ((st = sk_patch_set_tessellate(&s->surface, (unsigned)tess, &tes, &err)) != SK_OK) {
-            rc = cli_fail(st, &err);
-            goto done;
-        }
-    }
-    if (out && cad == CAD_NONE && (st = sk_soup_write(out, tes, NULL, &err)) != SK_OK) {
-        rc = cli_fail(st, &err);
+    report_ctx rc_ctx = {a.in, s, &rep, normals_src, t2 - t0, t2 - t1};
+    if (a.report && (rc = cli_write_file(a.report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
-    }
-    if (render && (st = sk_render_shaded(tes, render, NULL, &err)) != SK_OK) {
-        rc = cli_fail(st, &err);
-        goto done;
-    }
-    if (layout && (st = sk_render_patch_layout(s, layout, NULL, &err)) != SK_OK) {
-        rc = cli_fail(st, &err);
-        goto done;
-    }
-    if (patches && (rc = cli_write_file(patches, patches_json, s)) != EXIT_OK)
-        goto done;
-report_only:;
-    report_ctx rc_ctx = {in, s, &rep, normals_src, t1 - t0 + (t2 - t1), t2 - t1};
-    if (report && (rc = cli_write_file(report, report_json, &rc_ctx)) != EXIT_OK)
-        goto done;
-    if (json)
+    if (a.json)
         report_json(stdout, &rc_ctx);
-    else if (!quiet)
-        printf(
-                "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
-                "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
-                "vertices %zu, report %s\n",
-                s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
-                s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
-                rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, rep.intersecting_pairs,
-                s->num_problems, failed ? "FAIL" : "pass");
-    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail) {
+    else if (!a.quiet)
+        print_summary(s, &rep, failed);
+    if (refuse) {
         cli_error("%s: the surface fails its continuity report (max normal jump %.3g deg, max gap "
                   "%.3g, singular patches %zu): no surface written (--allow-fail writes it anyway)",
-                  in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
+                  a.in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
         rc = EXIT_QUALITY;
     }
 done:
-    sk_soup_destroy(&tes);
     sk_smooth_destroy(&s);
     sk_mesh_destroy(&mesh);
     return rc;

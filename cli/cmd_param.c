@@ -76,7 +76,7 @@ static void write_json(FILE *fp, const void *ctx)
         const sk_param_stats *ps = &r->ps.linear;
         json_kuint(&j, "vertices", ps->vertices);
         json_kuint(&j, "interior", ps->interior);
-        json_key(&j, "timing");
+        json_key(&j, "stage_seconds");
         json_obj_open(&j);
         json_knum(&j, "check", ps->check_seconds);
         json_knum(&j, "boundary", ps->boundary_seconds);

@@ -131,8 +131,10 @@ static void patches_json(FILE *fp, const void *ctx)
         fprintf(fp, "], \"points\": [");
         const double *cp = sk_patch_cp(set, p);
         for (size_t i = 0; i < sk_patch_num_points(pa); ++i) {
-            const double *x = cp + 3 * i;
-            fprintf(fp, "%s[%.17g, %.17g, %.17g]", i ? ", " : "", x[0], x[1], x[2]);
+            char x[3][32];
+            for (int k = 0; k < 3; ++k)
+                sk_format_double(x[k], cp[3 * i + k]);
+            fprintf(fp, "%s[%s, %s, %s]", i ? ", " : "", x[0], x[1], x[2]);
         }
         fprintf(fp, "]}%s\n", p + 1 < set->count ? "," : "");
     }

@@ -180,9 +180,11 @@ void json_int(cli_json *j, long long v)
 void json_num(cli_json *j, double v)
 {
     value_prefix(j);
-    if (isfinite(v))
-        fprintf(j->fp, "%.17g", v);
-    else
+    char buf[32];
+    if (isfinite(v)) {
+        sk_format_double(buf, v);
+        fputs(buf, j->fp);
+    } else
         fputs("null", j->fp);
 }
 

@@ -160,6 +160,14 @@ bool cli_parse_double(const char *s, double *out);
 /* "X,Y,Z" (e.g. a --view direction); false for anything else (s may be NULL). */
 bool cli_parse_vec3(const char *s, double v[3]);
 
+/* Reads a mesh for a command that needs triangles: quads and larger polygons are triangulated
+ * (sk_soup_triangulate; what was split in *tri) unless keep_polygons, which reads it as it is
+ * (the algorithms then refuse polygons). Errors name the file, as sk_mesh_read's do. */
+sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out,
+                             sk_triangulate_stats *tri, sk_error *err);
+/* "IN: triangulated 6 quads (12 triangles)" on stdout when something was split. */
+void cli_print_triangulated(const char *path, const sk_triangulate_stats *tri);
+
 /* Subcommands */
 int cmd_info(int argc, char **argv);
 int cmd_convert(int argc, char **argv);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 static const char about[] =
+    "Quads and larger polygons are triangulated on the way in (--keep-polygons refuses them).\n"
     "Maps a triangulated disk (one boundary loop, Euler characteristic 1) to the plane.\n"
     "Fixed boundary (circle by default, or the unit square with corners at quarter arc length;\n"
     "boundary spacing by chord length by default): tutte (uniform weights), floater\n"
@@ -166,6 +167,7 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
         OPT_VEC3("--view", a->ro.view, "viewing direction of --checker (default 0,0,-1)"),
         OPT_FILE("--report", a->report, "REPORT.json", "the metrics as JSON"),
         OPT_FLAG("--json", a->json, "print the metrics as JSON instead of the summary"),
+        OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
         OPT_FLAG("--ascii", a->wo.ascii, "PLY as text (default binary)"),
         OPT_FLAG("--no-normalize", a->po.raw, "keep each method's own uv scale"),
         OPT_FLAG("--atlas", a->atlas, "an atlas even for a disk"),
@@ -338,10 +340,13 @@ int cmd_param(int argc, char **argv)
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     double t0 = sk_seconds();
-    sk_status st = sk_mesh_read(a.in, NULL, &mesh, &err);
+    sk_triangulate_stats tri;
+    sk_status st = cli_read_triangles(a.in, a.keep_polygons, &mesh, &tri, &err);
     if (st)
         return cli_fail(st, &err);
     double t_read = sk_seconds() - t0;
+    if (!a.quiet && !a.json)
+        cli_print_triangulated(a.in, &tri);
     /* not one disk (and no option only the disk methods have): the atlas */
     if (!a.atlas && a.atlas_possible) {
         sk_error derr;

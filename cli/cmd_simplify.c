@@ -14,7 +14,10 @@ static const char about[] =
     "Builds the progressive-mesh hierarchy of a triangle mesh by half-edge collapses in random\n"
     "independent sets (about 25% fewer triangles per level) and writes the coarsest level M^0 to OUT.\n"
     "Collapses keep the Euler characteristic, the boundary loops and manifoldness; no face normal\n"
-    "turns by more than --max-angle (default 90 degrees).\n";
+    "turns by more than --max-angle (default 90 degrees).\n"
+    "Without --levels or --faces the target is half the input's faces (two or three levels);\n"
+    "--faces 1 builds the whole hierarchy (until a level removes less than 3% of the faces).\n"
+    "Quads and larger polygons are triangulated first (--keep-polygons refuses them).\n";
 
 static const char examples[] =
     "  surfkit simplify data/nefertiti.off -o coarse.off\n"
@@ -95,19 +98,31 @@ static int write_all_levels(const char *dir, const char *out, const sk_hierarchy
     return st ? cli_fail(st, &err) : EXIT_OK;
 }
 
+/* target: the default target (half the faces) when it was used, else 0 */
+static void print_summary(const char *in, const sk_hierarchy *h, double total, size_t target)
+{
+    size_t L = sk_hierarchy_num_levels(h);
+    sk_level_info fine = sk_hierarchy_level_info(h, L - 1), coarse = sk_hierarchy_level_info(h, 0);
+    printf("%s: %zu levels, %zu -> %zu faces (%zu -> %zu vertices) in %.3f s", in, L, fine.faces,
+           coarse.faces, fine.vertices, coarse.vertices, total);
+    if (target)
+        printf(" (default target: half the faces, %zu; --faces N or --levels K to choose)", target);
+    printf("\n");
+}
+
 int cmd_simplify(int argc, char **argv)
 {
     const char *out = NULL, *all_dir = NULL, *report = NULL;
     sk_hierarchy_opts ho = {0};
     sk_write_opts wo = {0};
-    bool quiet = false;
+    bool quiet = false, keep_polygons = false;
     unsigned long seed = 1;
     const cli_opt opts[] = {
         OPT_OUTPUT(out, "OUT", "the coarsest level (OFF, OBJ, PLY, STL)"),
         OPT_INT("--levels", ho.max_levels, 1, 1000, "K",
                 "stop when the hierarchy has K levels, the input included"),
         OPT_INT("--faces", ho.target_faces, 1, 0, "N", "stop once a level has at most N faces\n"
-                "(without either: until a level removes less than 3% of the faces)"),
+                "(without either: half the input's faces)"),
         OPT_INT("--seed", seed, 0, 0, "S",
                 "random order of the vertices (default 1); the same seed gives the same result"),
         OPT_DOUBLE("--max-angle", ho.collapse.max_normal_deviation_deg, 0, 180, CLI_LO_OPEN, "DEG",
@@ -118,6 +133,7 @@ int cmd_simplify(int argc, char **argv)
         OPT_FILE("--report", report, "FILE",
                  "JSON: {\"levels\": [{vertices, faces, seconds}, ...]} from the finest\n"
                  "(the input) to the coarsest, and the totals"),
+        OPT_FLAG("--keep-polygons", keep_polygons, "refuse quads and polygons (default: split)"),
         OPT_FLAG("--ascii", wo.ascii, "PLY and STL as text (default binary)"),
         OPT_FLAG("-q", quiet, "no progress bar, no summary line"),
     };
@@ -138,9 +154,13 @@ int cmd_simplify(int argc, char **argv)
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     sk_hierarchy *h = NULL;
-    sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
+    sk_triangulate_stats tri;
+    sk_status st = cli_read_triangles(in, keep_polygons, &mesh, &tri, &err);
     if (st)
         return cli_fail(st, &err);
+    bool half = !have_levels && !have_faces; /* the default: half the faces */
+    if (half)
+        ho.target_faces = (mesh->num_faces + 1) / 2;
     cli_progress bar;
     cli_progress_init(&bar, "simplify", quiet);
     ho.progress = cli_progress_cb;
@@ -163,11 +183,10 @@ int cmd_simplify(int argc, char **argv)
         rc = write_all_levels(all_dir, out, h, &wo);
     if (rc == EXIT_OK && report)
         rc = write_report(report, in, h, seed, total);
-    if (rc == EXIT_OK && !quiet)
-        printf("%s: %zu levels, %zu -> %zu faces (%zu -> %zu vertices) in %.3f s\n", in, L,
-               sk_hierarchy_level_info(h, L - 1).faces, sk_hierarchy_level_info(h, 0).faces,
-               sk_hierarchy_level_info(h, L - 1).vertices, sk_hierarchy_level_info(h, 0).vertices,
-               total);
+    if (rc == EXIT_OK && !quiet) {
+        cli_print_triangulated(in, &tri);
+        print_summary(in, h, total, half ? ho.target_faces : 0);
+    }
     sk_hierarchy_destroy(&h);
     sk_mesh_destroy(&mesh);
     return rc;

@@ -8,7 +8,8 @@
 #include <string.h>
 
 static const char about[] =
-    "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
+    "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN\n"
+    "(quads and larger polygons are triangulated first; --keep-polygons refuses them).\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
     "and quads in which every interior vertex is odd, then quartic triangles and bicubic quads\n"
     "join with tangent-plane continuity across every edge, without splitting faces.\n"
@@ -197,7 +198,7 @@ static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
 typedef struct smooth_args {
     const char *in, *out, *patches, *layout, *render, *report;
     unsigned tess;
-    bool quiet, json, freeform, allow_fail;
+    bool quiet, json, freeform, allow_fail, keep_polygons;
     cad_kind cad;
     sk_smooth_opts so;
     sk_export_opts eo;
@@ -245,6 +246,7 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_CHOICE("--iges-triangles", a->eo.degenerate_triangles, "split|degenerate",
                    "split (default): three biquartic patches per triangle; degenerate: one\n"
                    "patch with a collapsed side (IGES only, loose faces in one group)"),
+        OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
         OPT_FLAG("--allow-fail", a->allow_fail,
                  "write the surface even when the vc1 continuity report fails"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
@@ -326,7 +328,10 @@ int cmd_smooth(int argc, char **argv)
     sk_mesh *mesh = NULL;
     sk_smooth *s = NULL;
     sk_continuity_report rep;
-    sk_status st = sk_mesh_read(a.in, NULL, &mesh, &err);
+    sk_triangulate_stats tri;
+    sk_status st = cli_read_triangles(a.in, a.keep_polygons, &mesh, &tri, &err);
+    if (st == SK_OK && !a.quiet && !a.json)
+        cli_print_triangulated(a.in, &tri);
     const char *normals_src = "";
     if (st == SK_OK) {
         bool from_file = mesh->normals && !a.so.estimate_normals;

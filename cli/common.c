@@ -568,3 +568,41 @@ void cli_help(const cli_spec *spec, FILE *fp)
         fputs(spec->more, fp);
     fprintf(fp, "\nExamples:\n%s", spec->examples);
 }
+
+/* --- triangle input ------------------------------------------------------------------------- */
+
+sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out,
+                             sk_triangulate_stats *tri, sk_error *err)
+{
+    memset(tri, 0, sizeof *tri);
+    if (keep_polygons)
+        return sk_mesh_read(path, NULL, out, err);
+    *out = NULL;
+    sk_soup *soup = NULL, *tris = NULL;
+    sk_status st = sk_soup_read(path, NULL, &soup, err);
+    if (st == SK_OK)
+        st = sk_soup_triangulate(soup, &tris, tri, err);
+    if (st == SK_OK && (st = sk_mesh_from_soup(tris, out, err)) != SK_OK) {
+        /* name the file, as sk_mesh_read does: "NAME: what is wrong" */
+        const char *slash = strrchr(path, '/');
+        char msg[sizeof err->message];
+        memcpy(msg, err->message, sizeof msg);
+        snprintf(err->message, sizeof err->message, "%s: %.200s", slash ? slash + 1 : path, msg);
+    }
+    sk_soup_destroy(&tris);
+    sk_soup_destroy(&soup);
+    return st;
+}
+
+void cli_print_triangulated(const char *path, const sk_triangulate_stats *tri)
+{
+    if (!tri->quads && !tri->polygons)
+        return;
+    printf("%s: triangulated ", path);
+    if (tri->quads)
+        printf("%zu quad%s", tri->quads, tri->quads == 1 ? "" : "s");
+    if (tri->polygons)
+        printf("%s%zu polygon%s", tri->quads ? " and " : "", tri->polygons,
+               tri->polygons == 1 ? "" : "s");
+    printf(" into %zu triangles (--keep-polygons refuses polygons instead)\n", tri->triangles);
+}

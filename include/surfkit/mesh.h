@@ -77,7 +77,9 @@ typedef struct sk_triangulate_stats {
 
 /* A copy of soup whose polygons are triangles: a quad by its shorter diagonal (0-2 on a tie), a
  * larger polygon by ear clipping in the plane of its Newell normal (the ear with the shortest
- * diagonal first; a polygon that is not simple in that plane is finished as a fan). The
+ * diagonal first; a polygon that is not simple in that plane is finished as a fan). A diagonal
+ * that is already an edge of the soup (opposite corners of a quad joined outside it) is avoided
+ * where the polygon allows, since it would make that edge non-manifold. The
  * triangles of a face take its place in the face order and keep its orientation; vertices,
  * per-vertex and per-corner attributes are kept (each corner keeps its uv and normal). Faces of
  * fewer than 4 vertices, and polygons with an index out of range, are copied as they are (for

@@ -4,6 +4,7 @@
 #include "testutil.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 static sk_soup *soup_of(const double *pos, size_t nv, const uint32_t *idx, const size_t *sizes,
@@ -183,6 +184,99 @@ static void given_the_quad_cube_then_a_closed_triangle_mesh(void **state)
     sk_soup_destroy(&s);
 }
 
+/* an allocator that fails its k-th call and counts the blocks alive */
+typedef struct failing {
+    long count, fail_at, live;
+} failing;
+
+static void *f_malloc(void *user, size_t n)
+{
+    failing *c = user;
+    if (++c->count == c->fail_at)
+        return NULL;
+    void *p = malloc(n);
+    c->live += p != NULL;
+    return p;
+}
+
+static void *f_realloc(void *user, void *p, size_t n)
+{
+    failing *c = user;
+    if (++c->count == c->fail_at)
+        return NULL;
+    void *q = realloc(p, n);
+    c->live += q && !p;
+    return q;
+}
+
+static void f_free(void *user, void *p)
+{
+    failing *c = user;
+    c->live -= p != NULL;
+    free(p);
+}
+
+static void given_kth_allocation_fails_then_out_of_memory_and_nothing_leaks(void **state)
+{
+    (void)state;
+    /* the prism (quads and hexagons) with corner uvs and per-vertex normals */
+    double pos[36], nrm[36];
+    for (int i = 0; i < 12; ++i) {
+        double a = (i % 6) * 3.14159265358979 / 3;
+        pos[3 * i] = nrm[3 * i] = cos(a);
+        pos[3 * i + 1] = nrm[3 * i + 1] = sin(a);
+        pos[3 * i + 2] = i / 6;
+        nrm[3 * i + 2] = 0;
+    }
+    const uint32_t idx[] = {5, 4, 3, 2, 1, 0, 6, 7, 8, 9, 10, 11, 0, 1, 7, 6, 1, 2, 8, 7,
+                            2, 3, 9, 8, 3, 4, 10, 9, 4, 5, 11, 10, 5, 0, 6, 11};
+    failing cnt = {0, 0, 0};
+    const sk_allocator alloc = {f_malloc, f_realloc, f_free, &cnt};
+    long total = 0;
+    for (long k = 0;; ++k) {
+        cnt.count = cnt.live = 0;
+        cnt.fail_at = k;
+        sk_set_allocator(&alloc);
+        sk_soup *s = NULL, *t = NULL;
+        sk_status st = sk_soup_create(12, 8, 0, true, false, &s, NULL);
+        for (int v = 0; st == SK_OK && v < 12; ++v)
+            st = sk_soup_push_vertex(s, pos + 3 * v, nrm + 3 * v, NULL);
+        for (int f = 0, o = 0; st == SK_OK && f < 8; o += f < 2 ? 6 : 4, ++f)
+            st = sk_soup_push_face(s, idx + o, f < 2 ? 6 : 4);
+        double uv[72];
+        uint32_t corner[36];
+        for (int c = 0; c < 36; ++c)
+            uv[2 * c] = c, uv[2 * c + 1] = -c, corner[c] = (uint32_t)(35 - c);
+        if (st == SK_OK)
+            st = sk_soup_set_corner_uvs(s, 36, uv, corner);
+        long before = cnt.count;
+        bool built = st == SK_OK;
+        sk_triangulate_stats ts;
+        if (built)
+            st = sk_soup_triangulate(s, &t, &ts, NULL);
+        if (built && st == SK_OK) {
+            assert_int_equal(t->num_faces, 20);
+            assert_int_equal(ts.triangles, 20);
+            for (uint32_t c = 0; c < t->face_offsets[20]; ++c) /* corner uvs followed */
+                assert_true(t->wedge_uvs[2 * t->corner_uv[c]] >= 0);
+        } else {
+            assert_int_equal(st, SK_ERR_NOMEM);
+            assert_null(t);
+        }
+        sk_soup_destroy(&t);
+        sk_soup_destroy(&s);
+        sk_set_allocator(NULL);
+        assert_int_equal(cnt.live, 0);
+        if (k == 0)
+            total = cnt.count; /* no failure: every allocation of the run */
+        if (k > 0 && k >= total)
+            break;
+        if (k == 0)
+            assert_true(total > before); /* the triangulation allocates */
+    }
+    assert_true(total > 5);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -191,6 +285,7 @@ int main(void)
         cmocka_unit_test(given_corner_uvs_then_every_corner_keeps_its_uv),
         cmocka_unit_test(given_defective_faces_then_they_are_copied_for_validation),
         cmocka_unit_test(given_the_quad_cube_then_a_closed_triangle_mesh),
+        cmocka_unit_test(given_kth_allocation_fails_then_out_of_memory_and_nothing_leaks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -132,11 +132,13 @@ typedef struct cli_spec {
     const char *more;  /* optional text printed after the options (may be NULL) */
 } cli_spec;
 
+/* The result outlives the table (which is usually a local of a parsing function): it keeps the
+ * names of the options given (string literals), not the table. */
 typedef struct cli_args {
-    const cli_spec *spec;
     const char *inputs[4];
     size_t num_inputs;
-    unsigned long long given; /* bit k: spec->opts[k] was on the command line */
+    const char *given[64]; /* the names of the options on the command line, each once */
+    size_t num_given;
 } cli_args;
 
 /* cli_parse's result when --help was printed (the command returns EXIT_OK). */

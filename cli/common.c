@@ -1,6 +1,7 @@
 /* Shared CLI helpers: errors, progress bar, JSON, the option-table parser, option values. */
 #include "cli.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -483,8 +484,8 @@ static int unknown_option(const cli_spec *spec, const char *arg)
 
 int cli_parse(const cli_spec *spec, int argc, char **argv, cli_args *args)
 {
+    assert(spec->num_opts <= 64 && spec->max_inputs <= 4); /* the room in cli_args */
     memset(args, 0, sizeof *args);
-    args->spec = spec;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -506,7 +507,8 @@ int cli_parse(const cli_spec *spec, int argc, char **argv, cli_args *args)
                 o = &spec->opts[k];
         if (!o || (o->kind == CLI_FLAG && a[len] == '='))
             return unknown_option(spec, a);
-        args->given |= 1ull << (k - 1);
+        if (!cli_given(args, o->name))
+            args->given[args->num_given++] = o->name;
         if (o->kind == CLI_FLAG) {
             *(bool *)o->dest = true;
             continue;
@@ -518,7 +520,7 @@ int cli_parse(const cli_spec *spec, int argc, char **argv, cli_args *args)
     }
     bool missing = args->num_inputs < spec->min_inputs;
     for (size_t k = 0; k < spec->num_opts; ++k)
-        missing |= (spec->opts[k].flags & CLI_REQUIRED) && !(args->given >> k & 1);
+        missing |= (spec->opts[k].flags & CLI_REQUIRED) && !cli_given(args, spec->opts[k].name);
     return missing ? cli_usage(spec->name, "needs %s", spec->usage) : EXIT_OK;
 }
 
@@ -529,9 +531,9 @@ const char *cli_input(const cli_args *args, size_t k)
 
 bool cli_given(const cli_args *args, const char *name)
 {
-    for (size_t k = 0; k < args->spec->num_opts; ++k)
-        if (!strcmp(args->spec->opts[k].name, name))
-            return args->given >> k & 1;
+    for (size_t k = 0; k < args->num_given; ++k)
+        if (!strcmp(args->given[k], name))
+            return true;
     return false;
 }
 

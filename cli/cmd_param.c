@@ -48,6 +48,7 @@ static const char examples[] =
 /* What a run did, for the report. */
 typedef struct run_info {
     const char *in;
+    sk_triangulate_stats tri;
     sk_parametrize_stats ps;
     sk_param_metrics pm;
 } run_info;
@@ -60,6 +61,7 @@ static void write_json(FILE *fp, const void *ctx)
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", r->in);
+    json_triangulated(&j, &r->tri);
     json_kstr(&j, "method", r->ps.name);
     json_kstr(&j, "boundary", sk_boundary_shape_name(r->ps.boundary));
     json_kuint(&j, "faces", pm->faces);
@@ -301,6 +303,7 @@ static int run_disk(param_args *a, sk_mesh *mesh)
     run_info r;
     memset(&r, 0, sizeof r);
     r.in = a->in;
+    r.tri = a->tri;
     sk_status st = SK_OK;
     double *uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
     if (!uv)
@@ -340,13 +343,12 @@ int cmd_param(int argc, char **argv)
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     double t0 = sk_seconds();
-    sk_triangulate_stats tri;
-    sk_status st = cli_read_triangles(a.in, a.keep_polygons, &mesh, &tri, &err);
+    sk_status st = cli_read_triangles(a.in, a.keep_polygons, &mesh, &a.tri, &err);
     if (st)
         return cli_fail(st, &err);
     double t_read = sk_seconds() - t0;
     if (!a.quiet && !a.json)
-        cli_print_triangulated(a.in, &tri);
+        cli_print_triangulated(a.in, &a.tri);
     /* not one disk (and no option only the disk methods have): the atlas */
     if (!a.atlas && a.atlas_possible) {
         sk_error derr;

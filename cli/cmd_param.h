@@ -9,6 +9,7 @@ typedef struct param_args {
     const char *in, *out, *png, *svg, *checker, *report;
     bool quiet, json, atlas, split_seams;
     bool keep_polygons;      /* refuse quads and polygons instead of triangulating them */
+    sk_triangulate_stats tri; /* what the input's reading split */
     bool atlas_possible;     /* no option that only the disk methods have */
     sk_parametrize_opts po;  /* disk */
     sk_param_opts linear;    /* --solver: the linear methods' fine tuning (po.linear) */

@@ -9,6 +9,7 @@
 
 typedef struct atlas_run {
     const char *in;
+    sk_triangulate_stats tri;
     const sk_atlas *atlas;
     sk_atlas_stats st;
     size_t faces;
@@ -23,6 +24,7 @@ static void write_json(FILE *fp, const void *ctx)
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", r->in);
+    json_triangulated(&j, &r->tri);
     json_kstr(&j, "method", "atlas-mips-hierarchical");
     json_kuint(&j, "faces", r->faces);
     json_kuint(&j, "charts", s->charts);
@@ -99,6 +101,7 @@ int param_run_atlas(const param_args *a, sk_mesh *mesh, double read_seconds)
     atlas_run r;
     memset(&r, 0, sizeof r);
     r.in = a->in;
+    r.tri = a->tri;
     r.faces = mesh->num_faces;
     r.read_seconds = read_seconds;
     sk_error err = {0};

@@ -27,6 +27,7 @@ static const char examples[] =
 
 typedef struct report_ctx {
     const char *in;
+    const sk_triangulate_stats *tri;
     const sk_hierarchy *h;
     unsigned long seed;
     double total;
@@ -39,6 +40,7 @@ static void report_json(FILE *fp, const void *user)
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", c->in);
+    json_triangulated(&j, c->tri);
     json_kuint(&j, "seed", c->seed);
     size_t L = sk_hierarchy_num_levels(c->h);
     json_kuint(&j, "num_levels", L);
@@ -60,10 +62,10 @@ static void report_json(FILE *fp, const void *user)
 }
 
 /* through the one atomic writer (this had its own, with a temporary name shared by every process) */
-static int write_report(const char *path, const char *in, const sk_hierarchy *h, unsigned long seed,
-                        double total)
+static int write_report(const char *path, const char *in, const sk_triangulate_stats *tri,
+                        const sk_hierarchy *h, unsigned long seed, double total)
 {
-    report_ctx c = {in, h, seed, total};
+    report_ctx c = {in, tri, h, seed, total};
     return cli_write_file(path, report_json, &c);
 }
 
@@ -182,7 +184,7 @@ int cmd_simplify(int argc, char **argv)
     if (rc == EXIT_OK && all_dir)
         rc = write_all_levels(all_dir, out, h, &wo);
     if (rc == EXIT_OK && report)
-        rc = write_report(report, in, h, seed, total);
+        rc = write_report(report, in, &tri, h, seed, total);
     if (rc == EXIT_OK && !quiet) {
         cli_print_triangulated(in, &tri);
         print_summary(in, h, total, half ? ho.target_faces : 0);

@@ -34,15 +34,27 @@ static const char more[] =
     "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
     "0). pn is C0 by construction: its report is information only.\n";
 
-static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
-                         const char *normals_src, double seconds, double report_seconds)
+typedef struct report_ctx {
+    const char *in;
+    const sk_smooth *s;
+    const sk_continuity_report *r;
+    const char *normals_src;
+    sk_triangulate_stats tri;
+    double seconds, report_seconds;
+} report_ctx;
+
+static void write_report(FILE *fp, const report_ctx *c)
 {
+    const char *in = c->in;
+    const sk_smooth *s = c->s;
+    const sk_continuity_report *r = c->r;
     cli_json j;
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", in);
     json_kstr(&j, "scheme", s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
-    json_kstr(&j, "normals", normals_src);
+    json_kstr(&j, "normals", c->normals_src);
+    json_triangulated(&j, &c->tri);
     size_t tri = 0, quad = 0;
     for (size_t p = 0; p < s->surface.count; ++p)
         s->surface.patches[p].kind == SK_PATCH_TENSOR ? ++quad : ++tri;
@@ -106,9 +118,9 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_knum(&j, "edge_deletion", s->stats.seconds_deletion);
     json_knum(&j, "vertex_systems", s->stats.seconds_systems);
     json_knum(&j, "patches", s->stats.seconds_patches);
-    json_knum(&j, "report", report_seconds);
+    json_knum(&j, "report", c->report_seconds);
     json_obj_close(&j);
-    json_knum(&j, "seconds", seconds);
+    json_knum(&j, "seconds", c->seconds);
     json_obj_close(&j);
     json_end(&j);
 }
@@ -142,18 +154,11 @@ static void patches_json(FILE *fp, const void *ctx)
     fprintf(fp, "]}\n");
 }
 
-typedef struct report_ctx {
-    const char *in;
-    const sk_smooth *s;
-    const sk_continuity_report *r;
-    const char *normals_src;
-    double seconds, report_seconds;
-} report_ctx;
 
 static void report_json(FILE *fp, const void *ctx)
 {
     const report_ctx *c = ctx;
-    write_report(fp, c->in, c->s, c->r, c->normals_src, c->seconds, c->report_seconds);
+    write_report(fp, c);
 }
 
 typedef enum { CAD_NONE, CAD_IGES, CAD_STEP, CAD_OBJ_FREEFORM } cad_kind;
@@ -353,7 +358,7 @@ int cmd_smooth(int argc, char **argv)
     bool refuse = failed && s->scheme == SK_SMOOTH_VC1 && !a.allow_fail;
     if (!refuse && (rc = write_surface(&a, s)) != EXIT_OK)
         goto done;
-    report_ctx rc_ctx = {a.in, s, &rep, normals_src, t2 - t0, t2 - t1};
+    report_ctx rc_ctx = {a.in, s, &rep, normals_src, tri, t2 - t0, t2 - t1};
     if (a.report && (rc = cli_write_file(a.report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
     if (a.json)

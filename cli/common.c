@@ -596,6 +596,12 @@ sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out
     return st;
 }
 
+void json_triangulated(cli_json *j, const sk_triangulate_stats *tri)
+{
+    json_kuint(j, "triangulated_quads", tri->quads);
+    json_kuint(j, "triangulated_polygons", tri->polygons);
+}
+
 void cli_print_triangulated(const char *path, const sk_triangulate_stats *tri)
 {
     if (!tri->quads && !tri->polygons)

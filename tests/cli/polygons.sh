@@ -16,13 +16,15 @@ grep -q '12 -> [0-9]* faces' "$tmp/out" || fail "simplify did not start from 12 
 "$bin" param "$d/blender_cube.obj" -o "$tmp/cube.obj" --report "$tmp/cube.json" > "$tmp/out" || fail "param cube"
 grep -q 'triangulated 6 quads' "$tmp/out" || fail "param summary: $(cat "$tmp/out")"
 [ "$(val faces "$tmp/cube.json")" = 12 ] && [ "$(val flipped "$tmp/cube.json")" = 0 ] || fail "param cube report"
+[ "$(val triangulated_quads "$tmp/cube.json")" = 6 ] && [ "$(val triangulated_polygons "$tmp/cube.json")" = 0 ] ||
+  fail "param cube report: triangulated_quads $(val triangulated_quads "$tmp/cube.json")"
 [ "$(grep -c '^f ' "$tmp/cube.obj")" = 12 ] || fail "param cube: not 12 triangles"
 # the file's per-corner normals are flat (opposite at some edges): the smooth surface estimates them
 "$bin" smooth "$d/blender_cube.obj" -o "$tmp/cube.step" --estimate-normals > "$tmp/out" || fail "smooth cube"
 grep -q 'triangulated 6 quads' "$tmp/out" && grep -q 'report pass' "$tmp/out" || fail "smooth cube: $(cat "$tmp/out")"
 # --json keeps stdout JSON
 "$bin" smooth "$d/blender_cube.obj" --estimate-normals --json > "$tmp/s.json" || fail "smooth --json"
-python3 -c "import json,sys; r=json.load(open('$tmp/s.json')); assert r['triangles'] + r['quads'] > 0" ||
+python3 -c "import json,sys; r=json.load(open('$tmp/s.json')); assert r['triangulated_quads'] == 6 and r['triangles'] + r['quads'] > 0" ||
   fail "smooth --json is not JSON: $(head -2 "$tmp/s.json")"
 
 # the hexagonal prism: 6 quads and 2 hexagons -> 20 triangles, closed, genus 0
@@ -33,6 +35,9 @@ grep -q 'hex_prism.off: triangulated 6 quads and 2 polygons into 20 triangles' "
 grep -Eq '^ +edges +[0-9]+ \(0 on the boundary\)' "$tmp/info" || fail "prism tessellation not closed"
 "$bin" param "$d/hex_prism.off" -o "$tmp/hex-uv.obj" --report "$tmp/hexp.json" -q || fail "param prism"
 [ "$(val faces "$tmp/hexp.json")" = 20 ] && [ "$(val overlaps "$tmp/hexp.json")" = 0 ] || fail "prism atlas"
+[ "$(val triangulated_polygons "$tmp/hexp.json")" = 2 ] || fail "prism atlas report: triangulated_polygons"
+"$bin" simplify "$d/hex_prism.off" -o "$tmp/hs.off" --report "$tmp/hs.json" -q || fail "simplify prism"
+[ "$(val triangulated_quads "$tmp/hs.json")" = 6 ] || fail "simplify report: triangulated_quads"
 
 # Suzanne: 468 quads and 32 triangles; two quads share two sides at the nose, which the
 # triangulation must not split along the same diagonal (that edge would be non-manifold)

@@ -167,6 +167,10 @@ bool cli_parse_vec3(const char *s, double v[3]);
  * (the algorithms then refuse polygons). Errors name the file, as sk_mesh_read's do. */
 sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out,
                              sk_triangulate_stats *tri, sk_error *err);
+/* After a computation on the input `path` failed with st: prefixes err's message with "path: "
+ * unless it names the file already (reader errors do) or is "out of memory", so that every
+ * error names the file. */
+void cli_name_input(const char *path, sk_status st, sk_error *err);
 /* The JSON keys of that: "triangulated_quads", "triangulated_polygons" (0 for triangle input). */
 void json_triangulated(cli_json *j, const sk_triangulate_stats *tri);
 /* "IN: triangulated 6 quads (12 triangles)" on stdout when something was split. */

@@ -311,6 +311,7 @@ static int run_disk(param_args *a, sk_mesh *mesh)
     if (st == SK_OK)
         st = sk_parametrize(mesh, &a->po, uv, &r.ps, &err);
     cli_progress_done(&bar);
+    cli_name_input(a->in, st, &err);
     if (st == SK_WARN_FLIPS) { /* the result is complete: write it and say so */
         fprintf(stderr, "surfkit param: warning: %s: %s\n", a->in, err.message);
         st = SK_OK;

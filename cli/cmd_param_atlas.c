@@ -109,6 +109,7 @@ int param_run_atlas(const param_args *a, sk_mesh *mesh, double read_seconds)
     sk_mesh *seams = NULL;
     sk_status st = sk_atlas_build(mesh, &ao, &atlas, &r.st, &err);
     cli_progress_done(&bar);
+    cli_name_input(a->in, st, &err);
     r.atlas = atlas;
     if (st == SK_OK)
         st = sk_atlas_split_mesh(mesh, atlas, &seams, &err);

@@ -169,6 +169,7 @@ int cmd_simplify(int argc, char **argv)
     ho.progress_user = &bar;
     st = sk_hierarchy_build(mesh, &ho, &h, &err);
     cli_progress_done(&bar);
+    cli_name_input(in, st, &err);
     if (st) {
         sk_mesh_destroy(&mesh);
         return cli_fail(st, &err);

@@ -347,6 +347,7 @@ int cmd_smooth(int argc, char **argv)
     double t1 = sk_seconds();
     if (st == SK_OK)
         st = sk_smooth_continuity(s, NULL, &rep, &err);
+    cli_name_input(a.in, st, &err);
     if (st != SK_OK) {
         rc = cli_fail(st, &err);
         goto done;

@@ -45,6 +45,7 @@ int cmd_subdivide(int argc, char **argv)
     if (st == SK_OK)
         st = sk_mesh_subdivide(mesh, &so, &fine, &err);
     cli_progress_done(&bar);
+    cli_name_input(in, st, &err);
     if (st == SK_OK)
         st = sk_mesh_write(out, fine, &wo, &err);
     sk_mesh_destroy(&mesh);

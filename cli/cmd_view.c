@@ -83,6 +83,7 @@ int cmd_view(int argc, char **argv)
         sk_smooth_opts so = {.progress = cli_progress_cb, .progress_user = &bar};
         st = sk_smooth_build(mesh, &so, &s, &err);
         cli_progress_done(&bar);
+        cli_name_input(in, st, &err);
         if (st) {
             rc = cli_fail(st, &err);
             goto done;

@@ -596,6 +596,17 @@ sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out
     return st;
 }
 
+void cli_name_input(const char *path, sk_status st, sk_error *err)
+{
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    if (st >= 0 || st == SK_ERR_NOMEM || strstr(err->message, base))
+        return;
+    char out[2 * sizeof err->message];
+    snprintf(out, sizeof out, "%s: %s", path, err->message);
+    memcpy(err->message, out, sizeof err->message - 1);
+    err->message[sizeof err->message - 1] = '\0';
+}
+
 void json_triangulated(cli_json *j, const sk_triangulate_stats *tri)
 {
     json_kuint(j, "triangulated_quads", tri->quads);

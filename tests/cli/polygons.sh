@@ -49,12 +49,13 @@ grep -q 'triangulated 468 quads into 936 triangles' "$tmp/out" || fail "monkey s
 [ "$(val euler_characteristic "$tmp/mi.json")" = 2 ] || fail "monkey euler characteristic"
 "$bin" simplify "$d/blender_monkey.obj" -o "$tmp/m.off" -q || fail "simplify monkey"
 
-# --keep-polygons: the old refusal, one line, exit 1, no output
+# --keep-polygons: the old refusal (now naming the file), one line, exit 1, no output
 for cmd in "simplify -o $tmp/k.off" "param -o $tmp/k.obj" "smooth -o $tmp/k.obj"; do
   set -- $cmd
   "$bin" "$1" "$d/blender_cube.obj" "$2" "$3" --keep-polygons > /dev/null 2> "$tmp/err"; rc=$?
   [ $rc = 1 ] || fail "$1 --keep-polygons: exit $rc"
   [ "$(wc -l < "$tmp/err")" = 1 ] && grep -qi 'triangle mesh' "$tmp/err" || fail "$1 --keep-polygons: $(cat "$tmp/err")"
+  grep -q '^surfkit: .*blender_cube.obj: ' "$tmp/err" || fail "$1 --keep-polygons: the error does not name the file"
   [ -e "$3" ] && fail "$1 --keep-polygons wrote $3"
 done
 echo "polygons: ok"

@@ -40,7 +40,7 @@ for f in "${meshes[@]}"; do
     n=$(basename "${f%.*}")
     $sk convert "$f" "$T/$n.obj" >/dev/null
     $sk param "$f" -o "$T/$n-surfkit.obj" --atlas --report "$T/$n-surfkit.json" -q
-    s_sec=$(python3 -c "import json; print(json.load(open('$T/$n-surfkit.json'))['seconds']['atlas_total'])")
+    s_sec=$(python3 -c "import json; print(json.load(open('$T/$n-surfkit.json'))['seconds'])")
     b_sec=$(blender -b -P bench/peers/blender_smart_project.py -- "$T/$n.obj" "$T/$n-blender.obj" \
             "$margin" 2>/dev/null | sed -n 's/^BLENDER_SECONDS //p')
     row "$n" surfkit "$(python3 bench/atlas_metrics.py "$T/$n-surfkit.obj")" "$s_sec"

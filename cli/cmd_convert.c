@@ -3,43 +3,38 @@
 
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit convert IN OUT [--ascii] [--no-normals] [--no-uvs]\n"
-    "\n"
+static const char about[] =
     "Converts between OFF, OBJ, PLY and STL; the formats come from the file extensions.\n"
     "PLY and STL are written binary unless --ascii is given. Normals and texture coordinates are\n"
     "kept where the output format can hold them. The input is copied as it is (no validation);\n"
     "use 'surfkit info' for defects.\n";
 
+static const char examples[] =
+    "  surfkit convert data/nefertiti.off nefertiti.ply\n"
+    "  surfkit convert data/sphere.off sphere.stl --ascii\n";
+
 int cmd_convert(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL;
     sk_write_opts wo = {0};
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "--ascii")) {
-            wo.ascii = true;
-        } else if (!strcmp(a, "--no-normals")) {
-            wo.no_normals = true;
-        } else if (!strcmp(a, "--no-uvs")) {
-            wo.no_uvs = true;
-        } else if (!strcmp(a, "-q")) {
-        } else if (!strcmp(a, "-o")) {
-            if (++i >= argc)
-                return cli_usage("convert", "-o needs a file name");
-            out = argv[i];
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("convert", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else if (!out) {
-            out = a;
-        } else {
+    bool quiet = false;
+    const cli_opt opts[] = {
+        OPT_FILE("-o", out, "OUT", "the output file (or give it as the second file name)"),
+        OPT_FLAG("--ascii", wo.ascii, "PLY and STL as text (default binary)"),
+        OPT_FLAG("--no-normals", wo.no_normals, "do not write the normals"),
+        OPT_FLAG("--no-uvs", wo.no_uvs, "do not write the texture coordinates"),
+        OPT_FLAG("-q", quiet, "quiet (convert prints nothing anyway)"),
+    };
+    const cli_spec spec = {"convert", "IN OUT", about, opts, CLI_COUNT(opts), 1, 2, examples, NULL};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
+    in = cli_input(&args, 0);
+    if (args.num_inputs > 1) {
+        if (out)
             return cli_usage("convert", "too many file names");
-        }
+        out = args.inputs[1];
     }
     if (!in || !out)
         return cli_usage("convert", "needs an input and an output file");

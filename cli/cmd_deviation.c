@@ -4,11 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit deviation SURFACE MESH [--samples N] [--tolerance T | --tolerance-rel R]\n"
-    "                         [--png MAP.png] [--png-surface MAP.png] [--view X,Y,Z]\n"
-    "                         [--report REPORT.json] [--json] [-q]\n"
-    "\n"
+static const char about[] =
     "Distances between SURFACE and MESH in both directions: from every vertex of MESH and from\n"
     "N x N samples of each of its triangles (default N = 2) to SURFACE, and from the same samples\n"
     "of SURFACE to MESH, through a bounding-volume hierarchy. Prints max, mean and RMS of each\n"
@@ -21,11 +17,13 @@ static const char help[] =
     "distance drawn). --png draws MESH coloured per pixel by its distance to SURFACE (blue 0, red\n"
     "at the scale, magenta beyond), --png-surface draws SURFACE coloured by its distance to MESH\n"
     "(where spikes and bulges of a smooth surface show), both seen along --view (default\n"
-    "0,0,-1). --report writes the figures as JSON; --json prints them instead of the summary.\n"
-    "\n"
-    "examples:\n"
-    "  surfkit smooth cow.off -o cow-s.obj && surfkit deviation cow-s.obj cow.off --png dev.png\n"
-    "  surfkit deviation scan-simplified.ply scan.ply --tolerance-rel 1e-3 --json\n";
+    "0,0,-1). --report writes the figures as JSON; --json prints them instead of the summary.\n";
+
+static const char examples[] =
+    "  surfkit smooth data/sphere.off -o sphere-s.obj -q && surfkit deviation "
+    "sphere-s.obj data/sphere.off --png dev.png\n"
+    "  surfkit deviation data/sphere.off data/sphere.off --tolerance-rel 1e-3 "
+    "--json\n";
 
 typedef struct run {
     const char *surface, *mesh;
@@ -114,53 +112,34 @@ static sk_status draw_map(const sk_soup *shown, const char *name, const sk_soup 
 
 int cmd_deviation(int argc, char **argv)
 {
-    const char *png = NULL, *png_surface = NULL, *report = NULL, *val;
+    const char *png = NULL, *png_surface = NULL, *report = NULL;
     run x = {0};
     sk_deviation_opts opts = {0};
     sk_render_opts ro = {0};
     double tol_rel = 0;
     bool json = false, quiet = false;
-    const cli_path_opt paths[] = {{"--png", &png}, {"--png-surface", &png_surface},
-                                  {"--report", &report}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "--json")) {
-            json = true;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "deviation", paths, 3)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--samples", &val)) {
-            unsigned long n;
-            if (!cli_parse_uint(val, &n) || n < 1 || n > 64)
-                return cli_usage("deviation", "--samples takes a whole number from 1 to 64");
-            opts.face_samples = (int)n;
-        } else if (cli_opt_value(argc, argv, &i, "--tolerance", &val)) {
-            if (!cli_parse_double(val, &x.tolerance) || !(x.tolerance > 0))
-                return cli_usage("deviation", "--tolerance takes a positive number");
-        } else if (cli_opt_value(argc, argv, &i, "--tolerance-rel", &val)) {
-            if (!cli_parse_double(val, &tol_rel) || !(tol_rel > 0))
-                return cli_usage("deviation", "--tolerance-rel takes a positive number");
-        } else if (cli_opt_value(argc, argv, &i, "--view", &val)) {
-            if (!val || !cli_parse_vec3(val, ro.view))
-                return cli_usage("deviation", "--view takes X,Y,Z");
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("deviation", "unknown option '%s'", a);
-        } else if (!x.surface) {
-            x.surface = a;
-        } else if (!x.mesh) {
-            x.mesh = a;
-        } else {
-            return cli_usage("deviation", "more than two input files");
-        }
-    }
-    if (!x.surface || !x.mesh)
-        return cli_usage("deviation", "needs a SURFACE and a MESH file");
+    const cli_opt table[] = {
+        OPT_INT("--samples", opts.face_samples, 1, 64, "N",
+                "N x N samples per triangle (default 2)"),
+        OPT_DOUBLE("--tolerance", x.tolerance, 0, 0, CLI_LO_OPEN, "T", "tolerance in model units"),
+        OPT_DOUBLE("--tolerance-rel", tol_rel, 0, 0, CLI_LO_OPEN, "R",
+                   "tolerance as a fraction of MESH's bounding-box diagonal"),
+        OPT_FILE("--png", png, "MAP.png", "MESH coloured by its distance to SURFACE"),
+        OPT_FILE("--png-surface", png_surface, "MAP.png",
+                 "SURFACE coloured by its distance to MESH"),
+        OPT_VEC3("--view", ro.view, "viewing direction of the pictures (default 0,0,-1)"),
+        OPT_FILE("--report", report, "REPORT.json", "the figures as JSON"),
+        OPT_FLAG("--json", json, "print the JSON instead of the summary"),
+        OPT_FLAG("-q", quiet, "no progress bar"),
+    };
+    const cli_spec spec = {"deviation", "SURFACE MESH", about,
+                           table, CLI_COUNT(table), 2, 2, examples, NULL};
+    cli_args args;
+    int prc = cli_parse(&spec, argc, argv, &args);
+    if (prc)
+        return prc == CLI_HELP ? EXIT_OK : prc;
+    x.surface = cli_input(&args, 0);
+    x.mesh = cli_input(&args, 1);
     if (x.tolerance > 0 && tol_rel > 0)
         return cli_usage("deviation", "give --tolerance or --tolerance-rel, not both");
     cli_progress bar;

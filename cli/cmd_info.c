@@ -5,18 +5,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit info FILE [--json] [-q]\n"
-    "\n"
+static const char about[] =
     "Reads a mesh (OFF, OBJ, PLY, STL) and reports vertices, faces by size, edges, boundary loops\n"
     "(count and lengths), components, Euler characteristic, genus, every defect class (non-manifold\n"
     "edges and vertices, orientation conflicts, degenerate, duplicate and repeated-vertex faces,\n"
     "unreferenced vertices) with the first offending elements, self-intersections (pairs of faces\n"
     "that cross without sharing a vertex), bounding box, edge lengths, angles and the Gauss-Bonnet\n"
-    "check (sum of angle deficits against 2 pi chi).\n"
-    "\n"
-    "  --json   machine-readable report on stdout\n"
-    "  -q       no progress output\n";
+    "check (sum of angle deficits against 2 pi chi).\n";
+
+static const char examples[] =
+    "  surfkit info data/nefertiti.off\n"
+    "  surfkit info data/sphere.off --json\n";
 
 typedef struct defect_row {
     const char *key;
@@ -226,26 +225,17 @@ static void print_json(const char *path, sk_format fmt, const sk_validation *r, 
 
 int cmd_info(int argc, char **argv)
 {
-    const char *path = NULL;
-    bool as_json = false;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--json")) {
-            as_json = true;
-        } else if (!strcmp(argv[i], "-q")) {
-            /* nothing long-running to silence here */
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return cli_usage("info", "unknown option '%s'", argv[i]);
-        } else if (path) {
-            return cli_usage("info", "more than one input file");
-        } else {
-            path = argv[i];
-        }
-    }
-    if (!path)
-        return cli_usage("info", "no input file");
+    bool as_json = false, quiet = false;
+    const cli_opt opts[] = {
+        OPT_FLAG("--json", as_json, "machine-readable report on stdout"),
+        OPT_FLAG("-q", quiet, "no progress output (info has none)"),
+    };
+    const cli_spec spec = {"info", "FILE", about, opts, CLI_COUNT(opts), 1, 1, examples, NULL};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
+    const char *path = args.inputs[0];
 
     sk_error err = {0};
     sk_soup *soup = NULL;

@@ -1,19 +1,12 @@
 /* surfkit param: parametrization of a disk (linear methods, or hierarchical / flat MIPS), metrics,
  * pictures. */
-#include "cli.h"
+#include "cmd_param.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit param IN -o OUT [--method tutte|floater|mvc|harmonic|lscm|mips]\n"
-    "                     [--boundary circle|square|free] [--spacing chord|uniform]\n"
-    "                     [--solver direct|hierarchical]\n"
-    "                     [--hierarchical | --flat] [--steps N] [--seed S]\n"
-    "                     [--png LAYOUT.png] [--svg LAYOUT.svg] [--checker VIEW.png]\n"
-    "                     [--view X,Y,Z] [--report REPORT.json] [--json] [--ascii]\n"
-    "                     [--no-normalize] [-q]\n"
-    "\n"
+static const char about[] =
+    "Quads and larger polygons are triangulated on the way in (--keep-polygons refuses them).\n"
     "Maps a triangulated disk (one boundary loop, Euler characteristic 1) to the plane.\n"
     "Fixed boundary (circle by default, or the unit square with corners at quarter arc length;\n"
     "boundary spacing by chord length by default): tutte (uniform weights), floater\n"
@@ -42,16 +35,20 @@ static const char help[] =
     "Flipped triangles (harmonic and lscm can flip; the others never do): OUT and the pictures\n"
     "are still written, a warning saying how many goes to stderr, the summary and the report\n"
     "have 'flipped', and the exit code is 0. Exit codes: 0 done, 1 bad input (not a disk),\n"
-    "2 usage error, 3 internal failure.\n"
-    "\n"
-    "examples:\n"
-    "  surfkit param face.off -o face.obj --png layout.png\n"
-    "  surfkit param face.off -o face.ply --method mips --report metrics.json\n"
-    "  surfkit param face.off -o face.obj --method mips --flat --steps 100000\n";
+    "2 usage error, 3 internal failure.\n";
+
+static const char examples[] =
+    "  surfkit param data/nefertiti.off -o uv.obj --png layout.png\n"
+    "  surfkit param data/nefertiti.off -o uv.ply --method mips --report "
+    "metrics.json\n"
+    "  surfkit param data/nefertiti.off -o uv.obj --method mips --flat "
+    "--steps 100000\n"
+    "  surfkit param data/sphere.off -o atlas.obj --png atlas.png\n";
 
 /* What a run did, for the report. */
 typedef struct run_info {
     const char *in;
+    sk_triangulate_stats tri;
     sk_parametrize_stats ps;
     sk_param_metrics pm;
 } run_info;
@@ -64,6 +61,7 @@ static void write_json(FILE *fp, const void *ctx)
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", r->in);
+    json_triangulated(&j, &r->tri);
     json_kstr(&j, "method", r->ps.name);
     json_kstr(&j, "boundary", sk_boundary_shape_name(r->ps.boundary));
     json_kuint(&j, "faces", pm->faces);
@@ -81,7 +79,7 @@ static void write_json(FILE *fp, const void *ctx)
         const sk_param_stats *ps = &r->ps.linear;
         json_kuint(&j, "vertices", ps->vertices);
         json_kuint(&j, "interior", ps->interior);
-        json_key(&j, "timing");
+        json_key(&j, "stage_seconds");
         json_obj_open(&j);
         json_knum(&j, "check", ps->check_seconds);
         json_knum(&j, "boundary", ps->boundary_seconds);
@@ -127,100 +125,123 @@ static void write_json(FILE *fp, const void *ctx)
     json_end(&j);
 }
 
-/* argv -> options; returns EXIT_OK to run, or the exit code (help printed, usage error). */
-typedef struct param_args {
-    const char *in, *out, *png, *svg, *checker, *report;
-    bool quiet, json, hier_flag, solver_flag;
-    sk_parametrize_opts po;
-    sk_param_opts linear; /* --solver: the linear methods' fine tuning (po.linear) */
-    sk_write_opts wo;
-    sk_render_opts ro;
-} param_args;
+static const char atlas_about[] =
+    "\n"
+    "Atlas (any manifold triangle mesh: closed, with holes or handles, several components; used\n"
+    "when the input is not one disk, or with --atlas or any of --max-distortion, --max-stretch,\n"
+    "--resolution, --padding, --split-seams; --method mips only):\n"
+    "  charts that are topological disks (components; holes and handles cut along where a grown\n"
+    "  disk meets itself; closed pieces and charts above the distortion bounds bisected), each\n"
+    "  parametrized by hierarchical MIPS with a free boundary, checked for flips and overlaps\n"
+    "  (a chart that overlaps itself is split), packed into [0,1]^2 with one scale.\n"
+    "  --png/--svg draw the atlas coloured by conformal distortion, chart borders in black;\n"
+    "  --checker the checkerboard on the 3D mesh; --report adds charts, seams, overlaps,\n"
+    "  utilization and seconds per stage.\n";
 
+static const sk_param_method methods[] = {SK_PARAM_TUTTE,    SK_PARAM_FLOATER, SK_PARAM_MEAN_VALUE,
+                                          SK_PARAM_HARMONIC, SK_PARAM_LSCM,    SK_PARAM_MIPS};
+static const sk_linear_solver solvers[] = {SK_LINEAR_DIRECT, SK_LINEAR_HIERARCHICAL};
+static const sk_boundary_shape boundaries[] = {SK_BOUNDARY_CIRCLE, SK_BOUNDARY_SQUARE,
+                                               SK_BOUNDARY_FREE};
+
+/* The option table of param; the choices land in the indices, mapped by the caller. */
+static int parse_table(int argc, char **argv, param_args *a, unsigned *method, unsigned *boundary,
+                       unsigned *solver, cli_args *args)
+{
+    bool hierarchical = false;
+    const cli_opt opts[] = {
+        OPT_OUTPUT(a->out, "OUT", ".obj (v + vt) or .ply (s t)"),
+        OPT_CHOICE("--method", *method, "tutte|floater|mvc|harmonic|lscm|mips",
+                   "the parametrization (default floater; mips for the atlas)"),
+        OPT_CHOICE("--boundary", *boundary, "circle|square|free",
+                   "fixed on the circle (default) or the unit square, or free"),
+        OPT_CHOICE("--spacing", a->po.boundary.spacing, "chord|uniform",
+                   "fixed boundary vertices by chord length (default) or equal steps"),
+        OPT_CHOICE("--solver", *solver, "direct|hierarchical",
+                   "linear methods: sparse Cholesky / LU (default) or multilevel"),
+        OPT_FLAG("--hierarchical", hierarchical, "mips: over the progressive mesh (default)"),
+        OPT_FLAG("--flat", a->po.flat, "mips: the conventional method on the full mesh"),
+        OPT_INT("--steps", a->po.max_steps, 1, 0, "N", "mips: budget of local steps"),
+        OPT_INT("--seed", a->po.seed, 0, 0, "S", "mips and atlas: random order (default 1)"),
+        OPT_FILE("--png", a->png, "LAYOUT.png", "uv layout coloured by conformal distortion"),
+        OPT_FILE("--svg", a->svg, "LAYOUT.svg", "the same as SVG"),
+        OPT_FILE("--checker", a->checker, "VIEW.png", "the 3D mesh with a checkerboard texture"),
+        OPT_VEC3("--view", a->ro.view, "viewing direction of --checker (default 0,0,-1)"),
+        OPT_FILE("--report", a->report, "REPORT.json", "the metrics as JSON"),
+        OPT_FLAG("--json", a->json, "print the metrics as JSON instead of the summary"),
+        OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
+        OPT_FLAG("--ascii", a->wo.ascii, "PLY as text (default binary)"),
+        OPT_FLAG("--no-normalize", a->po.raw, "keep each method's own uv scale"),
+        OPT_FLAG("--atlas", a->atlas, "an atlas even for a disk"),
+        OPT_DOUBLE("--max-distortion", a->ao.max_distortion, 1, 0, CLI_LO_OPEN, "D",
+                   "atlas: per chart, area-weighted mean sigma1/sigma2 (default 1.25)"),
+        OPT_DOUBLE("--max-stretch", a->ao.max_stretch, 1, 0, CLI_LO_OPEN, "S",
+                   "atlas: per chart, exp of the area-weighted mean |log area scale / chart's\n"
+                   "mean| (default 1.25)"),
+        OPT_INT("--resolution", a->ao.resolution, 16, 1u << 20, "R",
+                "atlas: texels across, for --padding (default 1024)"),
+        OPT_DOUBLE("--padding", a->ao.padding, 0, 64, 0, "P",
+                   "atlas: gutter of P texels between charts (default 2)"),
+        OPT_FLAG("--split-seams", a->split_seams,
+                 "atlas: one vertex per uv (per-vertex s t: what Blender's PLY reader\n"
+                 "takes); default: per-corner uvs (OBJ f v/vt with vt shared inside a\n"
+                 "chart; PLY face list texcoord, MeshLab's convention)"),
+        OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
+    };
+    const cli_spec spec = {"param", "IN -o OUT", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, atlas_about};
+    return cli_parse(&spec, argc, argv, args);
+}
+
+/* argv -> options; EXIT_OK to run, CLI_HELP, or the usage error's exit code. */
 static int parse_args(int argc, char **argv, param_args *a)
 {
-    const char *val;
-    unsigned long steps = 0, seed = 0;
-    const cli_path_opt paths[] = {{"-o", &a->out}, {"--png", &a->png}, {"--svg", &a->svg},
-                                  {"--checker", &a->checker}, {"--report", &a->report}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *s = argv[i];
-        if (!strcmp(s, "--help") || !strcmp(s, "-h")) {
-            fputs(help, stdout);
-            fputs(cli_param_atlas_help, stdout);
-            return -1;
-        } else if (!strcmp(s, "-q")) {
-            a->quiet = true;
-        } else if (!strcmp(s, "--json")) {
-            a->json = true;
-        } else if (!strcmp(s, "--ascii")) {
-            a->wo.ascii = true;
-        } else if (!strcmp(s, "--no-normalize")) {
-            a->po.raw = true;
-        } else if (!strcmp(s, "--flat")) {
-            a->po.flat = true;
-        } else if (!strcmp(s, "--hierarchical")) {
-            a->hier_flag = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "param", paths, 5)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--method", &val)) {
-            if (!sk_param_method_parse(val, &a->po.method))
-                return cli_usage("param", "--method takes tutte, floater, mvc, harmonic, lscm or "
-                                          "mips");
-        } else if (cli_opt_value(argc, argv, &i, "--boundary", &val)) {
-            if (!sk_boundary_shape_parse(val, &a->po.boundary.shape) ||
-                a->po.boundary.shape == SK_BOUNDARY_GIVEN)
-                return cli_usage("param", "--boundary takes circle, square or free");
-        } else if (cli_opt_value(argc, argv, &i, "--solver", &val)) {
-            if (val && !strcmp(val, "direct"))
-                a->linear.solver = SK_LINEAR_DIRECT;
-            else if (val && !strcmp(val, "hierarchical"))
-                a->linear.solver = SK_LINEAR_HIERARCHICAL;
-            else
-                return cli_usage("param", "--solver takes direct or hierarchical");
-            a->solver_flag = true;
-            a->po.linear = &a->linear;
-        } else if (cli_opt_value(argc, argv, &i, "--spacing", &val)) {
-            if (val && !strcmp(val, "chord"))
-                a->po.boundary.spacing = SK_SPACING_CHORD;
-            else if (val && !strcmp(val, "uniform"))
-                a->po.boundary.spacing = SK_SPACING_UNIFORM;
-            else
-                return cli_usage("param", "--spacing takes chord or uniform");
-        } else if (cli_opt_value(argc, argv, &i, "--steps", &val)) {
-            if (!cli_parse_uint(val, &steps) || steps == 0)
-                return cli_usage("param", "--steps takes a positive whole number");
-            a->po.max_steps = steps;
-        } else if (cli_opt_value(argc, argv, &i, "--seed", &val)) {
-            if (!cli_parse_uint(val, &seed))
-                return cli_usage("param", "--seed takes a whole number");
-            a->po.seed = seed;
-        } else if (cli_opt_value(argc, argv, &i, "--view", &val)) {
-            if (!cli_parse_vec3(val, a->ro.view))
-                return cli_usage("param", "--view takes three numbers X,Y,Z");
-        } else if (s[0] == '-' && s[1]) {
-            return cli_usage("param", "unknown option '%s'", s);
-        } else if (!a->in) {
-            a->in = s;
-        } else {
-            return cli_usage("param", "more than one input file");
-        }
+    unsigned method = 0, boundary = 0, solver = 0;
+    cli_args args;
+    int rc = parse_table(argc, argv, a, &method, &boundary, &solver, &args);
+    if (rc)
+        return rc;
+    bool given_method = cli_given(&args, "--method");
+    if (given_method)
+        a->po.method = methods[method];
+    if (cli_given(&args, "--boundary"))
+        a->po.boundary.shape = boundaries[boundary];
+    if (cli_given(&args, "--solver")) {
+        a->linear.solver = solvers[solver];
+        a->po.linear = &a->linear;
     }
-    if (!a->in || !a->out)
-        return cli_usage("param", "needs an input file and -o OUT");
+    if (cli_given(&args, "--padding") && !(a->ao.padding > 0))
+        a->ao.padding = -1; /* 0 means the default in sk_atlas_opts */
+    a->ao.seed = cli_given(&args, "--seed") ? a->po.seed : 1;
+    a->in = cli_input(&args, 0);
     sk_format ofmt = sk_format_from_path(a->out);
     if (ofmt == SK_FORMAT_UNKNOWN)
         return cli_usage("param", "cannot tell the output format of '%s'", a->out);
     if (ofmt != SK_FORMAT_OBJ && ofmt != SK_FORMAT_PLY)
         return cli_usage("param", "%s cannot hold texture coordinates ('%s'): write .obj or .ply",
                          sk_format_name(ofmt), a->out);
-    if (a->po.flat && a->hier_flag)
+    /* the atlas: asked for by its options, else taken when the input is not one disk */
+    static const char *const atlas_only[] = {"--max-distortion", "--max-stretch",
+                                             "--resolution", "--padding", "--split-seams"};
+    for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
+        a->atlas |= cli_given(&args, atlas_only[k]);
+    static const char *const disk_only[] = {"--flat", "--hierarchical", "--boundary",
+                                            "--spacing", "--steps", "--solver"};
+    bool disk = given_method && a->po.method != SK_PARAM_MIPS;
+    for (size_t k = 0; k < sizeof disk_only / sizeof disk_only[0]; ++k)
+        disk |= cli_given(&args, disk_only[k]);
+    if (a->atlas && disk)
+        return cli_usage("param", "the atlas uses hierarchical MIPS with free boundaries: drop "
+                                  "--method, --boundary, --spacing, --steps, --solver, --flat");
+    a->atlas_possible = !disk;
+    if (a->atlas)
+        return EXIT_OK;
+    bool hier = cli_given(&args, "--hierarchical");
+    if (a->po.flat && hier)
         return cli_usage("param", "--flat and --hierarchical exclude each other");
-    if (a->hier_flag && a->po.method != SK_PARAM_MIPS)
+    if (hier && a->po.method != SK_PARAM_MIPS)
         return cli_usage("param", "--hierarchical goes with --method mips");
-    if (a->solver_flag && a->po.method == SK_PARAM_MIPS)
+    if (a->po.linear && a->po.method == SK_PARAM_MIPS)
         return cli_usage("param", "--solver goes with the linear methods");
     sk_error err;
     if (sk_parametrize_check(&a->po, &err))
@@ -228,73 +249,113 @@ static int parse_args(int argc, char **argv, param_args *a)
     return EXIT_OK;
 }
 
-int cmd_param(int argc, char **argv)
+sk_status param_pictures(const param_args *a, const sk_mesh *mesh, const double *uv,
+                         const char *title, unsigned checks, sk_error *err)
 {
-    bool atlas = false; /* not one disk, or --atlas: charts + packing (cmd_param_atlas.c) */
-    int atlas_rc = cmd_param_atlas(argc, argv, &atlas);
-    if (atlas)
-        return atlas_rc;
-    param_args a;
-    memset(&a, 0, sizeof a);
-    int rc = parse_args(argc, argv, &a);
-    if (rc)
-        return rc < 0 ? EXIT_OK : rc;
+    sk_render_opts ro = a->ro;
+    ro.title = title;
+    sk_status st = SK_OK;
+    if (st == SK_OK && a->png)
+        st = sk_render_uv(mesh, uv, a->png, &ro, err);
+    if (st == SK_OK && a->svg)
+        st = sk_render_uv(mesh, uv, a->svg, &ro, err);
+    if (checks)
+        ro.checks = checks;
+    if (st == SK_OK && a->checker)
+        st = sk_render_checker(mesh, uv, a->checker, &ro, err);
+    return st;
+}
+
+int param_finish(const param_args *a, sk_status st, const sk_error *err,
+                 void (*json)(FILE *, const void *), void (*summary)(const void *),
+                 const void *ctx)
+{
+    int rc = st ? cli_fail(st, err) : EXIT_OK;
+    if (rc == EXIT_OK && a->report)
+        rc = cli_write_file(a->report, json, ctx);
+    if (rc == EXIT_OK) {
+        if (a->json)
+            json(stdout, ctx);
+        else if (!a->quiet)
+            summary(ctx);
+    }
+    return rc;
+}
+
+static void print_summary(const void *ctx)
+{
+    const run_info *r = ctx;
+    printf("%s: %zu faces, %s, %s boundary, flipped %zu, MIPS sum %.6f (mean %.6f), "
+           "conformal %.4f, area log %.4f, boundary self-intersections %zu, %.3f s\n",
+           r->in, r->pm.faces, r->ps.name, sk_boundary_shape_name(r->ps.boundary), r->pm.flipped,
+           r->pm.mips_sum, r->pm.mips_mean, r->pm.conformal_mean, r->pm.area_log_mean,
+           r->pm.boundary_self_intersections, r->ps.seconds);
+}
+
+/* The disk path: one sk_parametrize call, metrics, output, pictures. */
+static int run_disk(param_args *a, sk_mesh *mesh)
+{
     cli_progress bar;
-    cli_progress_init(&bar, "param", a.quiet);
-    a.po.progress = cli_progress_cb;
-    a.po.progress_user = &bar;
+    cli_progress_init(&bar, "param", a->quiet);
+    a->po.progress = cli_progress_cb;
+    a->po.progress_user = &bar;
     sk_error err = {0};
-    sk_mesh *mesh = NULL;
-    double *uv = NULL;
     run_info r;
     memset(&r, 0, sizeof r);
-    r.in = a.in;
-    sk_status st = sk_mesh_read(a.in, NULL, &mesh, &err);
-    if (st == SK_OK) {
-        uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
-        if (!uv)
-            st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
-    }
+    r.in = a->in;
+    r.tri = a->tri;
+    sk_status st = SK_OK;
+    double *uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
+    if (!uv)
+        st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
     if (st == SK_OK)
-        st = sk_parametrize(mesh, &a.po, uv, &r.ps, &err);
+        st = sk_parametrize(mesh, &a->po, uv, &r.ps, &err);
     cli_progress_done(&bar);
+    cli_name_input(a->in, st, &err);
     if (st == SK_WARN_FLIPS) { /* the result is complete: write it and say so */
-        fprintf(stderr, "surfkit param: warning: %s: %s\n", a.in, err.message);
+        fprintf(stderr, "surfkit param: warning: %s: %s\n", a->in, err.message);
         st = SK_OK;
     }
     if (st == SK_OK)
         st = sk_param_metrics_compute(mesh, uv, &r.pm, &err);
     if (st == SK_OK && !(st = sk_mesh_add_uvs(mesh, &err))) {
         memcpy(mesh->uvs, uv, 2 * mesh->num_vertices * sizeof *uv);
-        st = sk_mesh_write(a.out, mesh, &a.wo, &err);
+        st = sk_mesh_write(a->out, mesh, &a->wo, &err);
     }
-    const char *boundary = sk_boundary_shape_name(r.ps.boundary);
     char title[256];
-    if (st == SK_OK)
-        snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", a.in,
-                 r.ps.name, boundary, r.pm.mips_mean, r.pm.flipped);
-    a.ro.title = title;
-    if (st == SK_OK && a.png)
-        st = sk_render_uv(mesh, uv, a.png, &a.ro, &err);
-    if (st == SK_OK && a.svg)
-        st = sk_render_uv(mesh, uv, a.svg, &a.ro, &err);
-    if (st == SK_OK && a.checker)
-        st = sk_render_checker(mesh, uv, a.checker, &a.ro, &err);
-    rc = st ? cli_fail(st, &err) : EXIT_OK;
-    if (rc == EXIT_OK && a.report)
-        rc = cli_write_file(a.report, write_json, &r);
-    if (rc == EXIT_OK) {
-        if (a.json)
-            write_json(stdout, &r);
-        else if (!a.quiet)
-            printf("%s: %zu faces, %s, %s boundary, flipped %zu, MIPS sum %.6f (mean %.6f), "
-                   "conformal %.4f, area log %.4f, boundary self-intersections %zu, %.3f s\n",
-                   a.in, r.pm.faces, r.ps.name, boundary, r.pm.flipped, r.pm.mips_sum,
-                   r.pm.mips_mean, r.pm.conformal_mean, r.pm.area_log_mean,
-                   r.pm.boundary_self_intersections, r.ps.seconds);
+    if (st == SK_OK) {
+        snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", a->in,
+                 r.ps.name, sk_boundary_shape_name(r.ps.boundary), r.pm.mips_mean, r.pm.flipped);
+        st = param_pictures(a, mesh, uv, title, 0, &err);
     }
+    int rc = param_finish(a, st, &err, write_json, print_summary, &r);
     sk_parametrize_stats_release(&r.ps);
     free(uv);
+    return rc;
+}
+
+int cmd_param(int argc, char **argv)
+{
+    param_args a;
+    memset(&a, 0, sizeof a);
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
+    sk_error err = {0};
+    sk_mesh *mesh = NULL;
+    double t0 = sk_seconds();
+    sk_status st = cli_read_triangles(a.in, a.keep_polygons, &mesh, &a.tri, &err);
+    if (st)
+        return cli_fail(st, &err);
+    double t_read = sk_seconds() - t0;
+    if (!a.quiet && !a.json)
+        cli_print_triangulated(a.in, &a.tri);
+    /* not one disk (and no option only the disk methods have): the atlas */
+    if (!a.atlas && a.atlas_possible) {
+        sk_error derr;
+        a.atlas = sk_param_check_disk(mesh, &derr) != SK_OK;
+    }
+    rc = a.atlas ? param_run_atlas(&a, mesh, t_read) : run_disk(&a, mesh);
     sk_mesh_destroy(&mesh);
     return rc;
 }

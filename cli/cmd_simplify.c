@@ -10,27 +10,24 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static const char help[] =
-    "usage: surfkit simplify IN -o OUT [--levels K | --faces N] [--seed S] [--max-angle DEG]\n"
-    "                        [--all-levels DIR] [--report report.json] [-q]\n"
-    "\n"
+static const char about[] =
     "Builds the progressive-mesh hierarchy of a triangle mesh by half-edge collapses in random\n"
     "independent sets (about 25% fewer triangles per level) and writes the coarsest level M^0 to OUT.\n"
     "Collapses keep the Euler characteristic, the boundary loops and manifoldness; no face normal\n"
     "turns by more than --max-angle (default 90 degrees).\n"
-    "\n"
-    "  --levels K        stop when the hierarchy has K levels, the input included\n"
-    "  --faces N         stop once a level has at most N faces\n"
-    "                    (without either: until a level removes less than 3% of the faces)\n"
-    "  --seed S          random order of the vertices (default 1); the same seed gives the same result\n"
-    "  --all-levels DIR  also write every level as DIR/level_<i>.<ext of OUT>, i = 0 the coarsest,\n"
-    "                    rebuilt from the coarsest level by the stored vertex splits\n"
-    "  --report FILE     JSON: {\"levels\": [{vertices, faces, seconds}, ...]} from the finest\n"
-    "                    (the input) to the coarsest, and the totals\n"
-    "  -q                no progress bar, no summary line\n";
+    "Without --levels or --faces the target is half the input's faces (two or three levels);\n"
+    "--faces 1 builds the whole hierarchy (until a level removes less than 3% of the faces).\n"
+    "Quads and larger polygons are triangulated first (--keep-polygons refuses them).\n";
+
+static const char examples[] =
+    "  surfkit simplify data/nefertiti.off -o coarse.off\n"
+    "  surfkit simplify data/sphere.off -o coarse.ply --faces 100 --seed 7\n"
+    "  surfkit simplify data/nefertiti.off -o c.obj --all-levels levels "
+    "--report levels.json\n";
 
 typedef struct report_ctx {
     const char *in;
+    const sk_triangulate_stats *tri;
     const sk_hierarchy *h;
     unsigned long seed;
     double total;
@@ -43,6 +40,7 @@ static void report_json(FILE *fp, const void *user)
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", c->in);
+    json_triangulated(&j, c->tri);
     json_kuint(&j, "seed", c->seed);
     size_t L = sk_hierarchy_num_levels(c->h);
     json_kuint(&j, "num_levels", L);
@@ -64,10 +62,10 @@ static void report_json(FILE *fp, const void *user)
 }
 
 /* through the one atomic writer (this had its own, with a temporary name shared by every process) */
-static int write_report(const char *path, const char *in, const sk_hierarchy *h, unsigned long seed,
-                        double total)
+static int write_report(const char *path, const char *in, const sk_triangulate_stats *tri,
+                        const sk_hierarchy *h, unsigned long seed, double total)
 {
-    report_ctx c = {in, h, seed, total};
+    report_ctx c = {in, tri, h, seed, total};
     return cli_write_file(path, report_json, &c);
 }
 
@@ -102,55 +100,53 @@ static int write_all_levels(const char *dir, const char *out, const sk_hierarchy
     return st ? cli_fail(st, &err) : EXIT_OK;
 }
 
+/* target: the default target (half the faces) when it was used, else 0 */
+static void print_summary(const char *in, const sk_hierarchy *h, double total, size_t target)
+{
+    size_t L = sk_hierarchy_num_levels(h);
+    sk_level_info fine = sk_hierarchy_level_info(h, L - 1), coarse = sk_hierarchy_level_info(h, 0);
+    printf("%s: %zu levels, %zu -> %zu faces (%zu -> %zu vertices) in %.3f s", in, L, fine.faces,
+           coarse.faces, fine.vertices, coarse.vertices, total);
+    if (target)
+        printf(" (default target: half the faces, %zu; --faces N or --levels K to choose)", target);
+    printf("\n");
+}
+
 int cmd_simplify(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL, *val, *all_dir = NULL, *report = NULL;
+    const char *out = NULL, *all_dir = NULL, *report = NULL;
     sk_hierarchy_opts ho = {0};
     sk_write_opts wo = {0};
-    bool quiet = false, have_levels = false, have_faces = false;
+    bool quiet = false, keep_polygons = false;
     unsigned long seed = 1;
-    const cli_path_opt paths[] = {{"-o", &out}, {"--all-levels", &all_dir}, {"--report", &report}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        unsigned long n;
-        double d;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "simplify", paths, 3)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--levels", &val)) {
-            if (!cli_parse_uint(val, &n) || n < 1 || n > 1000)
-                return cli_usage("simplify", "--levels takes a whole number from 1 to 1000");
-            ho.max_levels = (unsigned)n;
-            have_levels = true;
-        } else if (cli_opt_value(argc, argv, &i, "--faces", &val)) {
-            if (!cli_parse_uint(val, &n) || n < 1)
-                return cli_usage("simplify", "--faces takes a positive whole number");
-            ho.target_faces = n;
-            have_faces = true;
-        } else if (cli_opt_value(argc, argv, &i, "--seed", &val)) {
-            if (!cli_parse_uint(val, &n))
-                return cli_usage("simplify", "--seed takes a whole number");
-            seed = n;
-        } else if (cli_opt_value(argc, argv, &i, "--max-angle", &val)) {
-            if (!cli_parse_double(val, &d) || !(d > 0.0 && d <= 180.0))
-                return cli_usage("simplify", "--max-angle takes degrees in (0, 180]");
-            ho.collapse.max_normal_deviation_deg = d;
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("simplify", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else {
-            return cli_usage("simplify", "more than one input file");
-        }
-    }
-    if (!in || !out)
-        return cli_usage("simplify", "needs an input file and -o OUT");
+    const cli_opt opts[] = {
+        OPT_OUTPUT(out, "OUT", "the coarsest level (OFF, OBJ, PLY, STL)"),
+        OPT_INT("--levels", ho.max_levels, 1, 1000, "K",
+                "stop when the hierarchy has K levels, the input included"),
+        OPT_INT("--faces", ho.target_faces, 1, 0, "N", "stop once a level has at most N faces\n"
+                "(without either: half the input's faces)"),
+        OPT_INT("--seed", seed, 0, 0, "S",
+                "random order of the vertices (default 1); the same seed gives the same result"),
+        OPT_DOUBLE("--max-angle", ho.collapse.max_normal_deviation_deg, 0, 180, CLI_LO_OPEN, "DEG",
+                   "largest turn of a face normal by a collapse (default 90)"),
+        OPT_FILE("--all-levels", all_dir, "DIR",
+                 "also write every level as DIR/level_<i>.<ext of OUT>, i = 0 the coarsest,\n"
+                 "rebuilt from the coarsest level by the stored vertex splits"),
+        OPT_FILE("--report", report, "FILE",
+                 "JSON: {\"levels\": [{vertices, faces, seconds}, ...]} from the finest\n"
+                 "(the input) to the coarsest, and the totals"),
+        OPT_FLAG("--keep-polygons", keep_polygons, "refuse quads and polygons (default: split)"),
+        OPT_FLAG("--ascii", wo.ascii, "PLY and STL as text (default binary)"),
+        OPT_FLAG("-q", quiet, "no progress bar, no summary line"),
+    };
+    const cli_spec spec = {"simplify", "IN -o OUT", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, NULL};
+    cli_args args;
+    int prc = cli_parse(&spec, argc, argv, &args);
+    if (prc)
+        return prc == CLI_HELP ? EXIT_OK : prc;
+    const char *in = cli_input(&args, 0);
+    bool have_levels = cli_given(&args, "--levels"), have_faces = cli_given(&args, "--faces");
     if (have_levels && have_faces)
         return cli_usage("simplify", "--levels and --faces exclude each other");
     if (sk_format_from_path(out) == SK_FORMAT_UNKNOWN)
@@ -160,15 +156,20 @@ int cmd_simplify(int argc, char **argv)
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     sk_hierarchy *h = NULL;
-    sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
+    sk_triangulate_stats tri;
+    sk_status st = cli_read_triangles(in, keep_polygons, &mesh, &tri, &err);
     if (st)
         return cli_fail(st, &err);
+    bool half = !have_levels && !have_faces; /* the default: half the faces */
+    if (half)
+        ho.target_faces = (mesh->num_faces + 1) / 2;
     cli_progress bar;
     cli_progress_init(&bar, "simplify", quiet);
     ho.progress = cli_progress_cb;
     ho.progress_user = &bar;
     st = sk_hierarchy_build(mesh, &ho, &h, &err);
     cli_progress_done(&bar);
+    cli_name_input(in, st, &err);
     if (st) {
         sk_mesh_destroy(&mesh);
         return cli_fail(st, &err);
@@ -184,12 +185,11 @@ int cmd_simplify(int argc, char **argv)
     if (rc == EXIT_OK && all_dir)
         rc = write_all_levels(all_dir, out, h, &wo);
     if (rc == EXIT_OK && report)
-        rc = write_report(report, in, h, seed, total);
-    if (rc == EXIT_OK && !quiet)
-        printf("%s: %zu levels, %zu -> %zu faces (%zu -> %zu vertices) in %.3f s\n", in, L,
-               sk_hierarchy_level_info(h, L - 1).faces, sk_hierarchy_level_info(h, 0).faces,
-               sk_hierarchy_level_info(h, L - 1).vertices, sk_hierarchy_level_info(h, 0).vertices,
-               total);
+        rc = write_report(report, in, &tri, h, seed, total);
+    if (rc == EXIT_OK && !quiet) {
+        cli_print_triangulated(in, &tri);
+        print_summary(in, h, total, half ? ho.target_faces : 0);
+    }
     sk_hierarchy_destroy(&h);
     sk_mesh_destroy(&mesh);
     return rc;

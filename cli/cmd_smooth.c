@@ -7,16 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit smooth IN -o OUT.obj|OUT.ply|OUT.igs|OUT.step [--tess N] [--patches OUT.json]\n"
-    "                      [--layout layout.png] [--render shaded.png] [--report report.json]\n"
-    "                      [--zebra zebra.png] [--patch-map map.png]\n"
-    "                      [--json] [--normals angle|area|mean|quadric] [--estimate-normals]\n"
-    "                      [--scheme vc1|pn] [--allow-split] [--obj-freeform] [--units U]\n"
-    "                      [--iges-triangles split|degenerate] [--allow-fail] [-q]\n"
-    "                      [--keep-triangulation]\n"
-    "\n"
-    "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN.\n"
+static const char about[] =
+    "Builds a smooth surface that interpolates every vertex and normal of the triangle mesh IN\n"
+    "(quads and larger polygons are triangulated first; --keep-polygons refuses them).\n"
     "vc1 (default): Cottin & van Damme's construction: edge deletion makes a mesh of triangles\n"
     "and quads in which every interior vertex is odd, then quartic triangles and bicubic quads\n"
     "join with tangent-plane continuity across every edge, without splitting faces.\n"
@@ -26,58 +19,42 @@ static const char help[] =
     "--normals (default angle); --estimate-normals ignores the file's normals.\n"
     "A closed mesh with an odd number of vertices has no edge deletion (every vertex odd is\n"
     "impossible by Euler's formula): it is refused unless --allow-split, which splits its\n"
-    "longest edge at the midpoint of its wire frame curve.\n"
-    "vc1 first flips edges (same vertices) to remove slivers and near-folds where the shape is\n"
-    "kept (the new edge bends under 10 degrees); --keep-triangulation keeps the input's.\n"
-    "\n"
-    "  -o OUT          by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
-    "                  .igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
-    "                  and vertices, a solid (186) when the surface is closed, else a shell;\n"
-    "                  .step/.stp STEP AP214, faces sharing edges and vertices, a solid\n"
-    "                  (MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
-    "                  .obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
-    "                  B-spline with clamped knots (cstype bspline).\n"
-    "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
-    "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
-    "                  collapsed side instead (IGES only, loose faces in one group)\n"
-    "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
-    "  --tess N        grid of N x N per patch (default 4)\n"
-    "  --crease-angle A  sharp edges (dihedral angle >= A degrees, default 40) are detected and\n"
-    "                  counted (crease_edges in the report); the surface stays G1 across them\n"
-    "  --patches F     control nets as JSON\n"
-    "  --layout F      picture of the triangle/quad configuration, deleted edges in red,\n"
-    "                  problem vertices in orange\n"
-    "  --render F      picture of the surface shaded with its exact normals (per pixel)\n"
-    "  --zebra F       zebra stripes (reflection lines): a kink in the stripes is a kink in\n"
-    "                  the surface\n"
-    "  --patch-map F   the patches, those with overshoot > 0.5 (orange) or a singular point\n"
-    "                  (magenta) highlighted\n"
-    "  --report F      continuity report as JSON (--json prints it on stdout): gaps and normal\n"
-    "                  jumps across patch boundaries, vertex and normal errors, singular patches\n"
-    "                  (the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
-    "                  patches (the normal-cone test cannot prove them regular; most are),\n"
-    "                  self-intersecting patch pairs (patches sharing no corner that cross each\n"
-    "                  other: what CAD checkers flag), shape: max_overshoot (distance from the\n"
-    "                  flat face / its longest edge; a spike is > 1) and fairness (angle between\n"
-    "                  the patch normal and the interpolated vertex normals), worst patch ids,\n"
-    "                  pass/fail against 0.5 deg and 0.005\n"
-    "  --allow-fail    write the surface even when the vc1 continuity report fails\n"
+    "longest edge at the midpoint of its wire frame curve.\n";
+
+static const char examples[] =
+    "  surfkit smooth data/sphere.off -o sphere.step\n"
+    "  surfkit smooth data/sphere.off -o sphere.obj --tess 8 --report "
+    "sphere.json -q\n"
+    "  surfkit smooth data/sphere.off --scheme pn --json -q\n";
+
+static const char more[] =
     "\n"
     "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
     "0.5 degrees, a gap over 0.005, or a singular patch); the report (--report, --json) is\n"
     "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
     "0). pn is C0 by construction: its report is information only.\n";
 
+typedef struct report_ctx {
+    const char *in;
+    const sk_smooth *s;
+    const sk_continuity_report *r;
+    const char *normals_src;
+    sk_triangulate_stats tri;
+    double seconds, report_seconds;
+} report_ctx;
 
-static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_continuity_report *r,
-                         const char *normals_src, double seconds, double report_seconds)
+static void write_report(FILE *fp, const report_ctx *c)
 {
+    const char *in = c->in;
+    const sk_smooth *s = c->s;
+    const sk_continuity_report *r = c->r;
     cli_json j;
     json_begin(&j, fp);
     json_obj_open(&j);
     json_kstr(&j, "input", in);
     json_kstr(&j, "scheme", s->scheme == SK_SMOOTH_PN ? "pn" : "vc1");
-    json_kstr(&j, "normals", normals_src);
+    json_kstr(&j, "normals", c->normals_src);
+    json_triangulated(&j, &c->tri);
     size_t tri = 0, quad = 0;
     for (size_t p = 0; p < s->surface.count; ++p)
         s->surface.patches[p].kind == SK_PATCH_TENSOR ? ++quad : ++tri;
@@ -102,12 +79,6 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_knum(&j, "max_vertex_error", r->max_vertex_error);
     json_knum(&j, "max_normal_error_deg", r->max_normal_error_deg);
     json_kuint(&j, "singular_patches", r->singular_patches);
-    json_kuint(&j, "uncertified_patches", r->uncertified_patches);
-    json_key(&j, "singular_patch_examples");
-    json_arr_open(&j);
-    for (size_t i = 0; i < r->num_singular_examples; ++i)
-        json_uint(&j, r->singular_examples[i]);
-    json_arr_close(&j);
     json_knum(&j, "max_overshoot", r->max_overshoot);
     json_kuint(&j, "max_overshoot_patch", r->max_overshoot_patch);
     json_knum(&j, "mean_overshoot", r->mean_overshoot);
@@ -120,6 +91,12 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_knum(&j, "max_fairness_deg", r->max_fairness_deg);
     json_kuint(&j, "max_fairness_patch", r->max_fairness_patch);
     json_knum(&j, "mean_fairness_deg", r->mean_fairness_deg);
+    json_kuint(&j, "uncertified_patches", r->uncertified_patches);
+    json_key(&j, "singular_patch_examples");
+    json_arr_open(&j);
+    for (size_t i = 0; i < r->num_singular_examples; ++i)
+        json_uint(&j, r->singular_examples[i]);
+    json_arr_close(&j);
     if (r->intersecting_pairs != SIZE_MAX) {
         json_kuint(&j, "self_intersecting_pairs", r->intersecting_pairs);
         json_kuint(&j, "self_intersecting_patches", r->intersecting_patches);
@@ -156,9 +133,9 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_knum(&j, "vertex_systems", s->stats.seconds_systems);
     json_knum(&j, "patches", s->stats.seconds_patches);
     json_knum(&j, "repair", s->stats.seconds_repair);
-    json_knum(&j, "report", report_seconds);
+    json_knum(&j, "report", c->report_seconds);
     json_obj_close(&j);
-    json_knum(&j, "seconds", seconds);
+    json_knum(&j, "seconds", c->seconds);
     json_obj_close(&j);
     json_end(&j);
 }
@@ -184,14 +161,20 @@ static void patches_json(FILE *fp, const void *ctx)
                 pa->corner_ids[2]);
         if (quad)
             fprintf(fp, ", %u", pa->corner_ids[3]);
-        if (shape)
-            fprintf(fp, "], \"overshoot\": %.6g, \"fairness_deg\": %.6g, \"singular\": %s",
-                    shape[p].overshoot, shape[p].fairness_deg, shape[p].singular ? "true" : "false");
+        if (shape) {
+            char ov[32], fa[32];
+            sk_format_double(ov, shape[p].overshoot);
+            sk_format_double(fa, shape[p].fairness_deg);
+            fprintf(fp, "], \"overshoot\": %s, \"fairness_deg\": %s, \"singular\": %s", ov, fa,
+                    shape[p].singular ? "true" : "false");
+        }
         fprintf(fp, "%s\"points\": [", shape ? ", " : "], ");
         const double *cp = sk_patch_cp(set, p);
         for (size_t i = 0; i < sk_patch_num_points(pa); ++i) {
-            const double *x = cp + 3 * i;
-            fprintf(fp, "%s[%.17g, %.17g, %.17g]", i ? ", " : "", x[0], x[1], x[2]);
+            char x[3][32];
+            for (int k = 0; k < 3; ++k)
+                sk_format_double(x[k], cp[3 * i + k]);
+            fprintf(fp, "%s[%s, %s, %s]", i ? ", " : "", x[0], x[1], x[2]);
         }
         fprintf(fp, "]}%s\n", p + 1 < set->count ? "," : "");
     }
@@ -199,18 +182,11 @@ static void patches_json(FILE *fp, const void *ctx)
     free(shape);
 }
 
-typedef struct report_ctx {
-    const char *in;
-    const sk_smooth *s;
-    const sk_continuity_report *r;
-    const char *normals_src;
-    double seconds, report_seconds;
-} report_ctx;
 
 static void report_json(FILE *fp, const void *ctx)
 {
     const report_ctx *c = ctx;
-    write_report(fp, c->in, c->s, c->r, c->normals_src, c->seconds, c->report_seconds);
+    write_report(fp, c);
 }
 
 typedef enum { CAD_NONE, CAD_IGES, CAD_STEP, CAD_OBJ_FREEFORM } cad_kind;
@@ -249,117 +225,177 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
     return EXIT_OK;
 }
 
-int cmd_smooth(int argc, char **argv)
+static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
+
+/* argv -> options */
+typedef struct smooth_args {
+    const char *in, *out, *patches, *layout, *render, *zebra, *patch_map, *report;
+    unsigned tess;
+    bool quiet, json, freeform, allow_fail, keep_polygons;
+    cad_kind cad;
+    sk_smooth_opts so;
+    sk_export_opts eo;
+} smooth_args;
+
+/* EXIT_OK to run, CLI_HELP, or the usage error's exit code */
+static int parse_args(int argc, char **argv, smooth_args *a)
 {
-    const char *in = NULL, *out = NULL, *patches = NULL, *layout = NULL, *render = NULL,
-               *report = NULL, *zebra = NULL, *patch_map = NULL, *val;
-    unsigned long tess = 4;
-    bool quiet = false, json = false, freeform = false, allow_fail = false;
-    sk_smooth_opts so = {0};
-    sk_export_opts eo = {0};
-    const cli_path_opt paths[] = {{"-o", &out}, {"--patches", &patches}, {"--layout", &layout},
-                                  {"--render", &render}, {"--report", &report},
-                                  {"--zebra", &zebra}, {"--patch-map", &patch_map}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if (!strcmp(a, "--json")) {
-            json = true;
-        } else if (!strcmp(a, "--allow-fail")) {
-            allow_fail = true;
-        } else if (!strcmp(a, "--keep-triangulation")) {
-            so.keep_triangulation = true;
-        } else if (!strcmp(a, "--allow-split")) {
-            so.allow_split = true;
-        } else if (!strcmp(a, "--estimate-normals")) {
-            so.estimate_normals = true;
-        } else if (!strcmp(a, "--obj-freeform")) {
-            freeform = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "smooth", paths, 7)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--units", &val)) {
-            if (!val || !sk_export_units_known(val))
-                return cli_usage("smooth", "--units takes mm, cm, m, um, in or ft");
-            eo.units = val;
-        } else if (cli_opt_value(argc, argv, &i, "--iges-triangles", &val)) {
-            if (val && !strcmp(val, "split"))
-                eo.degenerate_triangles = false;
-            else if (val && !strcmp(val, "degenerate"))
-                eo.degenerate_triangles = true;
-            else
-                return cli_usage("smooth", "--iges-triangles takes split or degenerate");
-        } else if (cli_opt_value(argc, argv, &i, "--crease-angle", &val)) {
-            if (!cli_parse_double(val, &so.crease_angle_deg) || !(so.crease_angle_deg > 0.0) ||
-                !(so.crease_angle_deg < 180.0))
-                return cli_usage("smooth", "--crease-angle takes degrees between 0 and 180");
-        } else if (cli_opt_value(argc, argv, &i, "--tess", &val)) {
-            if (!cli_parse_uint(val, &tess) || tess < 1 || tess > 64)
-                return cli_usage("smooth", "--tess takes a whole number from 1 to 64");
-        } else if (cli_opt_value(argc, argv, &i, "--normals", &val)) {
-            int mth = sk_normal_method_from_name(val);
-            if (mth < 0)
-                return cli_usage("smooth", "--normals takes angle, area, mean or quadric");
-            so.normals = (sk_normal_method)mth;
-        } else if (cli_opt_value(argc, argv, &i, "--scheme", &val)) {
-            if (val && !strcmp(val, "vc1"))
-                so.scheme = SK_SMOOTH_VC1;
-            else if (val && !strcmp(val, "pn"))
-                so.scheme = SK_SMOOTH_PN;
-            else
-                return cli_usage("smooth", "--scheme takes vc1 or pn");
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("smooth", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else {
-            return cli_usage("smooth", "more than one input file");
-        }
-    }
-    if (!in)
-        return cli_usage("smooth", "needs an input file");
-    if (!out && !patches && !layout && !render && !report && !json && !zebra && !patch_map)
+    unsigned units = 0;
+    a->tess = 4;
+    const cli_opt opts[] = {
+        OPT_FILE("-o", a->out, "OUT",
+                 "by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
+                 ".igs/.iges IGES 5.3 B-rep: B-spline faces (entity 128) sharing edges\n"
+                 "and vertices, a solid (186) when the surface is closed, else a shell;\n"
+                 ".step/.stp STEP AP214, faces sharing edges and vertices, a solid\n"
+                 "(MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
+                 ".obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
+                 "B-spline with clamped knots (cstype bspline).\n"
+                 "CAD formats write each quartic triangle as three biquartic patches (exact,\n"
+                 "no singular point)"),
+        OPT_CHOICE("--scheme", a->so.scheme, "vc1|pn", "vc1 (default) or PN triangles"),
+        OPT_INT("--tess", a->tess, 1, 64, "N", "grid of N x N per patch (default 4)"),
+        OPT_FILE("--patches", a->patches, "FILE", "control nets as JSON"),
+        OPT_FILE("--layout", a->layout, "FILE",
+                 "picture of the triangle/quad configuration, deleted edges in red,\n"
+                 "problem vertices in orange"),
+        OPT_FILE("--render", a->render, "FILE",
+                 "picture of the surface shaded with its exact normals (per pixel)"),
+        OPT_FILE("--zebra", a->zebra, "FILE",
+                 "zebra stripes (reflection lines): a kink in the stripes is a kink in the\n"
+                 "surface"),
+        OPT_FILE("--patch-map", a->patch_map, "FILE",
+                 "the patches, those with overshoot > 0.5 (orange) or a singular point\n"
+                 "(magenta) highlighted"),
+        OPT_FILE("--report", a->report, "FILE",
+                 "continuity report as JSON (--json prints it on stdout): gaps and normal\n"
+                 "jumps across patch boundaries, vertex and normal errors, singular patches\n"
+                 "(the normal vanishes or turns over somewhere: a cusp or a fold), uncertified\n"
+                 "patches (the normal-cone test cannot prove them regular; most are),\n"
+                 "self-intersecting patch pairs (patches sharing no corner that cross each\n"
+                 "other: what CAD checkers flag), shape: max_overshoot (distance from the\n"
+                 "flat face / its longest edge; a spike is > 1) and fairness (angle between\n"
+                 "the patch normal and the interpolated vertex normals), worst patch ids,\n"
+                 "pass/fail against 0.5 deg and 0.005"),
+        OPT_FLAG("--json", a->json, "print the continuity report as JSON"),
+        OPT_CHOICE("--normals", a->so.normals, "angle|area|mean|quadric",
+                   "normal estimate when the file has none (default angle)"),
+        OPT_FLAG("--estimate-normals", a->so.estimate_normals, "ignore the file's normals"),
+        OPT_FLAG("--allow-split", a->so.allow_split,
+                 "split the longest edge of a closed mesh with an odd vertex count"),
+        OPT_FLAG("--obj-freeform", a->freeform, "-o .obj writes OBJ free-form B-spline surfaces"),
+        OPT_CHOICE("--units", units, "mm|cm|m|um|in|ft", "CAD length unit of the coordinates "
+                   "(default mm)"),
+        OPT_CHOICE("--iges-triangles", a->eo.degenerate_triangles, "split|degenerate",
+                   "split (default): three biquartic patches per triangle; degenerate: one\n"
+                   "patch with a collapsed side (IGES only, loose faces in one group)"),
+        OPT_FLAG("--keep-triangulation", a->so.keep_triangulation,
+                 "vc1: keep the input's edges (default: flip edges to remove slivers and\n"
+                 "near-folds where the new edge bends under 10 degrees; same vertices)"),
+        OPT_DOUBLE("--crease-angle", a->so.crease_angle_deg, 0, 180, CLI_LO_OPEN, "DEG",
+                   "sharp edges (dihedral angle >= DEG, default 40) are detected and counted\n"
+                   "(crease_edges in the report); the surface stays G1 across them"),
+        OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
+        OPT_FLAG("--allow-fail", a->allow_fail,
+                 "write the surface even when the vc1 continuity report fails"),
+        OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
+    };
+    const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, more};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc;
+    if (cli_given(&args, "--units"))
+        a->eo.units = unit_names[units];
+    a->in = cli_input(&args, 0);
+    if (!a->out && !a->patches && !a->layout && !a->render && !a->zebra && !a->patch_map &&
+        !a->report && !a->json)
         return cli_usage("smooth", "nothing to write: give -o, --patches, --layout, --render, "
                                    "--zebra, --patch-map, --report or --json");
-    cad_kind cad = out ? cad_kind_of(out, freeform) : CAD_NONE;
-    if (out && cad == CAD_NONE) {
-        sk_format f = sk_format_from_path(out);
+    a->cad = a->out ? cad_kind_of(a->out, a->freeform) : CAD_NONE;
+    if (a->out && a->cad == CAD_NONE) {
+        sk_format f = sk_format_from_path(a->out);
         if (f != SK_FORMAT_OBJ && f != SK_FORMAT_PLY)
             return cli_usage("smooth", "-o must name an .obj, .ply, .igs, .iges, .step or .stp "
                                        "file");
     }
-    if (freeform && cad != CAD_OBJ_FREEFORM)
+    if (a->freeform && a->cad != CAD_OBJ_FREEFORM)
         return cli_usage("smooth", "--obj-freeform needs -o with an .obj file");
+    return EXIT_OK;
+}
+
+/* The surface files and pictures (after the report has passed, or --allow-fail). */
+static int write_surface(const smooth_args *a, const sk_smooth *s)
+{
+    sk_error err = {0};
+    sk_soup *tes = NULL;
+    sk_status st = SK_OK;
+    int rc = EXIT_OK;
+    sk_export_opts eo = a->eo;
+    if (a->cad != CAD_NONE && (rc = write_cad(a->out, a->cad, s, &eo, a->quiet)) != EXIT_OK)
+        return rc;
+    if (a->out && a->cad == CAD_NONE)
+        st = sk_patch_set_tessellate(&s->surface, a->tess, &tes, &err);
+    if (!st && a->out && a->cad == CAD_NONE)
+        st = sk_soup_write(a->out, tes, NULL, &err);
+    const char *pics[3] = {a->render, a->zebra, a->patch_map}; /* sk_surface_picture order */
+    for (int k = 0; k < 3 && !st; ++k)
+        if (pics[k])
+            st = sk_render_surface(s, (sk_surface_picture)k, pics[k], NULL, &err);
+    if (!st && a->layout)
+        st = sk_render_patch_layout(s, a->layout, NULL, &err);
+    sk_soup_destroy(&tes);
+    if (st)
+        return cli_fail(st, &err);
+    if (a->patches)
+        rc = cli_write_file(a->patches, patches_json, s);
+    return rc;
+}
+
+static void print_summary(const sk_smooth *s, const sk_continuity_report *rep, bool failed)
+{
+    printf("smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
+           "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
+           "vertices %zu, report %s\n",
+           s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
+           s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
+           rep->max_normal_jump_deg, rep->max_gap, rep->singular_patches, rep->intersecting_pairs,
+           s->num_problems, failed ? "FAIL" : "pass");
+}
+
+int cmd_smooth(int argc, char **argv)
+{
+    smooth_args a;
+    memset(&a, 0, sizeof a);
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
     double t0 = sk_seconds();
     cli_progress bar;
-    cli_progress_init(&bar, "smooth", quiet);
-    so.progress = cli_progress_cb;
-    so.progress_user = &bar;
+    cli_progress_init(&bar, "smooth", a.quiet);
+    a.so.progress = cli_progress_cb;
+    a.so.progress_user = &bar;
     sk_error err = {0};
     sk_mesh *mesh = NULL;
     sk_smooth *s = NULL;
-    sk_soup *tes = NULL;
-    int rc = EXIT_OK;
-    sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
+    sk_continuity_report rep;
+    sk_triangulate_stats tri;
+    sk_status st = cli_read_triangles(a.in, a.keep_polygons, &mesh, &tri, &err);
+    if (st == SK_OK && !a.quiet && !a.json)
+        cli_print_triangulated(a.in, &tri);
     const char *normals_src = "";
     if (st == SK_OK) {
-        normals_src = mesh->normals && !so.estimate_normals ? "file"
-                                                             : sk_normal_method_name(so.normals);
-        st = sk_smooth_build(mesh, &so, &s, &err);
+        bool from_file = mesh->normals && !a.so.estimate_normals;
+        normals_src = from_file ? "file" : sk_normal_method_name(a.so.normals);
+        st = sk_smooth_build(mesh, &a.so, &s, &err);
     }
     cli_progress_done(&bar);
-    if (st != SK_OK) {
-        rc = cli_fail(st, &err);
-        goto done;
-    }
     double t1 = sk_seconds();
-    sk_continuity_report rep;
-    if ((st = sk_smooth_continuity(s, NULL, &rep, &err)) != SK_OK) {
+    if (st == SK_OK)
+        st = sk_smooth_continuity(s, NULL, &rep, &err);
+    cli_name_input(a.in, st, &err);
+    if (st != SK_OK) {
         rc = cli_fail(st, &err);
         goto done;
     }
@@ -367,55 +403,23 @@ int cmd_smooth(int argc, char **argv)
     /* the surface fails its own report (a singular patch has no tangent plane somewhere, e.g.
      * every patch of a thin strip): the report is written, the surface only on request */
     bool failed = !(rep.pass_g1 && rep.pass_gap) || rep.singular_patches > 0;
-    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail)
-        goto report_only;
-    if (cad != CAD_NONE && (rc = write_cad(out, cad, s, &eo, quiet)) != EXIT_OK)
+    bool refuse = failed && s->scheme == SK_SMOOTH_VC1 && !a.allow_fail;
+    if (!refuse && (rc = write_surface(&a, s)) != EXIT_OK)
         goto done;
-    if (out && cad == CAD_NONE) {
-        if ((st = sk_patch_set_tessellate(&s->surface, (unsigned)tess, &tes, &err)) != SK_OK) {
-            rc = cli_fail(st, &err);
-            goto done;
-        }
-    }
-    if (out && cad == CAD_NONE && (st = sk_soup_write(out, tes, NULL, &err)) != SK_OK) {
-        rc = cli_fail(st, &err);
+    report_ctx rc_ctx = {a.in, s, &rep, normals_src, tri, t2 - t0, t2 - t1};
+    if (a.report && (rc = cli_write_file(a.report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
-    }
-    const char *pics[3] = {render, zebra, patch_map};
-    for (int k = 0; k < 3; ++k)
-        if (pics[k] && (st = sk_render_surface(s, (sk_surface_picture)k, pics[k], NULL, &err))) {
-            rc = cli_fail(st, &err);
-            goto done;
-        }
-    if (layout && (st = sk_render_patch_layout(s, layout, NULL, &err)) != SK_OK) {
-        rc = cli_fail(st, &err);
-        goto done;
-    }
-    if (patches && (rc = cli_write_file(patches, patches_json, s)) != EXIT_OK)
-        goto done;
-report_only:;
-    report_ctx rc_ctx = {in, s, &rep, normals_src, t1 - t0 + (t2 - t1), t2 - t1};
-    if (report && (rc = cli_write_file(report, report_json, &rc_ctx)) != EXIT_OK)
-        goto done;
-    if (json)
+    if (a.json)
         report_json(stdout, &rc_ctx);
-    else if (!quiet)
-        printf(
-                "smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
-                "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
-                "vertices %zu, report %s\n",
-                s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
-                s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
-                rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches, rep.intersecting_pairs,
-                s->num_problems, failed ? "FAIL" : "pass");
-    if (failed && s->scheme == SK_SMOOTH_VC1 && !allow_fail) {
+    else if (!a.quiet)
+        print_summary(s, &rep, failed);
+    if (refuse) {
         cli_error("%s: the surface fails its continuity report (max normal jump %.3g deg, max gap "
                   "%.3g, singular patches %zu): no surface written (--allow-fail writes it anyway)",
-                  in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
+                  a.in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
         rc = EXIT_QUALITY;
     }
 done:
-    sk_soup_destroy(&tes);
     sk_smooth_destroy(&s);
     sk_mesh_destroy(&mesh);
     return rc;

@@ -3,56 +3,36 @@
 
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit subdivide IN -o OUT [--scheme loop|midpoint] [-n K] [--ascii] [-q]\n"
-    "\n"
+static const char about[] =
     "Splits every triangle into four, K times (default 1): Loop subdivision with boundary rules\n"
     "(default) or midpoint refinement (vertices stay, new ones at edge midpoints). Each step\n"
     "multiplies the face count by 4. The input must be a manifold triangle mesh.\n";
 
+static const char examples[] =
+    "  surfkit subdivide data/sphere.off -o sphere4.off -n 2\n"
+    "  surfkit subdivide data/nefertiti.off -o fine.ply --scheme midpoint\n";
+
 int cmd_subdivide(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL, *val;
+    const char *out = NULL;
     sk_subdiv_opts so = {0};
     sk_write_opts wo = {0};
     bool quiet = false;
     so.iterations = 1;
-    const cli_path_opt paths[] = {{"-o", &out}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if (!strcmp(a, "--ascii")) {
-            wo.ascii = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "subdivide", paths, 1)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--scheme", &val)) {
-            if (val && !strcmp(val, "loop"))
-                so.scheme = SK_SUBDIV_LOOP;
-            else if (val && !strcmp(val, "midpoint"))
-                so.scheme = SK_SUBDIV_MIDPOINT;
-            else
-                return cli_usage("subdivide", "--scheme takes loop or midpoint");
-        } else if (cli_opt_value(argc, argv, &i, "-n", &val)) {
-            unsigned long n;
-            if (!cli_parse_uint(val, &n) || n < 1 || n > 12)
-                return cli_usage("subdivide", "-n takes a whole number from 1 to 12");
-            so.iterations = (unsigned)n;
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("subdivide", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else {
-            return cli_usage("subdivide", "more than one input file");
-        }
-    }
-    if (!in || !out)
-        return cli_usage("subdivide", "needs an input file and -o OUT");
+    const cli_opt opts[] = {
+        OPT_OUTPUT(out, "OUT", "the subdivided mesh (OFF, OBJ, PLY, STL)"),
+        OPT_CHOICE("--scheme", so.scheme, "loop|midpoint", "Loop (default) or midpoint refinement"),
+        OPT_INT("-n", so.iterations, 1, 12, "K", "subdivision steps (default 1)"),
+        OPT_FLAG("--ascii", wo.ascii, "PLY and STL as text (default binary)"),
+        OPT_FLAG("-q", quiet, "no progress bar"),
+    };
+    const cli_spec spec = {"subdivide", "IN -o OUT", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, NULL};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
+    const char *in = cli_input(&args, 0);
     if (sk_format_from_path(out) == SK_FORMAT_UNKNOWN)
         return cli_usage("subdivide", "cannot tell the output format of '%s'", out);
     cli_progress bar;
@@ -65,6 +45,7 @@ int cmd_subdivide(int argc, char **argv)
     if (st == SK_OK)
         st = sk_mesh_subdivide(mesh, &so, &fine, &err);
     cli_progress_done(&bar);
+    cli_name_input(in, st, &err);
     if (st == SK_OK)
         st = sk_mesh_write(out, fine, &wo, &err);
     sk_mesh_destroy(&mesh);

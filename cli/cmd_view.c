@@ -4,21 +4,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char help[] =
-    "usage: surfkit view IN -o VIEW.html [--uv UV.obj|UV.ply] [--smooth] [--tess N]\n"
-    "                    [--deviation-scale D] [-q]\n"
-    "\n"
+static const char about[] =
     "Writes one self-contained HTML page (three.js inlined: it opens without a network) showing\n"
     "IN with its edges; with uv (IN's own vt / s t, or --uv, a parametrization of the same mesh\n"
     "as `surfkit param` writes it) a checkerboard and the conformal distortion sigma1/sigma2;\n"
     "with --smooth the VC1 surface of IN (as `surfkit smooth` builds it) shaded with its exact\n"
     "normals, zebra stripes (reflection lines: a kink in the stripes is a kink in the surface),\n"
     "its distance to IN (blue 0 ... red at --deviation-scale, default the largest) and the patch\n"
-    "boundaries. Drag to orbit, right drag to pan, wheel to zoom, r to reset.\n"
-    "\n"
-    "examples:\n"
+    "boundaries. Drag to orbit, right drag to pan, wheel to zoom, r to reset.\n";
+
+static const char examples[] =
     "  surfkit view data/sphere.off --smooth -o sphere.html\n"
-    "  surfkit param data/nefertiti.off -o uv.obj && surfkit view uv.obj -o uv.html\n";
+    "  surfkit param data/nefertiti.off -o uv.obj -q && surfkit view uv.obj -o uv.html\n";
 
 /* The uv of `uvpath`, which must be a parametrization of mesh (same vertex count and
  * positions). */
@@ -42,41 +39,25 @@ static int read_uv(const char *uvpath, const char *in, const sk_mesh *mesh, sk_m
 
 int cmd_view(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL, *uvpath = NULL, *val;
+    const char *out = NULL, *uvpath = NULL;
     bool smooth = false, quiet = false;
     sk_view_opts vo = {0};
-    const cli_path_opt paths[] = {{"-o", &out}, {"--uv", &uvpath}};
-    int took;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(help, stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "-q")) {
-            quiet = true;
-        } else if (!strcmp(a, "--smooth")) {
-            smooth = true;
-        } else if ((took = cli_take_path(argc, argv, &i, "view", paths, 2)) != 0) {
-            if (took < 0)
-                return EXIT_USAGE;
-        } else if (cli_opt_value(argc, argv, &i, "--tess", &val)) {
-            unsigned long n;
-            if (!cli_parse_uint(val, &n) || n < 1 || n > 64)
-                return cli_usage("view", "--tess takes a whole number from 1 to 64");
-            vo.tess = (unsigned)n;
-        } else if (cli_opt_value(argc, argv, &i, "--deviation-scale", &val)) {
-            if (!cli_parse_double(val, &vo.deviation_scale) || !(vo.deviation_scale > 0))
-                return cli_usage("view", "--deviation-scale takes a positive number");
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage("view", "unknown option '%s'", a);
-        } else if (!in) {
-            in = a;
-        } else {
-            return cli_usage("view", "more than one input file");
-        }
-    }
-    if (!in || !out)
-        return cli_usage("view", "needs an input file and -o VIEW.html");
+    const cli_opt opts[] = {
+        OPT_OUTPUT(out, "VIEW.html", "the page"),
+        OPT_FILE("--uv", uvpath, "UV.obj", "a parametrization of IN (OBJ vt or PLY s t)"),
+        OPT_FLAG("--smooth", smooth, "add the VC1 surface, its zebra stripes and deviation"),
+        OPT_INT("--tess", vo.tess, 1, 64, "N", "grid of N x N per patch of the smooth surface"),
+        OPT_DOUBLE("--deviation-scale", vo.deviation_scale, 0, 0, CLI_LO_OPEN, "D",
+                   "distance shown red (default the largest)"),
+        OPT_FLAG("-q", quiet, "no progress bar"),
+    };
+    const cli_spec spec = {"view", "IN -o VIEW.html", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, NULL};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc == CLI_HELP ? EXIT_OK : rc;
+    const char *in = cli_input(&args, 0);
     size_t n = strlen(out);
     if (n < 5 || strcmp(out + n - 5, ".html"))
         return cli_usage("view", "-o must name an .html file");
@@ -88,7 +69,6 @@ int cmd_view(int argc, char **argv)
     sk_error err = {0};
     sk_mesh *mesh = NULL, *uvmesh = NULL;
     sk_smooth *s = NULL;
-    int rc = EXIT_OK;
     sk_status st = sk_mesh_read(in, NULL, &mesh, &err);
     if (st) {
         rc = cli_fail(st, &err);
@@ -103,6 +83,7 @@ int cmd_view(int argc, char **argv)
         sk_smooth_opts so = {.progress = cli_progress_cb, .progress_user = &bar};
         st = sk_smooth_build(mesh, &so, &s, &err);
         cli_progress_done(&bar);
+        cli_name_input(in, st, &err);
         if (st) {
             rc = cli_fail(st, &err);
             goto done;

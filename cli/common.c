@@ -1,8 +1,10 @@
-/* Shared CLI helpers: errors, progress bar, JSON, option values. */
+/* Shared CLI helpers: errors, progress bar, JSON, the option-table parser, option values. */
 #include "cli.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -179,9 +181,11 @@ void json_int(cli_json *j, long long v)
 void json_num(cli_json *j, double v)
 {
     value_prefix(j);
-    if (isfinite(v))
-        fprintf(j->fp, "%.17g", v);
-    else
+    char buf[32];
+    if (isfinite(v)) {
+        sk_format_double(buf, v);
+        fputs(buf, j->fp);
+    } else
         fputs("null", j->fp);
 }
 
@@ -227,45 +231,6 @@ int cli_write_file(const char *path, void (*fn)(FILE *, const void *), const voi
     return st ? cli_fail(st, &err) : EXIT_OK;
 }
 
-int cli_take_path(int argc, char **argv, int *i, const char *cmd, const cli_path_opt *opts,
-                  size_t n)
-{
-    for (size_t k = 0; k < n; ++k) {
-        const char *val;
-        if (!cli_opt_value(argc, argv, i, opts[k].name, &val))
-            continue;
-        if (!val || !*val) {
-            cli_usage(cmd, "%s needs a file name", opts[k].name);
-            return -1;
-        }
-        *opts[k].value = val;
-        return 1;
-    }
-    return 0;
-}
-
-/* --- options --------------------------------------------------------------------------------- */
-
-bool cli_opt_value(int argc, char **argv, int *i, const char *name, const char **out)
-{
-    const char *a = argv[*i];
-    size_t n = strlen(name);
-    if (strncmp(a, name, n) != 0)
-        return false;
-    if (a[n] == '=') {
-        *out = a + n + 1;
-        return true;
-    }
-    if (a[n] != '\0')
-        return false;
-    if (*i + 1 >= argc) {
-        *out = NULL;
-        return true;
-    }
-    *out = argv[++*i];
-    return true;
-}
-
 bool cli_parse_uint(const char *s, unsigned long *out)
 {
     if (!s || !*s || *s == '-')
@@ -309,4 +274,354 @@ bool cli_parse_vec3(const char *s, double v[3])
         }
     }
     return *s == '\0';
+}
+
+/* --- the option-table parser (how to add an option: cli.h, above cli_opt) ------------------- */
+
+size_t cli_edit_distance(const char *a, const char *b)
+{
+    size_t n = strlen(a), m = strlen(b);
+    if (n > 64 || m > 64) /* option names and values are short; long ones are not close */
+        return n > m ? n : m;
+    size_t d[65][65];
+    for (size_t i = 0; i <= n; ++i)
+        d[i][0] = i;
+    for (size_t j = 0; j <= m; ++j)
+        d[0][j] = j;
+    for (size_t i = 1; i <= n; ++i) {
+        for (size_t j = 1; j <= m; ++j) {
+            size_t best = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            if (d[i - 1][j] + 1 < best)
+                best = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < best)
+                best = d[i][j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
+                d[i - 2][j - 2] + 1 < best)
+                best = d[i - 2][j - 2] + 1;
+            d[i][j] = best;
+        }
+    }
+    return d[n][m];
+}
+
+/* Whether `typed` is close enough to `cand` to suggest it: a prefix of it, or within about a
+ * third of its length in edit distance (dashes not counted). */
+static bool close_to(const char *typed, const char *cand, size_t *dist)
+{
+    while (*typed == '-')
+        ++typed;
+    while (*cand == '-')
+        ++cand;
+    size_t n = strlen(cand);
+    if (*typed && strlen(typed) < n && !strncmp(typed, cand, strlen(typed))) {
+        *dist = n - strlen(typed);
+        return true;
+    }
+    *dist = cli_edit_distance(typed, cand);
+    return *dist > 0 && 3 * *dist <= n + 1;
+}
+
+/* The choice values "a|b|c" one by one: copies value k into buf; false past the last. */
+static bool choice_at(const char *values, size_t k, char *buf, size_t cap)
+{
+    const char *p = values;
+    for (size_t i = 0; i < k; ++i) {
+        p = strchr(p, '|');
+        if (!p)
+            return false;
+        ++p;
+    }
+    size_t len = strcspn(p, "|");
+    if (len + 1 > cap)
+        len = cap - 1;
+    memcpy(buf, p, len);
+    buf[len] = '\0';
+    return true;
+}
+
+/* Stores v into an integer field of `size` bytes; false when it does not fit. */
+static bool store_uint(void *dest, size_t size, unsigned long long v)
+{
+    if (size == 1 && v <= UINT8_MAX) {
+        uint8_t x = (uint8_t)v;
+        memcpy(dest, &x, 1);
+    } else if (size == 2 && v <= UINT16_MAX) {
+        uint16_t x = (uint16_t)v;
+        memcpy(dest, &x, 2);
+    } else if (size == 4 && v <= INT32_MAX) { /* int, unsigned and enums alike */
+        uint32_t x = (uint32_t)v;
+        memcpy(dest, &x, 4);
+    } else if (size == 8 && v <= INT64_MAX) {
+        uint64_t x = (uint64_t)v;
+        memcpy(dest, &x, 8);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+/* "takes ..." of an INT or DOUBLE row, from its range. */
+static void describe_range(const cli_opt *o, char *buf, size_t cap)
+{
+    bool integer = o->kind == CLI_INT, open = o->flags & CLI_LO_OPEN;
+    if (integer && o->hi == 0)
+        snprintf(buf, cap, o->lo >= 1 ? "a positive whole number" : "a whole number");
+    else if (integer)
+        snprintf(buf, cap, "a whole number from %.17g to %.17g", o->lo, o->hi);
+    else if (o->hi == 0 && o->lo == 0)
+        snprintf(buf, cap, open ? "a positive number" : "a number >= 0");
+    else if (o->hi == 0)
+        snprintf(buf, cap, "a number %s %.17g", open ? ">" : ">=", o->lo);
+    else
+        snprintf(buf, cap, "a number in %c%.17g, %.17g]", open ? '(' : '[', o->lo, o->hi);
+}
+
+static int bad_value(const cli_spec *spec, const cli_opt *o, const char *val)
+{
+    char what[160];
+    switch (o->kind) {
+    case CLI_INT:
+    case CLI_DOUBLE:
+        describe_range(o, what, sizeof what);
+        break;
+    case CLI_VEC3:
+        snprintf(what, sizeof what, "three numbers X,Y,Z");
+        break;
+    case CLI_CHOICE: {
+        /* "a, b or c", and the closest value when one is close */
+        size_t len = 0, k = 0, best = SIZE_MAX, best_k = 0, dist;
+        char v[64], next[64];
+        what[0] = '\0';
+        for (; choice_at(o->meta, k, v, sizeof v); ++k) {
+            bool last = !choice_at(o->meta, k + 1, next, sizeof next);
+            len += (size_t)snprintf(what + len, len < sizeof what ? sizeof what - len : 0, "%s%s",
+                                    k == 0 ? "" : last ? " or " : ", ", v);
+            if (val && close_to(val, v, &dist) && dist < best)
+                best = dist, best_k = k;
+        }
+        if (best != SIZE_MAX && choice_at(o->meta, best_k, v, sizeof v))
+            return cli_usage(spec->name, "%s takes %s, not '%s' (did you mean %s?)", o->name, what,
+                             val, v);
+        if (val && *val)
+            return cli_usage(spec->name, "%s takes %s, not '%s'", o->name, what, val);
+        return cli_usage(spec->name, "%s takes %s", o->name, what);
+    }
+    case CLI_FILE:
+        return cli_usage(spec->name, "%s needs a file name", o->name);
+    default:
+        return cli_usage(spec->name, "%s needs a value", o->name);
+    }
+    if (!val)
+        return cli_usage(spec->name, "%s takes %s", o->name, what);
+    return cli_usage(spec->name, "%s takes %s, not '%s'", o->name, what, val);
+}
+
+/* Parses val into o's destination; EXIT_OK or the usage error. */
+static int take_value(const cli_spec *spec, const cli_opt *o, const char *val)
+{
+    if (!val)
+        return bad_value(spec, o, val);
+    switch (o->kind) {
+    case CLI_INT: {
+        unsigned long v;
+        if (!cli_parse_uint(val, &v) || (double)v < o->lo || (o->hi != 0 && (double)v > o->hi) ||
+            !store_uint(o->dest, o->size, v))
+            return bad_value(spec, o, val);
+        return EXIT_OK;
+    }
+    case CLI_DOUBLE: {
+        double v;
+        bool open = o->flags & CLI_LO_OPEN;
+        if (!cli_parse_double(val, &v) || (open ? !(v > o->lo) : !(v >= o->lo)) ||
+            (o->hi != 0 && v > o->hi))
+            return bad_value(spec, o, val);
+        *(double *)o->dest = v;
+        return EXIT_OK;
+    }
+    case CLI_VEC3: {
+        double v[3];
+        if (!cli_parse_vec3(val, v))
+            return bad_value(spec, o, val);
+        memcpy(o->dest, v, sizeof v);
+        return EXIT_OK;
+    }
+    case CLI_CHOICE: {
+        char v[64];
+        for (size_t k = 0; choice_at(o->meta, k, v, sizeof v); ++k)
+            if (!strcmp(v, val))
+                return store_uint(o->dest, o->size, k) ? EXIT_OK : bad_value(spec, o, val);
+        return bad_value(spec, o, val);
+    }
+    case CLI_FILE:
+    case CLI_STRING:
+        if (!*val)
+            return bad_value(spec, o, val);
+        *(const char **)o->dest = val;
+        return EXIT_OK;
+    case CLI_FLAG:
+        break;
+    }
+    return bad_value(spec, o, val);
+}
+
+static int unknown_option(const cli_spec *spec, const char *arg)
+{
+    char name[64];
+    size_t len = strcspn(arg, "=");
+    if (len >= sizeof name)
+        len = sizeof name - 1;
+    memcpy(name, arg, len);
+    name[len] = '\0';
+    size_t best = SIZE_MAX, dist;
+    const char *guess = NULL;
+    for (size_t k = 0; k < spec->num_opts; ++k)
+        if (close_to(name, spec->opts[k].name, &dist) && dist < best)
+            best = dist, guess = spec->opts[k].name;
+    if (guess)
+        return cli_usage(spec->name, "unknown option '%s' (did you mean %s?)", name, guess);
+    return cli_usage(spec->name, "unknown option '%s'", name);
+}
+
+int cli_parse(const cli_spec *spec, int argc, char **argv, cli_args *args)
+{
+    assert(spec->num_opts <= 64 && spec->max_inputs <= 4); /* the room in cli_args */
+    memset(args, 0, sizeof *args);
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            cli_help(spec, stdout);
+            return CLI_HELP;
+        }
+        if (a[0] != '-' || !a[1]) {
+            if (args->num_inputs >= spec->max_inputs)
+                return cli_usage(spec->name, spec->max_inputs == 1 ? "more than one input file"
+                                                                   : "too many file names");
+            args->inputs[args->num_inputs++] = a;
+            continue;
+        }
+        size_t len = strcspn(a, "=");
+        const cli_opt *o = NULL;
+        size_t k = 0;
+        for (; k < spec->num_opts && !o; ++k)
+            if (strlen(spec->opts[k].name) == len && !strncmp(a, spec->opts[k].name, len))
+                o = &spec->opts[k];
+        if (!o || (o->kind == CLI_FLAG && a[len] == '='))
+            return unknown_option(spec, a);
+        if (!cli_given(args, o->name))
+            args->given[args->num_given++] = o->name;
+        if (o->kind == CLI_FLAG) {
+            *(bool *)o->dest = true;
+            continue;
+        }
+        const char *val = a[len] == '=' ? a + len + 1 : i + 1 < argc ? argv[++i] : NULL;
+        int rc = take_value(spec, o, val);
+        if (rc)
+            return rc;
+    }
+    bool missing = args->num_inputs < spec->min_inputs;
+    for (size_t k = 0; k < spec->num_opts; ++k)
+        missing |= (spec->opts[k].flags & CLI_REQUIRED) && !cli_given(args, spec->opts[k].name);
+    return missing ? cli_usage(spec->name, "needs %s", spec->usage) : EXIT_OK;
+}
+
+const char *cli_input(const cli_args *args, size_t k)
+{
+    return k < args->num_inputs ? args->inputs[k] : NULL;
+}
+
+bool cli_given(const cli_args *args, const char *name)
+{
+    for (size_t k = 0; k < args->num_given; ++k)
+        if (!strcmp(args->given[k], name))
+            return true;
+    return false;
+}
+
+/* text with '\n' inside, each further line indented by `indent` */
+static void print_indented(FILE *fp, const char *text, int indent)
+{
+    for (const char *p = text; *p;) {
+        size_t len = strcspn(p, "\n");
+        fprintf(fp, "%.*s\n", (int)len, p);
+        p += len;
+        if (*p == '\n' && *++p)
+            fprintf(fp, "%*s", indent, "");
+    }
+}
+
+void cli_help(const cli_spec *spec, FILE *fp)
+{
+    enum { COLUMN = 26 };
+    fprintf(fp, "usage: surfkit %s %s [options]\n\n", spec->name, spec->usage);
+    fputs(spec->about, fp);
+    fputs("\noptions:\n", fp);
+    for (size_t k = 0; k < spec->num_opts; ++k) {
+        const cli_opt *o = &spec->opts[k];
+        int w = fprintf(fp, "  %s%s%s", o->name, o->meta ? " " : "", o->meta ? o->meta : "");
+        if (w >= COLUMN - 1) {
+            fputc('\n', fp);
+            w = 0;
+        }
+        fprintf(fp, "%*s", COLUMN - w, "");
+        print_indented(fp, o->help, COLUMN);
+    }
+    fprintf(fp, "  %-*s%s\n", COLUMN - 2, "-h, --help", "this text");
+    if (spec->more)
+        fputs(spec->more, fp);
+    fprintf(fp, "\nExamples:\n%s", spec->examples);
+}
+
+/* --- triangle input ------------------------------------------------------------------------- */
+
+sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out,
+                             sk_triangulate_stats *tri, sk_error *err)
+{
+    memset(tri, 0, sizeof *tri);
+    if (keep_polygons)
+        return sk_mesh_read(path, NULL, out, err);
+    *out = NULL;
+    sk_soup *soup = NULL, *tris = NULL;
+    sk_status st = sk_soup_read(path, NULL, &soup, err);
+    if (st == SK_OK)
+        st = sk_soup_triangulate(soup, &tris, tri, err);
+    if (st == SK_OK && (st = sk_mesh_from_soup(tris, out, err)) != SK_OK) {
+        /* name the file, as sk_mesh_read does: "NAME: what is wrong" */
+        const char *slash = strrchr(path, '/');
+        char msg[sizeof err->message];
+        memcpy(msg, err->message, sizeof msg);
+        snprintf(err->message, sizeof err->message, "%s: %.200s", slash ? slash + 1 : path, msg);
+    }
+    sk_soup_destroy(&tris);
+    sk_soup_destroy(&soup);
+    return st;
+}
+
+void cli_name_input(const char *path, sk_status st, sk_error *err)
+{
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    if (st >= 0 || st == SK_ERR_NOMEM || strstr(err->message, base))
+        return;
+    char out[2 * sizeof err->message];
+    snprintf(out, sizeof out, "%s: %s", path, err->message);
+    memcpy(err->message, out, sizeof err->message - 1);
+    err->message[sizeof err->message - 1] = '\0';
+}
+
+void json_triangulated(cli_json *j, const sk_triangulate_stats *tri)
+{
+    json_kuint(j, "triangulated_quads", tri->quads);
+    json_kuint(j, "triangulated_polygons", tri->polygons);
+}
+
+void cli_print_triangulated(const char *path, const sk_triangulate_stats *tri)
+{
+    if (!tri->quads && !tri->polygons)
+        return;
+    printf("%s: triangulated ", path);
+    if (tri->quads)
+        printf("%zu quad%s", tri->quads, tri->quads == 1 ? "" : "s");
+    if (tri->polygons)
+        printf("%s%zu polygon%s", tri->quads ? " and " : "", tri->polygons,
+               tri->polygons == 1 ? "" : "s");
+    printf(" into %zu triangles (--keep-polygons refuses polygons instead)\n", tri->triangles);
 }

@@ -87,6 +87,11 @@ typedef struct sk_allocator {
 /* NULL (or an incomplete one) restores the C library's. */
 SK_API void sk_set_allocator(const sk_allocator *alloc);
 
+/* The shortest decimal of v that reads back (strtod) to exactly v (the shortest of %.15g, %.16g,
+ * %.17g; "inf", "nan" as printf writes them) into buf; returns its length. The library's own
+ * formatter, for callers that print numbers the way the writers do. */
+SK_API int sk_format_double(char buf[32], double v);
+
 /* True when path ends with ext (".step"), ignoring ASCII case: the one extension matcher. */
 SK_API bool sk_path_has_ext(const char *path, const char *ext);
 

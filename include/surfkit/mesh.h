@@ -68,6 +68,25 @@ SK_API sk_status sk_soup_set_corner_uvs(sk_soup *soup, size_t n, const double *v
 SK_API sk_status sk_soup_set_corner_normals(sk_soup *soup, size_t n, const double *values,
                                             const uint32_t *corner);
 
+/* What sk_soup_triangulate split. */
+typedef struct sk_triangulate_stats {
+    size_t quads;     /* faces of 4 vertices */
+    size_t polygons;  /* faces of 5 or more */
+    size_t triangles; /* triangles they became */
+} sk_triangulate_stats;
+
+/* A copy of soup whose polygons are triangles: a quad by its shorter diagonal (0-2 on a tie), a
+ * larger polygon by ear clipping in the plane of its Newell normal (the ear with the shortest
+ * diagonal first; a polygon that is not simple in that plane is finished as a fan). A diagonal
+ * that is already an edge of the soup (opposite corners of a quad joined outside it) is avoided
+ * where the polygon allows, since it would make that edge non-manifold. The
+ * triangles of a face take its place in the face order and keep its orientation; vertices,
+ * per-vertex and per-corner attributes are kept (each corner keeps its uv and normal). Faces of
+ * fewer than 4 vertices, and polygons with an index out of range, are copied as they are (for
+ * validation to report). stats may be NULL. *out is a new soup (NULL on error). */
+SK_API sk_status sk_soup_triangulate(const sk_soup *soup, sk_soup **out,
+                                     sk_triangulate_stats *stats, sk_error *err);
+
 static inline size_t sk_soup_face_size(const sk_soup *s, size_t f)
 {
     return s->face_offsets[f + 1] - s->face_offsets[f];

@@ -20,6 +20,11 @@ int sk__fmt_shortest(char buf[32], double v)
     return n;
 }
 
+int sk_format_double(char buf[32], double v)
+{
+    return sk__fmt_shortest(buf, v);
+}
+
 #define SK__OUT_FLUSH (1u << 20)
 
 void sk__out_flush(sk__out *o)

@@ -49,5 +49,5 @@ grep -q "bad.off" "$tmp/err" || fail "error does not name the file: $(cat "$tmp/
 "$bin" deviation "$m/cow.off" -q > /dev/null 2>&1; [ $? = 2 ] || fail "one file: not a usage error"
 "$bin" deviation "$m/cow.off" "$m/cow.off" --samples 0 > /dev/null 2>&1
 [ $? = 2 ] || fail "--samples 0"
-"$bin" deviation --help | grep -q "examples:" || fail "help"
+"$bin" deviation --help | grep -q "^Examples:" || fail "help"
 echo "deviation: ok"

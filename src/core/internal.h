@@ -40,6 +40,7 @@ typedef struct sk__atomic_file {
     FILE *fp;
     int fd;
     int direct;       /* not a regular file: written in place */
+    int in_place;     /* a hard-linked regular file: the finished temporary is copied into it */
     char *shown_path; /* as the caller named it, for messages */
     char *final_path; /* symlinks resolved */
     char *tmp_path;   /* named temporary, or NULL (anonymous O_TMPFILE until commit) */

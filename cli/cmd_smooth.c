@@ -128,6 +128,7 @@ static void write_report(FILE *fp, const char *in, const sk_smooth *s, const sk_
     json_knum(&j, "edge_deletion", s->stats.seconds_deletion);
     json_knum(&j, "vertex_systems", s->stats.seconds_systems);
     json_knum(&j, "patches", s->stats.seconds_patches);
+    json_knum(&j, "regularity_repair", s->stats.seconds_repair); /* was missing from the sum */
     json_knum(&j, "report", report_seconds);
     json_obj_close(&j);
     json_knum(&j, "seconds", seconds);

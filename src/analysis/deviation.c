@@ -173,6 +173,10 @@ sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_dev
         return sk__fail(err, SK_ERR_ARG, "face samples must be between 1 and 64 (got %d)",
                         o.face_samples);
     int n = o.face_samples ? o.face_samples : 2;
+    if (o.surface_bvh)
+        *o.surface_bvh = NULL;
+    if (o.mesh_bvh)
+        *o.mesh_bvh = NULL;
     double t0 = sk_seconds();
     memset(report, 0, sizeof *report);
     sk_bvh *bs = NULL, *bm = NULL;
@@ -211,6 +215,14 @@ sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_dev
     if (vertex_distance)
         memcpy(vertex_distance, dm, mesh->num_vertices * sizeof *dm);
     report->seconds = sk_seconds() - t0;
+    if (o.surface_bvh) { /* handed over to the caller */
+        *o.surface_bvh = bs;
+        bs = NULL;
+    }
+    if (o.mesh_bvh) {
+        *o.mesh_bvh = bm;
+        bm = NULL;
+    }
 done:
     sk__free(dm);
     sk__free(ds);

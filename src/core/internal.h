@@ -64,6 +64,7 @@ typedef struct sk__out {
     size_t len, cap;
     FILE *fp;   /* NULL: everything stays in buf */
     int failed; /* 0, or SK_ERR_NOMEM / SK_ERR_IO after the first failure */
+    int io_errno; /* with SK_ERR_IO from a flush: the errno of the failed write (the reason) */
 } sk__out;
 
 /* Makes room for n more bytes; returns false (and sets failed) on failure. */

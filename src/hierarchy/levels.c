@@ -407,7 +407,9 @@ static sk_status check_input(const sk_mesh *m, sk_error *err)
     for (size_t v = 0; v < 3 * m->num_vertices; ++v)
         if (!m->v_deleted[v / 3] && !isfinite(m->positions[v]))
             return sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", v / 3);
-    return SK_OK;
+    /* outside the supported range the collapse tests silently reject every collapse (at 1e+-80
+     * simplify exited 0 with no level made): refuse, naming the range */
+    return sk_mesh_check_scale(m, err);
 }
 
 void sk_hierarchy_destroy(sk_hierarchy **hp)

@@ -47,9 +47,14 @@ for s in 1e100 1e-100 1e80 1e-80; do
   done
   "$bin" smooth -q "$tmp/scaled.off" -o "$tmp/scaled.step" 2>"$tmp/err"; rc=$?
   [ $rc -eq 1 ] && grep -q "supported" "$tmp/err" || fail "smooth at scale $s: exit $rc, $(cat "$tmp/err")"
+  # simplify exited 0 here with no level made (every collapse rejected)
+  "$bin" simplify -q "$tmp/scaled.off" -o "$tmp/scaled.obj" 2>"$tmp/err"; rc=$?
+  [ $rc -eq 1 ] && grep -q "supported" "$tmp/err" || fail "simplify at scale $s: exit $rc, $(cat "$tmp/err")"
 done
 for s in 1e40 1e-40; do
   scaled $s
+  "$bin" simplify -q "$tmp/scaled.off" -o "$tmp/scaled.obj" --report "$tmp/r.json" || fail "simplify at scale $s"
+  grep -q '"num_levels": 18' "$tmp/r.json" || fail "simplify at scale $s: $(grep num_levels "$tmp/r.json")"
   "$bin" param -q "$tmp/scaled.off" -o "$tmp/scaled.obj" --method mips --report "$tmp/r.json" \
     || fail "param mips at scale $s"
   grep -q '"flipped": 0' "$tmp/r.json" && ! grep -qi nan "$tmp/r.json" || fail "param mips at $s: $(head -c 300 "$tmp/r.json")"
@@ -96,6 +101,9 @@ long="$tmp/$(printf 'd%.0s' $(seq 1 200))"; mkdir -p "$long"; ln -s /dev/full "$
 "$bin" convert "$tet" "$long/full.off" 2>"$tmp/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "No space left on device" "$tmp/err" || fail "/dev/full: exit $rc, $(cat "$tmp/err")"
 [ -L "$long/full.off" ] || fail "/dev/full link replaced"
+# ... also when the disk fills in the middle of a large write (the buffer's flush lost errno)
+"$bin" convert "$shared/data/meshes/nefertiti.off" "$long/full.off" 2>"$tmp/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "write failed: No space left on device" "$tmp/err" || fail "/dev/full, large: exit $rc, $(cat "$tmp/err")"
 rm -rf "$long"
 # a command that fails leaves none of its outputs (param wrote uv.obj before the --png failed)
 "$bin" param -q "$shared/data/meshes/nefertiti.off" -o "$tmp/uv.obj" --png "$tmp/nodir/uv.png" 2>/dev/null

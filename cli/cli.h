@@ -12,6 +12,9 @@
 /* EXIT_QUALITY: the result fails its own quality report (smooth) */
 enum { EXIT_OK = 0, EXIT_BAD_INPUT = 1, EXIT_USAGE = 2, EXIT_INTERNAL = 3, EXIT_QUALITY = 4 };
 
+/* SURFKIT_FAIL_ALLOC=K makes the library's K-th allocation fail (tests; cli/fault_alloc.c). */
+void cli_fault_alloc_install(void);
+
 /* "surfkit: message" on stderr, one line. */
 void cli_error(const char *fmt, ...)
 #if defined(__GNUC__)

@@ -96,18 +96,12 @@ static void print_summary(const run *x)
 }
 
 /* Picture of `shown` coloured by its distance to `other`. */
-static sk_status draw_map(const sk_soup *shown, const char *name, const sk_soup *other,
+static sk_status draw_map(const sk_soup *shown, const char *name, sk_bvh *other,
                           const char *label, double scale, sk_render_opts *ro, const char *path,
                           sk_error *err)
 {
-    sk_bvh *bvh = NULL;
-    sk_status st = sk_bvh_build(other, &bvh, err);
-    if (!st) {
-        ro->title = name;
-        st = sk_render_field(shown, sk_bvh_distance, bvh, scale, label, path, ro, err);
-    }
-    sk_bvh_destroy(&bvh);
-    return st;
+    ro->title = name;
+    return sk_render_field(shown, sk_bvh_distance, other, scale, label, path, ro, err);
 }
 
 int cmd_deviation(int argc, char **argv)
@@ -152,6 +146,9 @@ int cmd_deviation(int argc, char **argv)
     if (!st)
         st = sk_soup_read(x.mesh, NULL, &mesh, &err);
     bool named = false;
+    sk_bvh *bvh_s = NULL, *bvh_m = NULL; /* kept from sk_deviation for the maps */
+    opts.surface_bvh = png ? &bvh_s : NULL;
+    opts.mesh_bvh = png_surface ? &bvh_m : NULL;
     if (!st && (st = sk_deviation(surface, mesh, &opts, &x.r, NULL, &err)) != SK_OK) {
         cli_progress_done(&bar); /* the library names the side; the files are named here */
         cli_error("%s vs %s: %s", x.surface, x.mesh, err.message);
@@ -161,10 +158,12 @@ int cmd_deviation(int argc, char **argv)
     if (!st && tol_rel > 0)
         x.tolerance = tol_rel * x.r.diagonal;
     if (!st && png)
-        st = draw_map(mesh, x.mesh, surface, "distance to the surface", x.tolerance, &ro, png, &err);
+        st = draw_map(mesh, x.mesh, bvh_s, "distance to the surface", x.tolerance, &ro, png, &err);
     if (!st && png_surface)
-        st = draw_map(surface, x.surface, mesh, "distance to the mesh", x.tolerance, &ro,
+        st = draw_map(surface, x.surface, bvh_m, "distance to the mesh", x.tolerance, &ro,
                       png_surface, &err);
+    sk_bvh_destroy(&bvh_s);
+    sk_bvh_destroy(&bvh_m);
     int rc = named ? cli_exit_code(st) : st ? cli_fail(st, &err) : EXIT_OK;
     if (!st && report)
         rc = cli_write_file(report, write_json, &x);

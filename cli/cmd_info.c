@@ -266,7 +266,15 @@ int cmd_info(int argc, char **argv)
     sk_format fmt = sk_format_from_path(path);
     sk_intersection_report crossings;
     sk_error xerr;
-    bool have_crossings = sk_self_intersections(soup, NULL, NULL, &crossings, &xerr) == SK_OK;
+    st = sk_self_intersections(soup, NULL, NULL, &crossings, &xerr);
+    if (st == SK_ERR_NOMEM) { /* not "not checked": out of memory is an error */
+        if (have_loops)
+            sk_loops_free(&loops);
+        sk_mesh_destroy(&mesh);
+        sk_soup_destroy(&soup);
+        return cli_fail(st, &xerr);
+    }
+    bool have_crossings = st == SK_OK;
     if (as_json) {
         print_json(path, fmt, &rep, have_loops ? &loops : NULL, have_crossings ? &crossings : NULL);
     } else {

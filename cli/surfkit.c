@@ -51,6 +51,7 @@ static int run(const command *c, int argc, char **argv)
     const int sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
     for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; ++i)
         sigaction(sigs[i], &sa, NULL);
+    cli_fault_alloc_install();
     sk_outputs_begin();
     int rc = c->run(argc, argv);
     if (rc == EXIT_OK || rc == EXIT_QUALITY) {

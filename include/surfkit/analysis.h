@@ -20,7 +20,10 @@ typedef enum {
     SK_NORMALS_AREA = 1,  /* area-weighted average */
     SK_NORMALS_MEAN = 2,  /* arithmetic mean of the unit face normals */
     SK_NORMALS_QUADRIC = 3 /* gradient of a local quadratic height-field fit (1-ring, 2-ring if
-                              the 1-ring has fewer than 5 neighbours) */
+                              the 1-ring has fewer than 5 neighbours); where the fit is singular
+                              (fewer than 5 neighbours, or neighbours that do not determine the
+                              quadric, e.g. all on two lines through the vertex) the vertex keeps
+                              its angle-weighted normal */
 } sk_normal_method;
 
 /* Parses "angle", "area", "mean", "quadric"; returns -1 for anything else. */

@@ -55,6 +55,12 @@ typedef struct sk_deviation_opts {
     int face_samples;
     sk_progress_fn progress; /* may be NULL; returning non-zero cancels (SK_ERR_CANCELLED) */
     void *progress_user;
+    /* When not NULL, the hierarchies sk_deviation builds over the surface and over the mesh are
+     * handed over here on success (the caller destroys them with sk_bvh_destroy; NULL after a
+     * failure): a colour map of either side's distance to the other (sk_render_field with
+     * sk_bvh_distance) then needs no second build. */
+    sk_bvh **surface_bvh;
+    sk_bvh **mesh_bvh;
 } sk_deviation_opts;
 
 /* Distances from the samples (vertices and face samples) of one surface to the other. */

@@ -9,6 +9,7 @@
 #include "analysis/bvh_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "mesh/fan.h"
 
 #include <float.h>
 #include <math.h>
@@ -230,37 +231,41 @@ sk_status sk_bvh_build(const sk_soup *soup, sk_bvh **out, sk_error *err)
     if (st)
         return st;
     builder b = {0};
-    sk_bvh *t = sk__calloc_array(1, sizeof *t);
-    double *corners = sk__malloc_array(9 * nt, sizeof *corners);
-    uint32_t *face = sk__malloc_array(nt, sizeof *face);
+    uint32_t *tri = NULL, *face = NULL;
+    sk_bvh *t = NULL;
+    if ((st = sk__soup_fan_triangles(soup, &tri, &face, &nt, err)) != SK_OK)
+        goto done;
+    /* Peak memory is the point here (the continuity report builds this over a fine
+     * tessellation): the corners are copied from the soup once, in leaf order, and the boxes and
+     * centroids are freed before that copy is made. */
+    t = sk__calloc_array(1, sizeof *t);
     b.tbox = sk__malloc_array(nt, sizeof *b.tbox);
     b.centroid = sk__malloc_array(3 * nt, sizeof *b.centroid);
     b.perm = sk__malloc_array(nt, sizeof *b.perm);
     b.nodes = sk__malloc_array(2 * nt, sizeof *b.nodes);
-    if (!t || !corners || !face || !b.tbox || !b.centroid || !b.perm || !b.nodes) {
+    if (!t || !b.tbox || !b.centroid || !b.perm || !b.nodes) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    size_t i = 0;
-    for (size_t f = 0; f < soup->num_faces; ++f) {
-        const uint32_t *idx = soup->face_indices + soup->face_offsets[f];
-        size_t m = sk_soup_face_size(soup, f);
-        for (size_t c = 1; c + 1 < m; ++c, ++i) {
-            const uint32_t tv[3] = {idx[0], idx[c], idx[c + 1]};
-            box_empty(&b.tbox[i]);
-            for (int k = 0; k < 3; ++k) {
-                const double *p = soup->positions + 3 * (size_t)tv[k];
-                memcpy(corners + 9 * i + 3 * k, p, 3 * sizeof *p);
-                box_add(&b.tbox[i], p);
-            }
-            for (int k = 0; k < 3; ++k)
-                b.centroid[3 * i + k] = 0.5 * (b.tbox[i].lo[k] + b.tbox[i].hi[k]);
-            face[i] = (uint32_t)f;
-            b.perm[i] = (uint32_t)i;
-        }
+    for (size_t i = 0; i < nt; ++i) {
+        box_empty(&b.tbox[i]);
+        for (int k = 0; k < 3; ++k)
+            box_add(&b.tbox[i], soup->positions + 3 * (size_t)tri[3 * i + (size_t)k]);
+        for (int k = 0; k < 3; ++k)
+            b.centroid[3 * i + k] = 0.5 * (b.tbox[i].lo[k] + b.tbox[i].hi[k]);
+        b.perm[i] = (uint32_t)i;
     }
     build_tree(&b, nt);
-    /* reorder the triangles into leaf order */
+    sk__free(b.tbox);
+    sk__free(b.centroid);
+    b.tbox = NULL;
+    b.centroid = NULL;
+    if (b.num_nodes < 2 * nt) { /* give back the unused nodes (a shrink; keep them if it fails) */
+        node *fit = sk__realloc_array(b.nodes, b.num_nodes, sizeof *b.nodes);
+        if (fit)
+            b.nodes = fit;
+    }
+    /* the triangles in leaf order */
     t->corners = sk__malloc_array(9 * nt, sizeof *t->corners);
     t->face = sk__malloc_array(nt, sizeof *t->face);
     if (!t->corners || !t->face) {
@@ -268,7 +273,10 @@ sk_status sk_bvh_build(const sk_soup *soup, sk_bvh **out, sk_error *err)
         goto done;
     }
     for (size_t j = 0; j < nt; ++j) {
-        memcpy(t->corners + 9 * j, corners + 9 * (size_t)b.perm[j], 9 * sizeof *corners);
+        const uint32_t *v = tri + 3 * (size_t)b.perm[j];
+        for (int k = 0; k < 3; ++k)
+            memcpy(t->corners + 9 * j + 3 * k, soup->positions + 3 * (size_t)v[k],
+                   3 * sizeof *t->corners);
         t->face[j] = face[b.perm[j]];
     }
     t->num_tris = nt;
@@ -280,7 +288,7 @@ sk_status sk_bvh_build(const sk_soup *soup, sk_bvh **out, sk_error *err)
     *out = t;
     t = NULL;
 done:
-    sk__free(corners);
+    sk__free(tri);
     sk__free(face);
     sk__free(b.tbox);
     sk__free(b.centroid);

@@ -6,6 +6,7 @@
 #include "surfkit/deviation.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "mesh/fan.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -38,31 +39,22 @@ static sk_status samples_init(samples *s, const sk_soup *soup, int n, sk_error *
     memset(s, 0, sizeof *s);
     s->soup = soup;
     s->n = n;
-    size_t nt = 0;
-    for (size_t f = 0; f < soup->num_faces; ++f)
-        nt += sk_soup_face_size(soup, f) - 2; /* >= 3 corners: checked by sk_bvh_build */
+    size_t nt = 0; /* faces of >= 3 corners: checked by sk_bvh_build */
+    sk_status st = sk__soup_fan_triangles(soup, &s->tri, &s->face, &nt, err);
+    if (st)
+        return st;
     s->num_tris = nt;
-    s->tri = sk__malloc_array(3 * nt, sizeof *s->tri);
-    s->face = sk__malloc_array(nt, sizeof *s->face);
     s->vface = sk__malloc_array(soup->num_vertices, sizeof *s->vface);
     s->bary = sk__malloc_array((size_t)n * n, sizeof *s->bary);
-    if ((nt && (!s->tri || !s->face)) || (soup->num_vertices && !s->vface) || !s->bary)
+    if ((soup->num_vertices && !s->vface) || !s->bary)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t v = 0; v < soup->num_vertices; ++v)
         s->vface[v] = SK_INVALID;
-    size_t t = 0;
     for (size_t f = 0; f < soup->num_faces; ++f) {
         const uint32_t *idx = soup->face_indices + soup->face_offsets[f];
-        size_t m = sk_soup_face_size(soup, f);
-        for (size_t c = 0; c < m; ++c)
+        for (size_t c = 0, m = sk_soup_face_size(soup, f); c < m; ++c)
             if (s->vface[idx[c]] == SK_INVALID)
                 s->vface[idx[c]] = (uint32_t)f;
-        for (size_t c = 1; c + 1 < m; ++c, ++t) {
-            s->tri[3 * t] = idx[0];
-            s->tri[3 * t + 1] = idx[c];
-            s->tri[3 * t + 2] = idx[c + 1];
-            s->face[t] = (uint32_t)f;
-        }
     }
     /* centroids of the n*n triangles of the n-fold subdivided triangle: n(n+1)/2 upright ones at
      * ((i + 1/3) / n, (j + 1/3) / n), n(n-1)/2 inverted ones at ((i + 2/3) / n, (j + 2/3) / n) */
@@ -181,6 +173,10 @@ sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_dev
         return sk__fail(err, SK_ERR_ARG, "face samples must be between 1 and 64 (got %d)",
                         o.face_samples);
     int n = o.face_samples ? o.face_samples : 2;
+    if (o.surface_bvh)
+        *o.surface_bvh = NULL;
+    if (o.mesh_bvh)
+        *o.mesh_bvh = NULL;
     double t0 = sk_seconds();
     memset(report, 0, sizeof *report);
     sk_bvh *bs = NULL, *bm = NULL;
@@ -219,6 +215,14 @@ sk_status sk_deviation(const sk_soup *surface, const sk_soup *mesh, const sk_dev
     if (vertex_distance)
         memcpy(vertex_distance, dm, mesh->num_vertices * sizeof *dm);
     report->seconds = sk_seconds() - t0;
+    if (o.surface_bvh) { /* handed over to the caller */
+        *o.surface_bvh = bs;
+        bs = NULL;
+    }
+    if (o.mesh_bvh) {
+        *o.mesh_bvh = bm;
+        bm = NULL;
+    }
 done:
     sk__free(dm);
     sk__free(ds);

@@ -57,15 +57,18 @@ static void average_normal(const sk_mesh *m, uint32_t v, sk_normal_method method
     } while (h != h0);
 }
 
-/* Solves the small dense system A x = b (n <= 8, row-major) with LAPACK's LU with partial
- * pivoting; returns 0 when singular relative to the largest entry (a pivot below 1e-13 of it). */
+/* Solves the small dense symmetric system A x = b (n <= 8) with LAPACK's LU with partial
+ * pivoting; returns 0 when singular relative to the largest entry (a pivot below 1e-13 of it).
+ * A is symmetric, so it is its own column-major form: the column-major call allocates nothing
+ * (LAPACKE's row-major path mallocs transposed copies and reports a failed malloc as info
+ * -1011, which would have been taken for "singular" here), so 0 always means singular. */
 static int solve_small(int n, double *A, double *b)
 {
     double scale = 0.0;
     for (int i = 0; i < n * n; ++i)
         scale = fmax(scale, fabs(A[i]));
     lapack_int ipiv[8];
-    if (scale == 0.0 || n > 8 || LAPACKE_dgesv(LAPACK_ROW_MAJOR, n, 1, A, n, ipiv, b, 1) != 0)
+    if (scale == 0.0 || n > 8 || LAPACKE_dgesv_work(LAPACK_COL_MAJOR, n, 1, A, n, ipiv, b, n) != 0)
         return 0;
     for (int k = 0; k < n; ++k) /* A now holds L\U: the pivots are U's diagonal */
         if (fabs(A[k * n + k]) < 1e-13 * scale)
@@ -137,7 +140,7 @@ static void quadric_normal(const sk_mesh *m, uint32_t v, double n[3])
         }
     }
     if (!solve_small(5, A, b))
-        return; /* keep the angle-weighted normal */
+        return; /* the fit is singular (documented in analysis.h): keep the angle-weighted normal */
     double q[3];
     sk__axpy3(q, n, -b[3], e1);
     sk__axpy3(q, q, -b[4], e2);

@@ -8,6 +8,7 @@
 #include "surfkit/intersect.h"
 #include "analysis/bvh_internal.h"
 #include "core/internal.h"
+#include "mesh/fan.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -169,6 +170,10 @@ sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_gro
     sk_status st = sk_bvh_build(surface, &bvh, err);
     if (!st)
         st = check_groups(surface, face_group, groups, err);
+    uint32_t *tri_v = NULL, *tri_f = NULL;
+    size_t nt = 0;
+    if (!st)
+        st = sk__soup_fan_triangles(surface, &tri_v, &tri_f, &nt, err);
     if (st) {
         sk_bvh_destroy(&bvh);
         return st;
@@ -185,24 +190,21 @@ sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_gro
 #if defined(SK_HAVE_OPENMP)
 #pragma omp for schedule(dynamic, 256)
 #endif
-        for (ptrdiff_t f = 0; f < (ptrdiff_t)surface->num_faces; ++f) {
-            const uint32_t *idx = surface->face_indices + surface->face_offsets[f];
-            c.face = (uint32_t)f;
-            c.group = group_of(&c, (uint32_t)f);
-            for (size_t k = 1; k + 1 < sk_soup_face_size(surface, (size_t)f); ++k) {
-                double tri[9], lo[3], hi[3];
-                const uint32_t v[3] = {idx[0], idx[k], idx[k + 1]};
-                for (int q = 0; q < 3; ++q)
-                    memcpy(tri + 3 * q, surface->positions + 3 * (size_t)v[q], 3 * sizeof *tri);
-                for (int d = 0; d < 3; ++d) {
-                    lo[d] = tri[d] < tri[3 + d] ? tri[d] : tri[3 + d];
-                    lo[d] = lo[d] < tri[6 + d] ? lo[d] : tri[6 + d];
-                    hi[d] = tri[d] > tri[3 + d] ? tri[d] : tri[3 + d];
-                    hi[d] = hi[d] > tri[6 + d] ? hi[d] : tri[6 + d];
-                }
-                c.tri = tri;
-                sk__bvh_overlaps(bvh, lo, hi, visit, &c);
+        for (ptrdiff_t t = 0; t < (ptrdiff_t)nt; ++t) {
+            const uint32_t *v = tri_v + 3 * (size_t)t;
+            c.face = tri_f[t];
+            c.group = group_of(&c, c.face);
+            double tri[9], lo[3], hi[3];
+            for (int q = 0; q < 3; ++q)
+                memcpy(tri + 3 * q, surface->positions + 3 * (size_t)v[q], 3 * sizeof *tri);
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = tri[d] < tri[3 + d] ? tri[d] : tri[3 + d];
+                lo[d] = lo[d] < tri[6 + d] ? lo[d] : tri[6 + d];
+                hi[d] = tri[d] > tri[3 + d] ? tri[d] : tri[3 + d];
+                hi[d] = hi[d] > tri[6 + d] ? hi[d] : tri[6 + d];
             }
+            c.tri = tri;
+            sk__bvh_overlaps(bvh, lo, hi, visit, &c);
         }
         tests += c.tests;
         nomem = nomem || mine.nomem;
@@ -216,6 +218,8 @@ sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_gro
         sk__free(mine.key);
     }
     sk_bvh_destroy(&bvh);
+    sk__free(tri_v);
+    sk__free(tri_f);
     if (nomem || all.nomem) {
         sk__free(all.key);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");

@@ -11,6 +11,13 @@
  *   target. Without O_TMPFILE (some file systems) the temporary is named at once; named
  *   temporaries are listed where sk_outputs_remove_pending (async-signal-safe) finds them, so the
  *   CLI's signal handler removes them.
+ * - A regular file with more than one name (st_nlink > 1) is not replaced: a rename would give
+ *   only this name the new content and leave the other names (hard links) with the old one, as
+ *   cp, vim (backupcopy=auto) and rsync --inplace avoid doing. The content is still made
+ *   complete in a temporary first; only then is it copied into the existing file in place (same
+ *   inode, mode, owner and links), after reserving the space (fallocate), so a full disk fails
+ *   before the old content is touched. Such a write is not atomic against a crash during the copy:
+ *   keeping the links is what the user asked for by making them.
  * - Temporary names carry the process id and a counter: two processes writing the same target
  *   never share one.
  * - Between sk_outputs_begin and sk_outputs_commit, commits only name the finished temporaries;
@@ -66,6 +73,7 @@ void sk_outputs_remove_pending(void)
 
 typedef struct batch_item {
     char *tmp_path, *final_path;
+    int in_place; /* copy into final_path (hard links) instead of renaming over it */
 } batch_item;
 
 static struct {
@@ -98,15 +106,32 @@ void sk_outputs_abort(void)
     batch.active = 0;
 }
 
+static int copy_into(const char *src, const char *dst);
+
+/* Publishes a finished named temporary: renamed over the target, or copied into it (hard links,
+ * see the top of the file) and removed. Returns 0 or the errno. */
+static int publish(const char *tmp_path, const char *final_path, int in_place)
+{
+    if (!in_place)
+        return rename(tmp_path, final_path) != 0 ? errno : 0;
+    int e = copy_into(tmp_path, final_path);
+    if (!e)
+        unlink(tmp_path);
+    return e;
+}
+
 sk_status sk_outputs_commit(sk_error *err)
 {
     sk_status st = SK_OK;
     size_t i = 0;
     for (; i < batch.count; ++i) {
         batch_item *it = &batch.items[i];
-        if (rename(it->tmp_path, it->final_path) != 0) {
-            st = sk__fail(err, SK_ERR_IO, "%s: cannot rename into place: %s", it->final_path,
-                          strerror(errno));
+        int e = publish(it->tmp_path, it->final_path, it->in_place);
+        if (e) {
+            st = sk__fail(err, SK_ERR_IO, "%s: %s: %s", it->final_path,
+                          it->in_place ? "cannot write into the hard-linked file"
+                                       : "cannot rename into place",
+                          strerror(e));
             break;
         }
         drop_item(it);
@@ -167,6 +192,59 @@ static char *resolve_target(const char *path)
         cur = next;
     }
     return cur;
+}
+
+/* Copies the complete file src into the existing regular file dst in place (keeping its inode,
+ * mode, owner and other names); returns 0 or the errno. */
+static int copy_into(const char *src, const char *dst)
+{
+    int e = 0;
+    int in = open(src, O_RDONLY | O_CLOEXEC);
+    int out = in >= 0 ? open(dst, O_WRONLY | O_CLOEXEC) : -1;
+    struct stat sb;
+    if (in < 0 || out < 0 || fstat(in, &sb) != 0) {
+        e = errno;
+        goto done;
+    }
+    /* reserve the space first: on a full disk this fails before a byte of the old content is
+     * overwritten (file systems without fallocate just skip the reservation) */
+    if (sb.st_size > 0 && fallocate(out, 0, 0, sb.st_size) != 0 && errno != EOPNOTSUPP &&
+        errno != ENOSYS) {
+        e = errno;
+        goto done;
+    }
+    char buf[1 << 16];
+    off_t total = 0;
+    for (;;) {
+        ssize_t n = read(in, buf, sizeof buf);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            e = errno;
+            goto done;
+        }
+        if (n == 0)
+            break;
+        for (ssize_t w = 0; w < n;) {
+            ssize_t k = write(out, buf + w, (size_t)(n - w));
+            if (k < 0 && errno == EINTR)
+                continue;
+            if (k < 0) {
+                e = errno;
+                goto done;
+            }
+            w += k;
+        }
+        total += n;
+    }
+    if (ftruncate(out, total) != 0 || (fsync(out) != 0 && errno != EINVAL && errno != EROFS))
+        e = errno;
+done:
+    if (out >= 0 && close(out) != 0 && !e)
+        e = errno;
+    if (in >= 0)
+        close(in);
+    return e;
 }
 
 static sk_status io_fail(sk_error *err, const char *path, const char *what, int e)
@@ -230,6 +308,7 @@ sk_status sk__atomic_open(sk__atomic_file *af, const char *path, sk_error *err)
             }
             pending_add(af->tmp_path);
         }
+        af->in_place = exists && sb.st_nlink > 1; /* hard links: see the top of the file */
         if (exists) { /* keep the existing file's mode and, where allowed, its owner */
             (void)fchmod(fd, sb.st_mode & 07777);
             if (fchown(fd, sb.st_uid, sb.st_gid) != 0)
@@ -313,14 +392,18 @@ sk_status sk__atomic_commit(sk__atomic_file *af, sk_error *err)
             batch.items = items;
             batch.cap = cap;
         }
-        batch.items[batch.count++] = (batch_item){af->tmp_path, af->final_path};
+        batch.items[batch.count++] = (batch_item){af->tmp_path, af->final_path, af->in_place};
         af->tmp_path = af->final_path = NULL;
         sk__atomic_abort(af);
         sk__ok(err);
         return SK_OK;
     }
-    if (rename(af->tmp_path, af->final_path) != 0) {
-        st = io_fail(err, af->shown_path, "cannot rename into place", errno);
+    int pe = publish(af->tmp_path, af->final_path, af->in_place);
+    if (pe) {
+        st = io_fail(err, af->shown_path,
+                     af->in_place ? "cannot write into the hard-linked file"
+                                  : "cannot rename into place",
+                     pe);
         sk__atomic_abort(af);
         return st;
     }

@@ -40,6 +40,7 @@ typedef struct sk__atomic_file {
     FILE *fp;
     int fd;
     int direct;       /* not a regular file: written in place */
+    int in_place;     /* a hard-linked regular file: the finished temporary is copied into it */
     char *shown_path; /* as the caller named it, for messages */
     char *final_path; /* symlinks resolved */
     char *tmp_path;   /* named temporary, or NULL (anonymous O_TMPFILE until commit) */
@@ -63,6 +64,7 @@ typedef struct sk__out {
     size_t len, cap;
     FILE *fp;   /* NULL: everything stays in buf */
     int failed; /* 0, or SK_ERR_NOMEM / SK_ERR_IO after the first failure */
+    int io_errno; /* with SK_ERR_IO from a flush: the errno of the failed write (the reason) */
 } sk__out;
 
 /* Makes room for n more bytes; returns false (and sets failed) on failure. */

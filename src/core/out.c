@@ -31,8 +31,11 @@ void sk__out_flush(sk__out *o)
 {
     if (!o->fp || o->failed || o->len == 0)
         return;
-    if (fwrite(o->buf, 1, o->len, o->fp) != o->len)
+    errno = 0;
+    if (fwrite(o->buf, 1, o->len, o->fp) != o->len) {
         o->failed = SK_ERR_IO;
+        o->io_errno = errno ? errno : EIO; /* kept: later calls change errno */
+    }
     o->len = 0;
 }
 

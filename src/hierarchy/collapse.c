@@ -159,10 +159,22 @@ bool sk__collapse_ok(const sk_mesh *m, uint32_t h, const sk__collapse_ctx *ctx)
     return true;
 }
 
+void sk__halfedge_take_place(sk_mesh *m, uint32_t x, uint32_t y)
+{
+    uint32_t n = m->h_next[y], p = m->h_prev[y], f = m->h_face[y];
+    m->h_next[x] = n;
+    m->h_prev[n] = x;
+    m->h_prev[x] = p;
+    m->h_next[p] = x;
+    m->h_face[x] = f;
+    if (f != SK_INVALID)
+        m->f_halfedge[f] = x;
+}
+
 void sk__collapse(sk_mesh *m, uint32_t h, uint32_t *valence)
 {
     uint32_t *hv = m->h_vertex, *hn = m->h_next, *hp = m->h_prev, *hf = m->h_face;
-    uint32_t *vh = m->v_halfedge, *fh = m->f_halfedge;
+    uint32_t *vh = m->v_halfedge;
     uint32_t o = h ^ 1u, v0 = hv[o], v1 = hv[h];
     uint32_t fl = hf[h], fr = hf[o];
     uint32_t vl = SK_INVALID, vr = SK_INVALID, any1 = SK_INVALID;
@@ -181,14 +193,7 @@ void sk__collapse(sk_mesh *m, uint32_t h, uint32_t *valence)
         /* triangle (v0, v1, vl): b = vl->v0 (now vl->v1) takes the place of a^1 = vl->v1 */
         uint32_t a = hn[h], b = hp[h], a1 = a ^ 1u;
         vl = hv[a];
-        uint32_t n = hn[a1], p = hp[a1], f = hf[a1];
-        hn[b] = n;
-        hp[n] = b;
-        hp[b] = p;
-        hn[p] = b;
-        hf[b] = f;
-        if (f != SK_INVALID)
-            fh[f] = b;
+        sk__halfedge_take_place(m, b, a1);
         if (vh[vl] == a1)
             vh[vl] = b;
         if (vh[v1] == a)
@@ -207,14 +212,7 @@ void sk__collapse(sk_mesh *m, uint32_t h, uint32_t *valence)
         /* triangle (v1, v0, vr): c = v0->vr (now v1->vr) takes the place of d^1 = v1->vr */
         uint32_t c = hn[o], d = hp[o], d1 = d ^ 1u;
         vr = hv[c];
-        uint32_t n = hn[d1], p = hp[d1], f = hf[d1];
-        hn[c] = n;
-        hp[n] = c;
-        hp[c] = p;
-        hn[p] = c;
-        hf[c] = f;
-        if (f != SK_INVALID)
-            fh[f] = c;
+        sk__halfedge_take_place(m, c, d1);
         if (vh[vr] == d)
             vh[vr] = c ^ 1u;
         if (vh[v1] == d1)

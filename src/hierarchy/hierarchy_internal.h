@@ -25,6 +25,11 @@ bool sk__collapse_ok(const sk_mesh *m, uint32_t h, const sk__collapse_ctx *ctx);
 /* Performs it; updates ctx->valence when set. */
 void sk__collapse(sk_mesh *m, uint32_t h, uint32_t *valence);
 
+/* Half-edge x takes the place of half-edge y in y's loop: x gets y's next, prev and face (and
+ * becomes that face's half-edge); y is left unlinked. The one relinking step of collapses and
+ * vertex splits (the half-edge kept of a removed triangle stands in for its outer neighbour). */
+void sk__halfedge_take_place(sk_mesh *m, uint32_t x, uint32_t y);
+
 /* The ring of from(h) for the exponential map: ring[0] = to(h) = W0, then the neighbours in the
  * order of the faces, so that (V, ring[k], ring[k+1]) are V's triangles; for a boundary vertex the
  * ring runs from W0 to the other boundary neighbour. Returns n + 1 (the number of ring vertices)

@@ -407,7 +407,9 @@ static sk_status check_input(const sk_mesh *m, sk_error *err)
     for (size_t v = 0; v < 3 * m->num_vertices; ++v)
         if (!m->v_deleted[v / 3] && !isfinite(m->positions[v]))
             return sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", v / 3);
-    return SK_OK;
+    /* outside the supported range the collapse tests silently reject every collapse (at 1e+-80
+     * simplify exited 0 with no level made): refuse, naming the range */
+    return sk_mesh_check_scale(m, err);
 }
 
 void sk_hierarchy_destroy(sk_hierarchy **hp)
@@ -424,6 +426,180 @@ void sk_hierarchy_destroy(sk_hierarchy **hp)
     *hp = NULL;
 }
 
+/* The state of one sk_hierarchy_build: the working mesh, the transitions made so far (finest
+ * first) and the one store of split records. */
+typedef struct build_state {
+    level_work w;
+    sk_mesh *m;
+    sk__level *trans;
+    size_t ntrans, cap_trans;
+    sk_vertex_split *store, *sort_tmp;
+    size_t sort_cap, stored;
+    uint32_t *work_to_finest;
+    size_t nv0, nf0, nh0;
+} build_state;
+
+#define NOMEM_MSG "out of memory building the hierarchy"
+
+static void build_free(build_state *b)
+{
+    if (b->trans) {
+        for (size_t k = 0; k < b->ntrans; ++k)
+            sk__free(b->trans[k].fine_to_coarse);
+        sk__free(b->trans);
+    }
+    sk_mesh_destroy(&b->m);
+    sk__free(b->store);
+    sk__free(b->sort_tmp);
+    sk__free(b->work_to_finest);
+    sk__free(b->w.perm);
+    sk__free(b->w.lock);
+    sk__free(b->w.stamp);
+    sk__free(b->w.valence);
+    ring_free(&b->w.rb);
+}
+
+/* Buffers, the working copy of the input (vertices in Morton order), the collapse rules. */
+static sk_status build_begin(build_state *b, const sk_mesh *mesh, const sk_hierarchy_opts *opts,
+                             sk_error *err)
+{
+    b->cap_trans = 64;
+    size_t nv0 = b->nv0 = mesh->num_vertices - mesh->num_deleted_vertices, n = nv0 ? nv0 : 1;
+    b->nf0 = mesh->num_faces - mesh->num_deleted_faces;
+    b->work_to_finest = sk__alloc_huge(n, sizeof(uint32_t));
+    /* every vertex is removed at most once: nv0 records in all; untouched pages cost nothing */
+    b->store = sk__alloc_huge(n, sizeof(sk_vertex_split));
+    b->trans = sk__calloc_array(b->cap_trans, sizeof *b->trans);
+    if (!b->work_to_finest || !b->store || !b->trans)
+        return sk__fail(err, SK_ERR_NOMEM, NOMEM_MSG);
+    sk_status st = working_copy(mesh, &b->m, b->work_to_finest, err);
+    if (st)
+        return st;
+    b->nh0 = b->m->num_halfedges;
+    b->w.perm = sk__alloc_huge(n, sizeof(uint32_t));
+    b->w.lock = sk__alloc_huge(n, 1);
+    b->w.stamp = sk__alloc_huge(n, sizeof(uint32_t));
+    b->w.valence = sk__alloc_huge(n, sizeof(uint32_t));
+    if (!b->w.perm || !b->w.lock || !b->w.stamp || !b->w.valence)
+        return sk__fail(err, SK_ERR_NOMEM, NOMEM_MSG);
+    sk__collapse_ctx_init(&b->w.ctx, &opts->collapse);
+    sk__rng_seed(&b->w.rng, opts->seed);
+    return SK_OK;
+}
+
+/* A new transition for the level just simplified (nv vertices before): compacts the mesh, which
+ * gives the fine -> coarse map, and renumbers the level's split records to the coarse ids (the
+ * finest level keeps the input numbering for the removed vertices). */
+static sk_status push_transition(build_state *b, size_t nv, sk__level **out, sk_error *err)
+{
+    if (b->ntrans == b->cap_trans) {
+        sk__level *p = sk__realloc_array(b->trans, 2 * b->cap_trans, sizeof *b->trans);
+        if (!p)
+            return sk__fail(err, SK_ERR_NOMEM, NOMEM_MSG);
+        memset(p + b->cap_trans, 0, b->cap_trans * sizeof *p);
+        b->trans = p;
+        b->cap_trans *= 2;
+    }
+    sk__level *L = &b->trans[b->ntrans++];
+    L->fine_to_coarse = sk__alloc_huge(nv, sizeof(uint32_t));
+    if (!L->fine_to_coarse)
+        return sk__fail(err, SK_ERR_NOMEM, NOMEM_MSG);
+    sk_status st = sk_mesh_compact(b->m, L->fine_to_coarse, NULL, err);
+    if (st)
+        return st;
+    uint32_t *map = L->fine_to_coarse;
+    sk_vertex_split *sp = b->w.splits;
+    for (size_t k = 0; k < b->w.num_splits; ++k) {
+        sp[k].w0 = map[sp[k].w0];
+        sp[k].first = map[sp[k].first];
+        sp[k].last = map[sp[k].last];
+        for (int j = 0; j < 3; ++j)
+            sp[k].parent[j] = map[sp[k].parent[j]];
+    }
+    if (b->ntrans == 1) { /* the finest level keeps the input numbering */
+        for (size_t k = 0; k < b->w.num_splits; ++k)
+            sp[k].v = b->work_to_finest[sp[k].v];
+        for (size_t v = 0; v < nv; ++v) /* perm: finest -> coarse (perm is free here) */
+            b->w.perm[b->work_to_finest[v]] = map[v];
+        memcpy(map, b->w.perm, nv * sizeof(uint32_t));
+    }
+    *out = L;
+    return SK_OK;
+}
+
+/* One level: simplify, record the transition, report progress. *more = false when no collapse
+ * was possible or the level removed less than min_reduction of the faces. */
+static sk_status next_level(build_state *b, const sk_hierarchy_opts *opts, double min_reduction,
+                            bool *more, sk_error *err)
+{
+    sk_mesh *m = b->m;
+    size_t faces = m->num_faces, nv = m->num_vertices;
+    double t0 = sk_seconds();
+    *more = false;
+    b->w.splits = b->store + b->stored;
+    b->w.num_splits = 0;
+    if (!simplify_level(m, &b->w))
+        return sk__fail(err, SK_ERR_NOMEM, NOMEM_MSG);
+    if (b->w.num_splits == 0)
+        return SK_OK;
+    sk__level *L = NULL;
+    sk_status st = push_transition(b, nv, &L, err);
+    /* splits commute within a level: store them sorted by w0 (Morton order of the coarse
+       level) so that the walk up applies them with good locality */
+    if (!st)
+        st = sort_by_w0(b->w.splits, b->w.num_splits, b->w.perm, &b->sort_tmp, &b->sort_cap, err);
+    if (st)
+        return st;
+    L->splits = b->w.splits;
+    L->num_splits = b->w.num_splits;
+    L->halfedges = m->num_halfedges;
+    b->stored += b->w.num_splits;
+    L->vertices = m->num_vertices;
+    L->faces = m->num_faces;
+    L->seconds = sk_seconds() - t0;
+    if (opts->on_level && opts->on_level(opts->on_level_user, b->ntrans, m))
+        return sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+    st = sk__progress(opts->progress, opts->progress_user,
+                      b->nf0 ? 1.0 - (double)m->num_faces / (double)b->nf0 : 1.0, err);
+    *more = !st && (double)(faces - m->num_faces) >= min_reduction * (double)faces;
+    return st;
+}
+
+/* Hands the levels, the split store and the coarsest mesh over to a new hierarchy. */
+static sk_status build_finish(build_state *b, double finest_seconds, sk_hierarchy **out,
+                              sk_error *err)
+{
+    size_t ntrans = b->ntrans;
+    if (ntrans == 0) { /* no level below the input: give the input its numbering back */
+        uint32_t *newid = b->w.perm;
+        memcpy(newid, b->work_to_finest, b->nv0 * sizeof(uint32_t));
+        sk_status st = sk__permute_vertices(b->m, newid, err);
+        if (st)
+            return st;
+    }
+    sk_hierarchy *hier = sk__calloc_array(1, sizeof *hier);
+    if (!hier || !(hier->levels = sk__calloc_array(ntrans + 1, sizeof(sk__level)))) {
+        sk_hierarchy_destroy(&hier);
+        return sk__fail(err, SK_ERR_NOMEM, NOMEM_MSG);
+    }
+    hier->num_levels = ntrans + 1;
+    sk__level *fin = &hier->levels[ntrans];
+    fin->vertices = b->nv0;
+    fin->faces = b->nf0;
+    fin->halfedges = b->nh0;
+    fin->seconds = finest_seconds;
+    for (size_t k = 0; k < ntrans; ++k) { /* transition k makes level ntrans - 1 - k */
+        hier->levels[ntrans - 1 - k] = b->trans[k];
+        memset(&b->trans[k], 0, sizeof b->trans[k]);
+    }
+    hier->split_store = b->store;
+    b->store = NULL;
+    hier->coarsest = b->m;
+    b->m = NULL;
+    *out = hier;
+    return SK_OK;
+}
+
 sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_in,
                              sk_hierarchy **out, sk_error *err)
 {
@@ -437,157 +613,22 @@ sk_status sk_hierarchy_build(const sk_mesh *mesh, const sk_hierarchy_opts *opts_
     sk_status st = check_input(mesh, err);
     if (st)
         return st;
-
     double t_start = sk_seconds();
-    level_work w;
-    memset(&w, 0, sizeof w);
-    sk_mesh *m = NULL;
-    sk__level *trans = NULL; /* transitions, finest first */
-    size_t ntrans = 0, cap_trans = 64;
-    sk_vertex_split *store = NULL, *sort_tmp = NULL;
-    size_t sort_cap = 0;
-    size_t nv0 = mesh->num_vertices - mesh->num_deleted_vertices;
-    size_t nf0 = mesh->num_faces - mesh->num_deleted_faces;
-    uint32_t *work_to_finest = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
-    sk_hierarchy *hier = NULL;
-    /* every vertex is removed at most once: nv0 records in all; untouched pages cost nothing */
-    store = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(sk_vertex_split));
-    trans = sk__calloc_array(cap_trans, sizeof *trans);
-    if (!work_to_finest || !store || !trans) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
+    build_state b;
+    memset(&b, 0, sizeof b);
+    if ((st = build_begin(&b, mesh, &opts, err)))
         goto done;
-    }
-    if ((st = working_copy(mesh, &m, work_to_finest, err)))
-        goto done;
-    size_t nh0 = m->num_halfedges;
-    w.perm = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
-    w.lock = sk__alloc_huge(nv0 ? nv0 : 1, 1);
-    w.stamp = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
-    w.valence = sk__alloc_huge(nv0 ? nv0 : 1, sizeof(uint32_t));
-    if (!w.perm || !w.lock || !w.stamp || !w.valence) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
-        goto done;
-    }
-    sk__collapse_ctx_init(&w.ctx, &opts.collapse);
-    sk__rng_seed(&w.rng, opts.seed);
     double finest_seconds = sk_seconds() - t_start;
-    size_t stored = 0;
-
-    for (;;) {
-        size_t faces = m->num_faces, nv = m->num_vertices;
-        if (opts.max_levels && ntrans + 1 >= opts.max_levels)
+    for (bool more = true; more;) {
+        if (opts.max_levels && b.ntrans + 1 >= opts.max_levels)
             break;
-        if (opts.target_faces && faces <= opts.target_faces)
+        if (opts.target_faces && b.m->num_faces <= opts.target_faces)
             break;
-        double t0 = sk_seconds();
-        w.splits = store + stored;
-        w.num_splits = 0;
-        if (!simplify_level(m, &w)) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
-            goto done;
-        }
-        if (w.num_splits == 0)
-            break;
-        if (ntrans == cap_trans) {
-            sk__level *p = sk__realloc_array(trans, 2 * cap_trans, sizeof *trans);
-            if (!p) {
-                st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
-                goto done;
-            }
-            memset(p + cap_trans, 0, cap_trans * sizeof *p);
-            trans = p;
-            cap_trans *= 2;
-        }
-        sk__level *L = &trans[ntrans++];
-        L->fine_to_coarse = sk__alloc_huge(nv, sizeof(uint32_t));
-        if (!L->fine_to_coarse) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
-            goto done;
-        }
-        if ((st = sk_mesh_compact(m, L->fine_to_coarse, NULL, err)))
-            goto done;
-        uint32_t *map = L->fine_to_coarse;
-        sk_vertex_split *sp = w.splits;
-        for (size_t k = 0; k < w.num_splits; ++k) {
-            sp[k].w0 = map[sp[k].w0];
-            sp[k].first = map[sp[k].first];
-            sp[k].last = map[sp[k].last];
-            for (int j = 0; j < 3; ++j)
-                sp[k].parent[j] = map[sp[k].parent[j]];
-        }
-        if (ntrans == 1) { /* the finest level keeps the input numbering */
-            for (size_t k = 0; k < w.num_splits; ++k)
-                sp[k].v = work_to_finest[sp[k].v];
-            for (size_t v = 0; v < nv; ++v) /* perm: finest -> coarse (perm is free here) */
-                w.perm[work_to_finest[v]] = map[v];
-            memcpy(map, w.perm, nv * sizeof(uint32_t));
-        }
-        /* splits commute within a level: store them sorted by w0 (Morton order of the coarse
-           level) so that the walk up applies them with good locality */
-        if ((st = sort_by_w0(sp, w.num_splits, w.perm, &sort_tmp, &sort_cap, err)))
-            goto done;
-        L->splits = sp;
-        L->num_splits = w.num_splits;
-        L->halfedges = m->num_halfedges;
-        stored += w.num_splits;
-        L->vertices = m->num_vertices;
-        L->faces = m->num_faces;
-        L->seconds = sk_seconds() - t0;
-        if (opts.on_level && opts.on_level(opts.on_level_user, ntrans, m)) {
-            st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
-            goto done;
-        }
-        if ((st = sk__progress(opts.progress, opts.progress_user,
-                               nf0 ? 1.0 - (double)m->num_faces / (double)nf0 : 1.0, err)))
-            goto done;
-        if ((double)(faces - m->num_faces) < min_reduction * (double)faces)
-            break;
-    }
-    if (ntrans == 0) { /* no level below the input: give the input its numbering back */
-        uint32_t *newid = w.perm;
-        memcpy(newid, work_to_finest, nv0 * sizeof(uint32_t));
-        if ((st = sk__permute_vertices(m, newid, err)))
+        if ((st = next_level(&b, &opts, min_reduction, &more, err)))
             goto done;
     }
-
-    hier = sk__calloc_array(1, sizeof *hier);
-    if (!hier || !(hier->levels = sk__calloc_array(ntrans + 1, sizeof(sk__level)))) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the hierarchy");
-        goto done;
-    }
-    hier->num_levels = ntrans + 1;
-    sk__level *fin = &hier->levels[ntrans];
-    fin->vertices = nv0;
-    fin->faces = nf0;
-    fin->halfedges = nh0;
-    fin->seconds = finest_seconds;
-    for (size_t k = 0; k < ntrans; ++k) { /* transition k makes level ntrans - 1 - k */
-        hier->levels[ntrans - 1 - k] = trans[k];
-        memset(&trans[k], 0, sizeof trans[k]);
-    }
-    hier->split_store = store;
-    store = NULL;
-    hier->coarsest = m;
-    m = NULL;
-    st = SK_OK;
-    *out = hier;
-    hier = NULL;
-
+    st = build_finish(&b, finest_seconds, out, err);
 done:
-    if (trans) {
-        for (size_t k = 0; k < ntrans; ++k)
-            sk__free(trans[k].fine_to_coarse);
-        sk__free(trans);
-    }
-    sk_hierarchy_destroy(&hier);
-    sk_mesh_destroy(&m);
-    sk__free(store);
-    sk__free(sort_tmp);
-    sk__free(work_to_finest);
-    sk__free(w.perm);
-    sk__free(w.lock);
-    sk__free(w.stamp);
-    sk__free(w.valence);
-    ring_free(&w.rb);
+    build_free(&b);
     return st;
 }

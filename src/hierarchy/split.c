@@ -66,14 +66,7 @@ uint32_t sk__vertex_split(sk_mesh *m, const sk_vertex_split *s)
         uint32_t a1 = a ^ 1u, b = x ^ 1u;
         hv[a] = s->first;
         hv[a1] = v1;
-        uint32_t n = hn[b], p = hp[b], f = hf[b];
-        hn[a1] = n;
-        hp[n] = a1;
-        hp[a1] = p;
-        hn[p] = a1;
-        hf[a1] = f;
-        if (f != SK_INVALID)
-            fh[f] = a1;
+        sk__halfedge_take_place(m, a1, b);
         if (vh[s->first] == b)
             vh[s->first] = a1;
         hn[h] = a, hn[a] = b, hn[b] = h;
@@ -94,14 +87,7 @@ uint32_t sk__vertex_split(sk_mesh *m, const sk_vertex_split *s)
         uint32_t d1 = d ^ 1u, c = y;
         hv[d] = v1;
         hv[d1] = s->last;
-        uint32_t n = hn[c], p = hp[c], f = hf[c];
-        hn[d1] = n;
-        hp[n] = d1;
-        hp[d1] = p;
-        hn[p] = d1;
-        hf[d1] = f;
-        if (f != SK_INVALID)
-            fh[f] = d1;
+        sk__halfedge_take_place(m, d1, c);
         if (vh[v1] == c)
             vh[v1] = d1;
         hn[o] = c, hn[c] = d, hn[d] = o;

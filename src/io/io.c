@@ -209,7 +209,7 @@ static sk_status write_sink(sk__out *o, const sk_soup *soup, const sk_write_opts
         return sk__fail(err, SK_ERR_NOMEM, "out of memory writing the %s file",
                         sk_format_name(fmt));
     if (o->failed)
-        return sk__fail(err, SK_ERR_IO, "write failed: %s", strerror(errno));
+        return sk__fail(err, SK_ERR_IO, "write failed: %s", strerror(o->io_errno ? o->io_errno : EIO));
     return SK_OK;
 }
 
@@ -264,8 +264,11 @@ sk_status sk_soup_write(const char *path, const sk_soup *soup, const sk_write_op
     sk__free(out.buf);
     if (st) {
         sk__atomic_abort(&af);
-        if (err && st == SK_ERR_IO)
-            sk__fail(err, st, "%s: write failed", path);
+        if (err && st == SK_ERR_IO) { /* name the file, keep the reason */
+            char why[sizeof err->message];
+            memcpy(why, err->message, sizeof why);
+            sk__fail(err, st, "%s: %s", path, why);
+        }
         return st;
     }
     st = sk__atomic_commit(&af, err);

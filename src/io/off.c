@@ -110,6 +110,119 @@ static sk_status parse_counts(sk__text *t, uint64_t *nv, uint64_t *nf, size_t *l
     return SK_OK;
 }
 
+/* The declared counts against the bytes that follow, before anything is allocated. */
+static sk_status check_counts(sk__text *t, uint64_t nv, uint64_t nf, size_t counts_line)
+{
+    uint64_t left = (uint64_t)(t->end - t->p);
+    if (nv > left || nf > left ||
+        nv * OFF_MIN_VERTEX_BYTES + nf * OFF_MIN_FACE_BYTES > left + 1) {
+        t->line = counts_line;
+        return sk__text_error(t, "the header declares %llu vertices and %llu faces but only "
+                                 "%llu bytes follow", (unsigned long long)nv,
+                              (unsigned long long)nf, (unsigned long long)left);
+    }
+    if (nv >= UINT32_MAX || nf >= UINT32_MAX) {
+        t->line = counts_line;
+        return sk__text_error(t, "too many elements for 32-bit indices");
+    }
+    return SK_OK;
+}
+
+/* Vertex line v of nv: x y z [nx ny nz] [colour...] [s t], into s. */
+static sk_status read_vertex(sk__text *t, sk_soup *s, const off_header *h, size_t v, uint64_t nv,
+                             const char *name, sk_error *err)
+{
+    char tok[48];
+    const int want = 3 + (h->normals ? 3 : 0) + (h->st ? 2 : 0);
+    skip_space_comments(t);
+    if (sk__at_eof(t))
+        return sk__text_error(t, "the file ends after %zu of %llu vertices", v,
+                              (unsigned long long)nv);
+    double val[OFF_MAX_KEPT], last[2] = {0, 0};
+    int count = 0;
+    while (!at_line_end(t)) {
+        double d = 0;
+        const char *p = t->p;
+        sk__num r = sk__parse_double(&p, t->end, &d);
+        if (r == SK__NUM_NONFINITE)
+            return sk__text_error(t, "vertex %zu has a non-finite value '%s'", v,
+                                  sk__token_str(t->p, t->end, tok, sizeof tok));
+        if (r != SK__NUM_OK || !ends_value(p, t->end))
+            return sk__text_error(t, "vertex %zu: '%s' is not a number", v,
+                                  sk__token_str(t->p, t->end, tok, sizeof tok));
+        t->p = p;
+        if (count < OFF_MAX_KEPT)
+            val[count] = d;
+        last[0] = last[1];
+        last[1] = d;
+        ++count;
+        sk__skip_blank(t);
+    }
+    if (count < want || (count > want && !h->colour))
+        return sk__text_error(t, "vertex %zu has %d values but the header asks for %d%s", v,
+                              count, want,
+                              count > want ? " (is the vertex count in the header right?)" : "");
+    sk__skip_line(t);
+    sk_status st = sk_soup_push_vertex(s, val, h->normals ? val + 3 : NULL, h->st ? last : NULL);
+    return st ? sk__fail(err, st, "%s: out of memory", name) : SK_OK;
+}
+
+/* Face line f: n i1 .. in [colour...], into s; *idx (capacity *cap) is the reused index buffer. */
+static sk_status read_face(sk__text *t, sk_soup *s, size_t f, uint64_t nf, uint64_t nv,
+                           uint32_t **idx, size_t *cap, const char *name, sk_error *err)
+{
+    char tok[48];
+    skip_space_comments(t);
+    if (sk__at_eof(t))
+        return sk__text_error(t, "the file ends after %zu of %llu faces", f,
+                              (unsigned long long)nf);
+    uint64_t n;
+    const char *p = t->p;
+    if (!sk__parse_uint(&p, t->end, &n) || !ends_value(p, t->end))
+        return sk__text_error(t, "face %zu: expected the number of its vertices, found '%s'%s",
+                              f, sk__token_str(t->p, t->end, tok, sizeof tok),
+                              f == 0 ? " (is the vertex count in the header right?)" : "");
+    t->p = p;
+    if (n < 3)
+        return sk__text_error(t, "face %zu has only %llu vertices%s", f, (unsigned long long)n,
+                              f == 0 ? " (is the vertex count in the header right?)" : "");
+    if (n > (uint64_t)(t->end - t->p) / 2)
+        return sk__text_error(t, "face %zu declares %llu vertices, more than the file holds", f,
+                              (unsigned long long)n);
+    if (n > *cap) {
+        size_t c = *cap ? *cap : 16;
+        while (c < n)
+            c *= 2;
+        uint32_t *ni = sk__realloc_array(*idx, c, sizeof *ni);
+        if (!ni)
+            return sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
+        *idx = ni;
+        *cap = c;
+    }
+    for (uint64_t k = 0; k < n; ++k) {
+        sk__skip_blank(t);
+        if (at_line_end(t))
+            return sk__text_error(t, "face %zu declares %llu vertices but lists %llu", f,
+                                  (unsigned long long)n, (unsigned long long)k);
+        uint64_t i;
+        p = t->p;
+        if (*p == '-')
+            return sk__text_error(t, "face %zu has a negative index '%s'", f,
+                                  sk__token_str(t->p, t->end, tok, sizeof tok));
+        if (!sk__parse_uint(&p, t->end, &i) || !ends_value(p, t->end))
+            return sk__text_error(t, "face %zu: '%s' is not a vertex index", f,
+                                  sk__token_str(t->p, t->end, tok, sizeof tok));
+        if (i >= nv)
+            return sk__text_error(t, "face %zu has index %llu but the file has %llu vertices",
+                                  f, (unsigned long long)i, (unsigned long long)nv);
+        t->p = p;
+        (*idx)[k] = (uint32_t)i;
+    }
+    sk__skip_line(t); /* face colour values, if any, are ignored */
+    sk_status st = sk_soup_push_face(s, *idx, (size_t)n);
+    return st ? sk__fail(err, st, "%s: out of memory", name) : SK_OK;
+}
+
 sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup **out,
                        sk_error *err)
 {
@@ -122,156 +235,27 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
     char tok[48];
     off_header h;
     uint64_t nv = 0, nf = 0;
-    sk_status st = parse_header(&t, &h);
     size_t counts_line = 1;
+    sk_status st = parse_header(&t, &h);
     if (!st)
         st = parse_counts(&t, &nv, &nf, &counts_line);
+    if (!st)
+        st = check_counts(&t, nv, nf, counts_line);
+    if (!st)
+        st = sk_soup_create((size_t)nv, (size_t)nf, (size_t)nf * 3, h.normals, h.st, &s, err);
     if (st)
         return st;
-
-    /* Check the declared counts against the bytes that follow before allocating anything. */
-    uint64_t left = (uint64_t)(t.end - t.p);
-    if (nv > left || nf > left ||
-        nv * OFF_MIN_VERTEX_BYTES + nf * OFF_MIN_FACE_BYTES > left + 1) {
-        t.line = counts_line;
-        return sk__text_error(&t, "the header declares %llu vertices and %llu faces but only "
-                                  "%llu bytes follow", (unsigned long long)nv,
-                              (unsigned long long)nf, (unsigned long long)left);
-    }
-    if (nv >= UINT32_MAX || nf >= UINT32_MAX) {
-        t.line = counts_line;
-        return sk__text_error(&t, "too many elements for 32-bit indices");
-    }
-    st = sk_soup_create((size_t)nv, (size_t)nf, (size_t)nf * 3, h.normals, h.st, &s, err);
-    if (st)
-        return st;
-
-    const int want = 3 + (h.normals ? 3 : 0) + (h.st ? 2 : 0);
-    for (size_t v = 0; v < nv; ++v) {
+    for (size_t v = 0; v < nv && !st; ++v)
+        st = read_vertex(&t, s, &h, v, nv, name, err);
+    for (size_t f = 0; f < nf && !st; ++f)
+        st = read_face(&t, s, f, nf, nv, &idx, &idx_cap, name, err);
+    if (!st) {
         skip_space_comments(&t);
-        if (sk__at_eof(&t)) {
-            st = sk__text_error(&t, "the file ends after %zu of %llu vertices", v,
-                                (unsigned long long)nv);
-            goto done;
-        }
-        double val[OFF_MAX_KEPT], last[2] = {0, 0};
-        int count = 0;
-        while (!at_line_end(&t)) {
-            double d = 0;
-            const char *p = t.p;
-            sk__num r = sk__parse_double(&p, t.end, &d);
-            if (r == SK__NUM_NONFINITE) {
-                st = sk__text_error(&t, "vertex %zu has a non-finite value '%s'", v,
-                                    sk__token_str(t.p, t.end, tok, sizeof tok));
-                goto done;
-            }
-            if (r != SK__NUM_OK || !ends_value(p, t.end)) {
-                st = sk__text_error(&t, "vertex %zu: '%s' is not a number", v,
-                                    sk__token_str(t.p, t.end, tok, sizeof tok));
-                goto done;
-            }
-            t.p = p;
-            if (count < OFF_MAX_KEPT)
-                val[count] = d;
-            last[0] = last[1];
-            last[1] = d;
-            ++count;
-            sk__skip_blank(&t);
-        }
-        if (count < want || (count > want && !h.colour)) {
-            st = sk__text_error(&t, "vertex %zu has %d values but the header asks for %d%s", v,
-                                count, want,
-                                count > want ? " (is the vertex count in the header right?)" : "");
-            goto done;
-        }
-        sk__skip_line(&t);
-        st = sk_soup_push_vertex(s, val, h.normals ? val + 3 : NULL, h.st ? last : NULL);
-        if (st) {
-            st = sk__fail(err, st, "%s: out of memory", name);
-            goto done;
-        }
+        if (!sk__at_eof(&t))
+            st = sk__text_error(&t, "unexpected '%s' after the last of %llu faces (are the counts "
+                                    "in the header right?)",
+                                sk__token_str(t.p, t.end, tok, sizeof tok), (unsigned long long)nf);
     }
-
-    for (size_t f = 0; f < nf; ++f) {
-        skip_space_comments(&t);
-        if (sk__at_eof(&t)) {
-            st = sk__text_error(&t, "the file ends after %zu of %llu faces", f,
-                                (unsigned long long)nf);
-            goto done;
-        }
-        uint64_t n;
-        const char *p = t.p;
-        if (!sk__parse_uint(&p, t.end, &n) || !ends_value(p, t.end)) {
-            st = sk__text_error(&t, "face %zu: expected the number of its vertices, found '%s'%s",
-                                f, sk__token_str(t.p, t.end, tok, sizeof tok),
-                                f == 0 ? " (is the vertex count in the header right?)" : "");
-            goto done;
-        }
-        t.p = p;
-        if (n < 3) {
-            st = sk__text_error(&t, "face %zu has only %llu vertices%s", f, (unsigned long long)n,
-                                f == 0 ? " (is the vertex count in the header right?)" : "");
-            goto done;
-        }
-        if (n > (uint64_t)(t.end - t.p) / 2) {
-            st = sk__text_error(&t, "face %zu declares %llu vertices, more than the file holds", f,
-                                (unsigned long long)n);
-            goto done;
-        }
-        if (n > idx_cap) {
-            size_t cap = idx_cap ? idx_cap : 16;
-            while (cap < n)
-                cap *= 2;
-            uint32_t *ni = sk__realloc_array(idx, cap, sizeof *ni);
-            if (!ni) {
-                st = sk__fail(err, SK_ERR_NOMEM, "%s: out of memory", name);
-                goto done;
-            }
-            idx = ni;
-            idx_cap = cap;
-        }
-        for (uint64_t k = 0; k < n; ++k) {
-            sk__skip_blank(&t);
-            if (at_line_end(&t)) {
-                st = sk__text_error(&t, "face %zu declares %llu vertices but lists %llu", f,
-                                    (unsigned long long)n, (unsigned long long)k);
-                goto done;
-            }
-            uint64_t i;
-            p = t.p;
-            if (*p == '-') {
-                st = sk__text_error(&t, "face %zu has a negative index '%s'", f,
-                                    sk__token_str(t.p, t.end, tok, sizeof tok));
-                goto done;
-            }
-            if (!sk__parse_uint(&p, t.end, &i) || !ends_value(p, t.end)) {
-                st = sk__text_error(&t, "face %zu: '%s' is not a vertex index", f,
-                                    sk__token_str(t.p, t.end, tok, sizeof tok));
-                goto done;
-            }
-            if (i >= nv) {
-                st = sk__text_error(&t, "face %zu has index %llu but the file has %llu vertices",
-                                    f, (unsigned long long)i, (unsigned long long)nv);
-                goto done;
-            }
-            t.p = p;
-            idx[k] = (uint32_t)i;
-        }
-        sk__skip_line(&t); /* face colour values, if any, are ignored */
-        st = sk_soup_push_face(s, idx, (size_t)n);
-        if (st) {
-            st = sk__fail(err, st, "%s: out of memory", name);
-            goto done;
-        }
-    }
-    skip_space_comments(&t);
-    if (!sk__at_eof(&t)) {
-        st = sk__text_error(&t, "unexpected '%s' after the last of %llu faces (are the counts in "
-                                "the header right?)", sk__token_str(t.p, t.end, tok, sizeof tok),
-                            (unsigned long long)nf);
-        goto done;
-    }
-done:
     sk__free(idx);
     if (st) {
         sk_soup_destroy(&s);

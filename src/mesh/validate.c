@@ -274,67 +274,39 @@ static sk_status walk_boundary(const sk_soup *s, sk_validation *r, work *w, size
     return SK_OK;
 }
 
-sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
+/* The edge table over the corners of usable faces: one key (smaller vertex, larger vertex) per
+ * corner's edge, sorted, with the corners in key order; marks the referenced vertices. nk: the
+ * number of entries. Returns SK_ERR_NOMEM or SK_OK. */
+static sk_status edge_table(const sk_soup *s, work *w, size_t *nk)
 {
-    memset(r, 0, sizeof *r);
-    size_t nv = s->num_vertices, nf = s->num_faces, nc = s->face_offsets[nf];
-    r->vertices = nv;
-    r->faces = nf;
-    work w = {0};
-    uint8_t *vbad = sk__calloc_array(nv, 1);
-    uint32_t *vcomp = NULL;
-    long *cchi = NULL, *cloops = NULL;
-    uint8_t *cbad = NULL;
-    sk_status st = SK_OK;
-    w.face_ok = sk__malloc_array(nf, 1);
-    w.cface = sk__malloc_array(nc, sizeof(uint32_t));
-    w.keys = sk__malloc_array(nc, sizeof(uint64_t));
-    w.corner = sk__malloc_array(nc, sizeof(uint32_t));
-    w.parent = sk__malloc_array(nc > nv + nf ? nc : nv + nf, sizeof(uint32_t));
-    w.referenced = sk__calloc_array(nv, 1);
-    w.on_boundary = sk__calloc_array(nv, 1);
-    w.angle_sum = sk__calloc_array(nv, sizeof(double));
-    if (!vbad || !w.face_ok || !w.cface || !w.keys || !w.corner || !w.parent || !w.referenced ||
-        !w.on_boundary || !w.angle_sum)
-        goto nomem;
-
-    for (size_t v = 0; v < nv; ++v) {
-        const double *p = s->positions + 3 * v;
-        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
-            vbad[v] = 1;
-            note(&r->nonfinite_vertices, (uint32_t)v, SK_INVALID);
-        }
-    }
-    check_faces(s, r, &w, vbad);
-    if (check_duplicates(s, r, &w))
-        goto nomem;
-
-    /* edge table over the corners of usable faces */
     size_t k = 0;
-    for (size_t f = 0; f < nf; ++f) {
-        if (!w.face_ok[f])
+    for (size_t f = 0; f < s->num_faces; ++f) {
+        if (!w->face_ok[f])
             continue;
         for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
-            uint64_t a = s->face_indices[c], b = s->face_indices[next_corner(s, &w, c)];
-            w.keys[k] = a < b ? a << 32 | b : b << 32 | a;
-            w.corner[k++] = c;
-            w.referenced[a] = 1;
+            uint64_t a = s->face_indices[c], b = s->face_indices[next_corner(s, w, c)];
+            w->keys[k] = a < b ? a << 32 | b : b << 32 | a;
+            w->corner[k++] = c;
+            w->referenced[a] = 1;
         }
     }
-    size_t nk = k;
-    if (sk__sort_u64_u32(w.keys, w.corner, nk))
-        goto nomem;
+    *nk = k;
+    return sk__sort_u64_u32(w->keys, w->corner, k) ? SK_ERR_NOMEM : SK_OK;
+}
 
-    /* fans: union the corners of two faces at both ends of every edge they share */
-    for (size_t c = 0; c < nc; ++c)
-        w.parent[c] = (uint32_t)c;
+/* One pass over the edges: counts, lengths, boundary, non-manifold edges, orientation conflicts;
+ * unions the corners of two faces at both ends of every edge they share (the vertex fans). */
+static void edge_pass(const sk_soup *s, sk_validation *r, work *w, size_t nk)
+{
+    for (size_t c = 0; c < s->face_offsets[s->num_faces]; ++c)
+        w->parent[c] = (uint32_t)c;
     double lsum = 0.0;
     r->edge_min = DBL_MAX;
     for (size_t i = 0; i < nk;) {
         size_t j = i + 1;
-        while (j < nk && w.keys[j] == w.keys[i])
+        while (j < nk && w->keys[j] == w->keys[i])
             ++j;
-        uint32_t a = (uint32_t)(w.keys[i] >> 32), b = (uint32_t)w.keys[i];
+        uint32_t a = (uint32_t)(w->keys[i] >> 32), b = (uint32_t)w->keys[i];
         r->edges++;
         double len = sk__dist3(s->positions + 3 * (size_t)a, s->positions + 3 * (size_t)b);
         lsum += len;
@@ -342,95 +314,118 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
         r->edge_max = len > r->edge_max ? len : r->edge_max;
         if (j - i == 1) {
             r->boundary_edges++;
-            w.on_boundary[a] = w.on_boundary[b] = 1;
+            w->on_boundary[a] = w->on_boundary[b] = 1;
         } else if (j - i > 2) {
             note(&r->non_manifold_edges, a, b);
-            w.on_boundary[a] = w.on_boundary[b] = 1;
+            w->on_boundary[a] = w->on_boundary[b] = 1;
         } else {
-            uint32_t c1 = w.corner[i], c2 = w.corner[i + 1];
+            uint32_t c1 = w->corner[i], c2 = w->corner[i + 1];
             if (s->face_indices[c1] == s->face_indices[c2])
                 note(&r->orientation_conflicts, a, b);
-            uint32_t c1n = next_corner(s, &w, c1), c2n = next_corner(s, &w, c2);
+            uint32_t c1n = next_corner(s, w, c1), c2n = next_corner(s, w, c2);
             /* the corner of each face at a, and at b */
             uint32_t c1a = s->face_indices[c1] == a ? c1 : c1n, c1b = c1a == c1 ? c1n : c1;
             uint32_t c2a = s->face_indices[c2] == a ? c2 : c2n, c2b = c2a == c2 ? c2n : c2;
-            sk__uf_union(w.parent, c1a, c2a);
-            sk__uf_union(w.parent, c1b, c2b);
+            sk__uf_union(w->parent, c1a, c2a);
+            sk__uf_union(w->parent, c1b, c2b);
         }
         i = j;
     }
     r->edge_mean = r->edges ? lsum / (double)r->edges : 0.0;
     if (!r->edges)
         r->edge_min = 0.0;
-    {
-        uint32_t *fans = sk__calloc_array(nv, sizeof(uint32_t));
-        if (!fans)
-            goto nomem;
-        for (size_t i = 0; i < nk; ++i) {
-            uint32_t c = w.corner[i]; /* every usable corner appears once in the table */
-            if (sk__uf_find(w.parent, c) == c)
-                fans[s->face_indices[c]]++;
-        }
-        for (size_t v = 0; v < nv; ++v)
-            if (fans[v] > 1)
-                note(&r->non_manifold_vertices, (uint32_t)v, fans[v]);
-        sk__free(fans);
-    }
+}
 
-    /* components: union faces with their vertices */
+/* Non-manifold vertices: more than one fan of corners (after edge_pass). */
+static sk_status count_fans(const sk_soup *s, sk_validation *r, work *w, size_t nk)
+{
+    uint32_t *fans = sk__calloc_array(s->num_vertices, sizeof(uint32_t));
+    if (!fans)
+        return SK_ERR_NOMEM;
+    for (size_t i = 0; i < nk; ++i) {
+        uint32_t c = w->corner[i]; /* every usable corner appears once in the table */
+        if (sk__uf_find(w->parent, c) == c)
+            fans[s->face_indices[c]]++;
+    }
+    for (size_t v = 0; v < s->num_vertices; ++v)
+        if (fans[v] > 1)
+            note(&r->non_manifold_vertices, (uint32_t)v, fans[v]);
+    sk__free(fans);
+    return SK_OK;
+}
+
+/* Components (faces united with their vertices): vcomp[v] (SK_INVALID for unreferenced
+ * vertices, which are noted unless already bad) and r->components. */
+static sk_status label_components(const sk_soup *s, sk_validation *r, work *w,
+                                  const uint8_t *vbad, uint32_t **vcomp_out)
+{
+    size_t nv = s->num_vertices, nf = s->num_faces;
     for (size_t i = 0; i < nv + nf; ++i)
-        w.parent[i] = (uint32_t)i;
+        w->parent[i] = (uint32_t)i;
     for (size_t f = 0; f < nf; ++f)
-        if (w.face_ok[f])
+        if (w->face_ok[f])
             for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c)
-                sk__uf_union(w.parent, (uint32_t)(nv + f), s->face_indices[c]);
-    vcomp = sk__malloc_array(nv + 1, sizeof(uint32_t));
+                sk__uf_union(w->parent, (uint32_t)(nv + f), s->face_indices[c]);
+    uint32_t *vcomp = sk__malloc_array(nv + 1, sizeof(uint32_t));
     if (!vcomp)
-        goto nomem;
+        return SK_ERR_NOMEM;
     size_t ncomp = 0;
     for (size_t v = 0; v < nv; ++v) {
-        if (!w.referenced[v]) {
+        if (!w->referenced[v]) {
             vcomp[v] = SK_INVALID;
             if (!vbad[v])
                 note(&r->unreferenced_vertices, (uint32_t)v, SK_INVALID);
             continue;
         }
-        if (sk__uf_find(w.parent, (uint32_t)v) == v)
+        if (sk__uf_find(w->parent, (uint32_t)v) == v)
             vcomp[v] = (uint32_t)ncomp++;
     }
     for (size_t v = 0; v < nv; ++v)
-        if (w.referenced[v])
-            vcomp[v] = vcomp[sk__uf_find(w.parent, (uint32_t)v)];
+        if (w->referenced[v])
+            vcomp[v] = vcomp[sk__uf_find(w->parent, (uint32_t)v)];
     r->components = ncomp;
-    cchi = sk__calloc_array(ncomp + 1, sizeof(long));
-    cloops = sk__calloc_array(ncomp + 1, sizeof(long));
-    cbad = sk__calloc_array(ncomp + 1, 1);
-    if (!cchi || !cloops || !cbad)
-        goto nomem;
+    *vcomp_out = vcomp;
+    return SK_OK;
+}
+
+/* Euler characteristic, boundary loops and genus (per component: 2 - 2g = chi + loops; undefined
+ * where a component has a non-manifold edge, or for non-manifold vertices). */
+static sk_status euler_and_genus(const sk_soup *s, sk_validation *r, work *w, size_t nk,
+                                 const uint32_t *vcomp)
+{
+    size_t ncomp = r->components;
+    long *cchi = sk__calloc_array(ncomp + 1, sizeof(long));
+    long *cloops = sk__calloc_array(ncomp + 1, sizeof(long));
+    uint8_t *cbad = sk__calloc_array(ncomp + 1, 1);
+    sk_status st = SK_OK;
+    if (!cchi || !cloops || !cbad) {
+        st = SK_ERR_NOMEM;
+        goto done;
+    }
     size_t nref = 0, nfok = 0;
-    for (size_t v = 0; v < nv; ++v)
-        if (w.referenced[v]) {
+    for (size_t v = 0; v < s->num_vertices; ++v)
+        if (w->referenced[v]) {
             cchi[vcomp[v]]++;
             nref++;
         }
     for (size_t i = 0; i < nk;) {
         size_t j = i + 1;
-        while (j < nk && w.keys[j] == w.keys[i])
+        while (j < nk && w->keys[j] == w->keys[i])
             ++j;
-        uint32_t a = (uint32_t)(w.keys[i] >> 32);
+        uint32_t a = (uint32_t)(w->keys[i] >> 32);
         cchi[vcomp[a]]--;
         if (j - i > 2)
             cbad[vcomp[a]] = 1;
         i = j;
     }
-    for (size_t f = 0; f < nf; ++f)
-        if (w.face_ok[f]) {
+    for (size_t f = 0; f < s->num_faces; ++f)
+        if (w->face_ok[f]) {
             cchi[vcomp[s->face_indices[s->face_offsets[f]]]]++;
             nfok++;
         }
     r->euler_characteristic = (long)nref - (long)r->edges + (long)nfok;
-    if ((st = walk_boundary(s, r, &w, nk, vcomp, cloops)))
-        goto nomem;
+    if ((st = walk_boundary(s, r, w, nk, vcomp, cloops)))
+        goto done;
     r->genus = 0;
     r->genus_defined = r->non_manifold_vertices.count == 0;
     for (size_t c = 0; c < ncomp; ++c) {
@@ -440,15 +435,26 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
         else
             r->genus += twice / 2;
     }
+done:
+    sk__free(cchi);
+    sk__free(cloops);
+    sk__free(cbad);
+    return st;
+}
 
-    /* geometry: bbox, angles, angle deficits (Alboul & Echeverria) */
+/* Geometry: bounding box of the referenced vertices, triangle angles, and the angle deficits of
+ * Alboul & Echeverria against 2 pi chi (Gauss-Bonnet). */
+static void geometry(const sk_soup *s, sk_validation *r, work *w, size_t nk)
+{
+    size_t nv = s->num_vertices, nref = 0;
     for (int d = 0; d < 3; ++d) {
         r->bbox_min[d] = DBL_MAX;
         r->bbox_max[d] = -DBL_MAX;
     }
     for (size_t v = 0; v < nv; ++v) {
-        if (!w.referenced[v])
+        if (!w->referenced[v])
             continue;
+        nref++;
         for (int d = 0; d < 3; ++d) {
             double x = s->positions[3 * v + d];
             r->bbox_min[d] = x < r->bbox_min[d] ? x : r->bbox_min[d];
@@ -461,17 +467,17 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
     r->min_angle_deg = nk ? 180.0 : 0.0;
     r->max_angle_deg = 0.0;
     for (size_t i = 0; i < nk; ++i) {
-        uint32_t c = w.corner[i];
+        uint32_t c = w->corner[i];
         uint32_t v = s->face_indices[c];
         const double *p = s->positions + 3 * (size_t)v;
-        const double *q = s->positions + 3 * (size_t)s->face_indices[next_corner(s, &w, c)];
-        const double *o = s->positions + 3 * (size_t)s->face_indices[prev_corner(s, &w, c)];
+        const double *q = s->positions + 3 * (size_t)s->face_indices[next_corner(s, w, c)];
+        const double *o = s->positions + 3 * (size_t)s->face_indices[prev_corner(s, w, c)];
         double e1[3], e2[3];
         sk__sub3(e1, q, p);
         sk__sub3(e2, o, p);
         double ang = sk__angle3(e1, e2);
-        w.angle_sum[v] += ang;
-        if (sk_soup_face_size(s, w.cface[c]) == 3) {
+        w->angle_sum[v] += ang;
+        if (sk_soup_face_size(s, w->cface[c]) == 3) {
             double deg = ang * (180.0 / M_PI);
             r->min_angle_deg = deg < r->min_angle_deg ? deg : r->min_angle_deg;
             r->max_angle_deg = deg > r->max_angle_deg ? deg : r->max_angle_deg;
@@ -479,10 +485,48 @@ sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
     }
     double deficit = 0.0;
     for (size_t v = 0; v < nv; ++v)
-        if (w.referenced[v])
-            deficit += (w.on_boundary[v] ? M_PI : 2.0 * M_PI) - w.angle_sum[v];
+        if (w->referenced[v])
+            deficit += (w->on_boundary[v] ? M_PI : 2.0 * M_PI) - w->angle_sum[v];
     r->angle_deficit_sum = deficit;
     r->gauss_bonnet_error = deficit - 2.0 * M_PI * (double)r->euler_characteristic;
+}
+
+sk_status sk_soup_validate(const sk_soup *s, sk_validation *r, sk_error *err)
+{
+    memset(r, 0, sizeof *r);
+    size_t nv = s->num_vertices, nf = s->num_faces, nc = s->face_offsets[nf], nk = 0;
+    r->vertices = nv;
+    r->faces = nf;
+    work w = {0};
+    uint8_t *vbad = sk__calloc_array(nv, 1);
+    uint32_t *vcomp = NULL;
+    sk_status st = SK_OK;
+    w.face_ok = sk__malloc_array(nf, 1);
+    w.cface = sk__malloc_array(nc, sizeof(uint32_t));
+    w.keys = sk__malloc_array(nc, sizeof(uint64_t));
+    w.corner = sk__malloc_array(nc, sizeof(uint32_t));
+    w.parent = sk__malloc_array(nc > nv + nf ? nc : nv + nf, sizeof(uint32_t));
+    w.referenced = sk__calloc_array(nv, 1);
+    w.on_boundary = sk__calloc_array(nv, 1);
+    w.angle_sum = sk__calloc_array(nv, sizeof(double));
+    if (!vbad || !w.face_ok || !w.cface || !w.keys || !w.corner || !w.parent || !w.referenced ||
+        !w.on_boundary || !w.angle_sum)
+        goto nomem;
+    for (size_t v = 0; v < nv; ++v) {
+        const double *p = s->positions + 3 * v;
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+            vbad[v] = 1;
+            note(&r->nonfinite_vertices, (uint32_t)v, SK_INVALID);
+        }
+    }
+    check_faces(s, r, &w, vbad);
+    if (check_duplicates(s, r, &w) || edge_table(s, &w, &nk))
+        goto nomem;
+    edge_pass(s, r, &w, nk);
+    if (count_fans(s, r, &w, nk) || label_components(s, r, &w, vbad, &vcomp) ||
+        euler_and_genus(s, r, &w, nk, vcomp))
+        goto nomem;
+    geometry(s, r, &w, nk);
     goto done;
 nomem:
     st = sk__fail(err, SK_ERR_NOMEM, "out of memory validating the mesh");
@@ -490,8 +534,5 @@ done:
     work_free(&w);
     sk__free(vbad);
     sk__free(vcomp);
-    sk__free(cchi);
-    sk__free(cloops);
-    sk__free(cbad);
     return st;
 }

@@ -5,6 +5,7 @@
 #include "render/render_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "mesh/fan.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -43,34 +44,27 @@ static sk_status prepare(const sk_soup *s, uint32_t **tri_out, size_t *nt_out, d
                          sk_error *err)
 {
     size_t nt = 0;
-    for (size_t f = 0; f < s->num_faces; ++f) {
-        size_t m = sk_soup_face_size(s, f);
-        for (size_t c = 0; c < m; ++c)
+    for (size_t f = 0; f < s->num_faces; ++f)
+        for (size_t c = 0, m = sk_soup_face_size(s, f); c < m; ++c)
             if (s->face_indices[s->face_offsets[f] + c] >= s->num_vertices)
                 return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu has an index out of range", f);
-        nt += m >= 3 ? m - 2 : 0;
-    }
-    uint32_t *tri = sk__malloc_array(3 * nt + 3, sizeof *tri);
+    uint32_t *tri = NULL;
+    sk_status st = sk__soup_fan_triangles(s, &tri, NULL, &nt, err);
+    if (st)
+        return st;
     double *nrm = sk__calloc_array(3 * s->num_vertices + 3, sizeof *nrm);
-    if (!tri || !nrm) {
+    if (!nrm) {
         sk__free(tri);
-        sk__free(nrm);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
-    size_t t = 0;
-    for (size_t f = 0; f < s->num_faces; ++f) {
-        const uint32_t *idx = s->face_indices + s->face_offsets[f];
-        for (size_t c = 1; c + 1 < sk_soup_face_size(s, f); ++c, ++t) {
-            uint32_t v[3] = {idx[0], idx[c], idx[c + 1]};
-            double e1[3], e2[3], n[3];
-            sk__sub3(e1, s->positions + 3 * (size_t)v[1], s->positions + 3 * (size_t)v[0]);
-            sk__sub3(e2, s->positions + 3 * (size_t)v[2], s->positions + 3 * (size_t)v[0]);
-            sk__cross3(n, e1, e2);
-            for (int k = 0; k < 3; ++k) {
-                tri[3 * t + k] = v[k];
-                sk__add3(nrm + 3 * (size_t)v[k], nrm + 3 * (size_t)v[k], n);
-            }
-        }
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t *v = tri + 3 * t;
+        double e1[3], e2[3], n[3];
+        sk__sub3(e1, s->positions + 3 * (size_t)v[1], s->positions + 3 * (size_t)v[0]);
+        sk__sub3(e2, s->positions + 3 * (size_t)v[2], s->positions + 3 * (size_t)v[0]);
+        sk__cross3(n, e1, e2);
+        for (int k = 0; k < 3; ++k)
+            sk__add3(nrm + 3 * (size_t)v[k], nrm + 3 * (size_t)v[k], n);
     }
     *tri_out = tri;
     *nt_out = nt;

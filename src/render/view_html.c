@@ -4,6 +4,7 @@
 #include "surfkit/view.h"
 #include "surfkit/deviation.h"
 #include "core/internal.h"
+#include "mesh/fan.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -94,29 +95,17 @@ static void arrays_free(arrays *a)
 static sk_status from_mesh(const sk_mesh *m, const double *uv, arrays *a, sk_error *err)
 {
     a->nv = m->num_vertices;
-    for (size_t f = 0; f < m->num_faces; ++f)
-        if (!m->f_deleted[f])
-            a->nt += sk_mesh_face_size(m, (uint32_t)f) - 2;
+    sk_status st = sk__mesh_fan_triangles(m, &a->tri, NULL, &a->nt, err);
+    if (st)
+        return st;
     a->pos = sk__malloc_array(3 * a->nv + 1, sizeof *a->pos);
-    a->tri = sk__malloc_array(3 * a->nt + 1, sizeof *a->tri);
     a->uv = uv ? sk__malloc_array(2 * a->nv + 1, sizeof *a->uv) : NULL;
-    if (!a->pos || !a->tri || (uv && !a->uv))
+    if (!a->pos || (uv && !a->uv))
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t i = 0; i < 3 * a->nv; ++i)
         a->pos[i] = (float)m->positions[i];
     for (size_t i = 0; uv && i < 2 * a->nv; ++i)
         a->uv[i] = (float)uv[i];
-    size_t t = 0;
-    for (size_t f = 0; f < m->num_faces; ++f) {
-        if (m->f_deleted[f])
-            continue;
-        uint32_t h0 = m->f_halfedge[f], h = m->h_next[h0], v0 = sk_from(m, h0);
-        for (; m->h_next[h] != h0; h = m->h_next[h], ++t) {
-            a->tri[3 * t] = v0;
-            a->tri[3 * t + 1] = sk_from(m, h);
-            a->tri[3 * t + 2] = sk_to(m, h);
-        }
-    }
     return SK_OK;
 }
 

@@ -202,6 +202,9 @@ static double step_schur(const sk__vsys *s, double *p, double *w, double *mu)
     return schur_kernel(s, p, w, mu, s->n_edges, cons_count(s));
 }
 
+/* dgglse's workspace: at least M + N + P, plus room for blocked QR (block size up to 32) */
+#define DGGLSE_WORK (3 * SK_VSYS_MAX + 3 * SK_VSYS_MAX + 2 * MAX_C + 32 * 3 * SK_VSYS_MAX)
+
 /* The same step with LAPACKE_dgglse: minimise |A x - c| subject to B x = d, x = (dp, dw). */
 static int step_dgglse(const sk__vsys *s, double *p, double *w)
 {
@@ -230,7 +233,21 @@ static int step_dgglse(const sk__vsys *s, double *p, double *w)
             d[2 * i + k] = -cons[2 * i + k];
         }
     }
-    lapack_int info = LAPACKE_dgglse(LAPACK_ROW_MAJOR, M, N, P, A, N, B, N, cvec, d, x);
+    /* Column-major with our own workspace (on the stack): LAPACKE's row-major and workspace-query
+     * paths malloc (outside the allocator hook) and report a failed malloc as info -1010/-1011,
+     * which read as "singular" here; this call allocates nothing, so info != 0 means singular. */
+    for (int r = 0; r < M; ++r) /* A is square (M == N): transpose in place */
+        for (int c = r + 1; c < N; ++c) {
+            double t = A[r * N + c];
+            A[r * N + c] = A[c * N + r];
+            A[c * N + r] = t;
+        }
+    double Bc[MAX_C * 3 * SK_VSYS_MAX], work[DGGLSE_WORK];
+    for (int r = 0; r < P; ++r)
+        for (int c = 0; c < N; ++c)
+            Bc[c * P + r] = B[r * N + c];
+    lapack_int info = LAPACKE_dgglse_work(LAPACK_COL_MAJOR, M, N, P, A, M, Bc, P > 0 ? P : 1, cvec,
+                                          d, x, work, DGGLSE_WORK);
     if (info != 0)
         return -1;
     for (int j = 0; j < 2 * n; ++j)

@@ -47,9 +47,14 @@ for s in 1e100 1e-100 1e80 1e-80; do
   done
   "$bin" smooth -q "$tmp/scaled.off" -o "$tmp/scaled.step" 2>"$tmp/err"; rc=$?
   [ $rc -eq 1 ] && grep -q "supported" "$tmp/err" || fail "smooth at scale $s: exit $rc, $(cat "$tmp/err")"
+  # simplify exited 0 here with no level made (every collapse rejected)
+  "$bin" simplify -q "$tmp/scaled.off" -o "$tmp/scaled.obj" 2>"$tmp/err"; rc=$?
+  [ $rc -eq 1 ] && grep -q "supported" "$tmp/err" || fail "simplify at scale $s: exit $rc, $(cat "$tmp/err")"
 done
 for s in 1e40 1e-40; do
   scaled $s
+  "$bin" simplify -q "$tmp/scaled.off" -o "$tmp/scaled.obj" --report "$tmp/r.json" || fail "simplify at scale $s"
+  grep -q '"num_levels": 18' "$tmp/r.json" || fail "simplify at scale $s: $(grep num_levels "$tmp/r.json")"
   "$bin" param -q "$tmp/scaled.off" -o "$tmp/scaled.obj" --method mips --report "$tmp/r.json" \
     || fail "param mips at scale $s"
   grep -q '"flipped": 0' "$tmp/r.json" && ! grep -qi nan "$tmp/r.json" || fail "param mips at $s: $(head -c 300 "$tmp/r.json")"
@@ -62,6 +67,23 @@ tet="$src/tests/data/good/quads.off"
 echo old >"$tmp/real.off"; ln -s real.off "$tmp/link.off"
 "$bin" convert "$tet" "$tmp/link.off" || fail "convert to a symlink"
 [ -L "$tmp/link.off" ] && head -1 "$tmp/real.off" | grep -q OFF || fail "symlink replaced or target not written"
+# a hard-linked output is written in place: every name sees the new content (a rename gave only
+# the named one the new content), same inode, mode kept; also inside a command's batch (param)
+echo old >"$tmp/hard_a.off"; ln "$tmp/hard_a.off" "$tmp/hard_b.off"; chmod 0640 "$tmp/hard_a.off"
+ino=$(stat -c %i "$tmp/hard_a.off")
+"$bin" convert "$tet" "$tmp/hard_a.off" || fail "convert to a hard-linked file"
+cmp -s "$tmp/hard_a.off" "$tmp/hard_b.off" && head -1 "$tmp/hard_b.off" | grep -q OFF \
+  || fail "hard link: the other name kept the old content"
+[ "$(stat -c %i:%h:%a "$tmp/hard_a.off")" = "$ino:2:640" ] || fail "hard link: $(stat -c %i:%h:%a "$tmp/hard_a.off"), want $ino:2:640"
+"$bin" convert "$tet" "$tmp/hard_ref.off" || fail "convert reference"
+cmp -s "$tmp/hard_ref.off" "$tmp/hard_b.off" || fail "hard link: content differs from a plain write"
+printf 'old longer content than the new file will have %.0s\n' $(seq 1 2000) >"$tmp/hard_c.obj"
+ln "$tmp/hard_c.obj" "$tmp/hard_d.obj"
+"$bin" param -q "$shared/data/meshes/nefertiti.off" -o "$tmp/hard_c.obj" --report "$tmp/hard_r.json" || fail "param to a hard link"
+"$bin" param -q "$shared/data/meshes/nefertiti.off" -o "$tmp/hard_ref.obj" || fail "param reference"
+cmp -s "$tmp/hard_ref.obj" "$tmp/hard_d.obj" || fail "hard link in a batch: other name not rewritten (or not truncated)"
+ls "$tmp" | grep -q tmp && fail "hard-link writes left temporaries: $(ls "$tmp" | grep tmp)"
+rm -f "$tmp"/hard_*
 # an existing file keeps its mode; a new one gets 0666 minus the umask (mkstemp made 0600)
 chmod 0664 "$tmp/real.off"
 "$bin" convert "$tet" "$tmp/real.off" || fail "convert over a 0664 file"
@@ -79,6 +101,9 @@ long="$tmp/$(printf 'd%.0s' $(seq 1 200))"; mkdir -p "$long"; ln -s /dev/full "$
 "$bin" convert "$tet" "$long/full.off" 2>"$tmp/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "No space left on device" "$tmp/err" || fail "/dev/full: exit $rc, $(cat "$tmp/err")"
 [ -L "$long/full.off" ] || fail "/dev/full link replaced"
+# ... also when the disk fills in the middle of a large write (the buffer's flush lost errno)
+"$bin" convert "$shared/data/meshes/nefertiti.off" "$long/full.off" 2>"$tmp/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "write failed: No space left on device" "$tmp/err" || fail "/dev/full, large: exit $rc, $(cat "$tmp/err")"
 rm -rf "$long"
 # a command that fails leaves none of its outputs (param wrote uv.obj before the --png failed)
 "$bin" param -q "$shared/data/meshes/nefertiti.off" -o "$tmp/uv.obj" --png "$tmp/nodir/uv.png" 2>/dev/null

@@ -236,6 +236,35 @@ static void bad_input(void **state)
     sk_soup_destroy(&b);
 }
 
+/* Given two grids, when sk_deviation is asked for its hierarchies, then it hands over one per side
+ * (surface: 2 x 16 fan triangles, mesh: 2 x 49) that measure the same distances as a fresh
+ * build; after a failure both are NULL. */
+static void hands_over_bvhs(void **state)
+{
+    (void)state;
+    sk_soup *a = grid(7, 0.0), *b = grid(4, 0.25);
+    sk_bvh *bs = (sk_bvh *)&bs, *bm = (sk_bvh *)&bm; /* not NULL: must be overwritten */
+    sk_deviation_opts o = {.surface_bvh = &bs, .mesh_bvh = &bm};
+    sk_deviation_report r;
+    assert_int_equal(sk_deviation(b, a, &o, &r, NULL, NULL), SK_OK);
+    assert_non_null(bs);
+    assert_non_null(bm);
+    assert_int_equal(sk_bvh_triangles(bs), 32);
+    assert_int_equal(sk_bvh_triangles(bm), 98);
+    double p[3] = {0.3, 0.6, 1.0};
+    assert_true(fabs(sk_bvh_distance(bs, p) - 0.75) < 1e-15);
+    assert_true(fabs(sk_bvh_distance(bm, p) - 1.0) < 1e-15);
+    sk_bvh_destroy(&bs);
+    sk_bvh_destroy(&bm);
+    a->face_indices[3] = 999;
+    bs = bm = (sk_bvh *)&o;
+    assert_int_equal(sk_deviation(b, a, &o, &r, NULL, NULL), SK_ERR_TOPOLOGY);
+    assert_null(bs);
+    assert_null(bm);
+    sk_soup_destroy(&a);
+    sk_soup_destroy(&b);
+}
+
 static int cancel_at_half(void *user, double fraction)
 {
     (void)user;
@@ -258,6 +287,7 @@ int main(void)
         cmocka_unit_test(bvh_matches_brute_force), cmocka_unit_test(parallel_planes),
         cmocka_unit_test(mesh_against_itself),     cmocka_unit_test(icosahedron_in_sphere),
         cmocka_unit_test(bad_input),               cmocka_unit_test(cancelled),
+        cmocka_unit_test(hands_over_bvhs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,6 +5,7 @@
 #include "surfkit/analysis.h"
 
 #include <math.h>
+#include <string.h>
 
 typedef double (*surf_fn)(double x, double y, double g[2]);
 
@@ -108,6 +109,41 @@ static void test_slopes(void **state)
     }
 }
 
+/* Given a vertex whose 2-ring lies on two perpendicular lines through it (so the xy column of
+ * the quadratic fit is zero and the 5x5 normal equations are singular), when the quadric normals
+ * are estimated, then the call succeeds and that vertex keeps its angle-weighted normal (the
+ * documented fallback), finite and of unit length. */
+static void test_quadric_singular_fallback(void **state)
+{
+    (void)state;
+    double pos[3 * 9] = {0, 0, 0};
+    static const double dir[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    for (int k = 0; k < 4; ++k) {
+        double *p = pos + 3 * (1 + k), *q = pos + 3 * (5 + k);
+        p[0] = dir[k][0], p[1] = dir[k][1], p[2] = 0.3;
+        q[0] = 2 * dir[k][0], q[1] = 2 * dir[k][1], q[2] = 1.2;
+    }
+    uint32_t off[13], idx[36];
+    for (uint32_t k = 0; k < 4; ++k) {
+        uint32_t pk = 1 + k, pn = 1 + (k + 1) % 4, qk = 5 + k, qn = 5 + (k + 1) % 4;
+        uint32_t tri[3][3] = {{0, pk, pn}, {pk, qk, qn}, {pk, qn, pn}};
+        memcpy(idx + 9 * k, tri, sizeof tri);
+    }
+    for (uint32_t f = 0; f <= 12; ++f)
+        off[f] = 3 * f;
+    sk_mesh *m = NULL;
+    sk_error err = {0};
+    assert_int_equal(sk_mesh_from_faces(9, pos, 12, off, idx, &m, &err), SK_OK);
+    double quad[27], angle[27];
+    assert_int_equal(sk_mesh_vertex_normals(m, SK_NORMALS_QUADRIC, quad, &err), SK_OK);
+    assert_int_equal(sk_mesh_vertex_normals(m, SK_NORMALS_ANGLE, angle, &err), SK_OK);
+    sk_mesh_destroy(&m);
+    for (int k = 0; k < 3; ++k)
+        assert_true(quad[k] == angle[k]);
+    assert_float_equal(quad[0] * quad[0] + quad[1] * quad[1] + quad[2] * quad[2], 1.0, 1e-15);
+    assert_float_equal(quad[2], 1.0, 1e-15); /* by symmetry */
+}
+
 static void test_names(void **state)
 {
     (void)state;
@@ -119,6 +155,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_slopes),
+        cmocka_unit_test(test_quadric_singular_fallback),
         cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -3,8 +3,10 @@
  * of one shell whose faces share their edges and vertices), OBJ free-form. The writers know
  * patches only, nothing of how they were made.
  *
- * Triangular patches become three tensor patches (sk_patch_split_triangle: exact, no singular
- * point) unless degenerate_triangles asks IGES for one patch with a collapsed side. STEP needs
+ * A triangular patch becomes one tensor patch with a collapsed side (the B-rep face is bounded
+ * by the triangle's three sides; sk_patch_triangle_to_degenerate_tensor), or with
+ * split_triangles three tensor patches (sk_patch_split_triangle: exact, no singular point, three
+ * times the size). STEP needs
  * corner_ids (mesh vertex ids) on every patch to share vertices and edges: two patches sharing
  * corner ids a, b along a side share that edge. */
 #ifndef SURFKIT_EXPORT_H
@@ -20,7 +22,10 @@ extern "C" {
 
 typedef struct sk_export_opts {
     const char *units;         /* "mm" (default), "cm", "m", "in", "ft", "um" */
-    bool degenerate_triangles; /* IGES: one biquartic with a collapsed side per triangle */
+    bool split_triangles;      /* STEP, IGES B-rep: three regular faces per triangle instead of
+                                  one with a collapsed side */
+    bool degenerate_triangles; /* IGES: free surfaces (as iges_free_surfaces), one biquartic with
+                                  a collapsed side per triangle */
     bool closed;               /* STEP: CLOSED_SHELL (every edge shared by two faces) */
     bool iges_free_surfaces;   /* IGES: only the surfaces (entity 128, in one 402 group), no
                                   B-rep; implied by degenerate_triangles */

@@ -30,6 +30,11 @@ void sk__export_time(const sk_export_opts *opts, char out[32]);
  * left and right halves, same direction. */
 void sk__bezier_halve(const double *cp, unsigned n, double *left, double *right);
 
+/* Whether triangles are written as one tensor patch with a collapsed side (the default, and
+ * degenerate_triangles) or split in three (split_triangles, and the free-surface layout of
+ * iges_free_surfaces alone). */
+bool sk__export_degenerate(const sk_export_opts *opts);
+
 /* Largest absolute coordinate of the control points. */
 double sk__patches_max_coord(const sk_patch_set *patches);
 

@@ -449,7 +449,10 @@ static sk_status build_brep(brep *br, const sk_patch_set *t, double size, bool *
             const double *uv0 = corner_uv[k], *uv1 = corner_uv[(k + 1) % 4];
             sk__bezier_halve(cp, deg, l, r);
             size_t vm = pool_find(&br->verts, r);
-            if (a == b) { /* a collapsed side: no edge; the caller writes free surfaces */
+            if (a == b && vm == a)
+                continue; /* a side collapsed to a point (a triangle's s = 0): no edge, the
+                             importer adds the degenerated edge */
+            if (a == b) { /* a closed side: no B-rep edge here; the caller writes free surfaces */
                 *collapsed = true;
                 goto done;
             }

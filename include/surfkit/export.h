@@ -29,9 +29,16 @@ typedef struct sk_export_opts {
     bool closed;               /* STEP: CLOSED_SHELL (every edge shared by two faces) */
     bool iges_free_surfaces;   /* IGES: only the surfaces (entity 128, in one 402 group), no
                                   B-rep; implied by degenerate_triangles */
+    bool iges_pcurves;         /* IGES B-rep with one face per triangle: write the loops'
+                                  parameter-space curves (110 lines; about 0.7 KB more per
+                                  triangle, faster to import); the split layout always has them */
     const char *name;          /* product / model name; default "surfkit" */
     const char *timestamp;     /* ISO 8601 date for the file headers; NULL = now (tests pass a
                                   fixed one for reproducible files) */
+    sk_progress_fn progress;   /* STEP, IGES: called with the fraction of patches written (0 to
+                                  1, increasing, 1 last); non-zero return cancels
+                                  (SK_ERR_CANCELLED, no file) */
+    void *progress_user;
 } sk_export_opts;
 
 typedef struct sk_export_stats {

@@ -339,6 +339,22 @@ sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_
     return sk_patch_set_to_tensor(patches, sk__export_degenerate(opts), out, err);
 }
 
+void sk__export_progress_init(sk__export_progress *p, const sk_export_opts *opts, size_t total)
+{
+    p->opts = opts;
+    p->total = total;
+    p->next = 0;
+}
+
+bool sk__export_tick(sk__export_progress *p, size_t done)
+{
+    if (!p->opts || !p->opts->progress || (done < p->next && done < p->total))
+        return false;
+    p->next = done + (p->total / 100 > 0 ? p->total / 100 : 1);
+    double f = p->total ? (double)done / (double)p->total : 1.0;
+    return p->opts->progress(p->opts->progress_user, f > 1.0 ? 1.0 : f) != 0;
+}
+
 bool sk__export_degenerate(const sk_export_opts *opts)
 {
     if (!opts)

@@ -511,7 +511,13 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     write_header(&out, path, name, when, unit);
     w.next = 30;
 
+    sk__export_progress prog;
+    sk__export_progress_init(&prog, opts, patches->count);
     for (size_t i = 0; i < patches->count && !w.nomem && st == SK_OK; ++i) {
+        if (sk__export_tick(&prog, i)) {
+            st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+            break;
+        }
         if (patches->patches[i].kind == SK_PATCH_TENSOR)
             tensor_face(&w, &split, patches, i, &faces[nfaces++]);
         else if (!split_tri)
@@ -546,6 +552,10 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     }
     sk__out_printf(&out, "#%zu=SHAPE_DEFINITION_REPRESENTATION(#9,#%zu);\n", sdr, rep);
     sk__out_str(&out, "ENDSEC;\nEND-ISO-10303-21;\n");
+    if (sk__export_tick(&prog, patches->count)) {
+        st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+        goto done;
+    }
     st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         stats->faces = nfaces;

@@ -195,12 +195,17 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
     sk_error err = {0};
     sk_export_stats es = {0};
     sk_status st;
+    cli_progress bar; /* drawn on stderr while writing when it is a terminal */
+    cli_progress_init(&bar, "write", quiet);
+    eo->progress = cli_progress_cb;
+    eo->progress_user = &bar;
     if (cad == CAD_IGES)
         st = sk_export_iges(path, &s->surface, eo, &es, &err);
     else if (cad == CAD_STEP)
         st = sk_export_step(path, &s->surface, eo, &es, &err);
     else
         st = sk_export_obj_freeform(path, &s->surface, eo, &es, &err);
+    cli_progress_done(&bar);
     if (st != SK_OK)
         return cli_fail(st, &err);
     if (!quiet) {

@@ -124,12 +124,15 @@ sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch_set *src, size_t
         for (unsigned d = l; d < n; ++d, cur ^= 1) /* one elevation: degree d -> d + 1 */
             for (unsigned k = 0; k <= d + 1; ++k)
                 for (unsigned x = 0; x < 3; ++x) {
-                    double a = (double)k / (double)(d + 1), v = 0.0;
-                    if (k > 0)
-                        v += a * c[cur][3 * (k - 1) + x];
-                    if (k <= d)
-                        v += (1.0 - a) * c[cur][3 * k + x];
-                    c[cur ^ 1][3 * k + x] = k == 0 ? c[cur][x] : k == d + 1 ? c[cur][3 * d + x] : v;
+                    /* c_k + a (c_{k-1} - c_k), a = k / (d + 1): equal neighbours stay exact */
+                    double *o = &c[cur ^ 1][3 * k + x];
+                    if (k == 0)
+                        *o = c[cur][x];
+                    else if (k == d + 1)
+                        *o = c[cur][3 * d + x];
+                    else
+                        *o = c[cur][3 * k + x] + (double)k / (double)(d + 1) *
+                                                     (c[cur][3 * (k - 1) + x] - c[cur][3 * k + x]);
                 }
         for (unsigned b = 0; b <= n; ++b)
             memcpy(out + 3 * sk_tensor_index(n, l, b), c[cur] + 3 * b, 3 * sizeof(double));

@@ -136,10 +136,19 @@ static void pack_end(packer *p)
     pack_flush(p);
 }
 
+/* The shortest exact real (sk__fmt_real) without the zero before the point of |x| < 1 (IGES
+ * reals need the point, not a digit before it: ".25", "-.5"; zero stays "0."). */
 static void pack_real(packer *p, double x)
 {
     char buf[32];
-    pack(p, sk__fmt_real(buf, x));
+    char *r = (char *)sk__fmt_real(buf, x);
+    if (r[0] == '0' && r[1] == '.' && r[2])
+        r += 1;
+    else if (r[0] == '-' && r[1] == '0' && r[2] == '.') {
+        r[1] = '-';
+        r += 1;
+    }
+    pack(p, r);
 }
 
 static void pack_size(packer *p, size_t x)

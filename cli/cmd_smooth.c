@@ -33,9 +33,10 @@ static const char help[] =
     "                  (MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
     "                  .obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
     "                  B-spline with clamped knots (cstype bspline).\n"
-    "                  CAD formats write each quartic triangle as three biquartic patches (exact,\n"
-    "                  no singular point); --iges-triangles degenerate writes one patch with a\n"
-    "                  collapsed side instead (IGES only, loose faces in one group)\n"
+    "                  CAD formats write each quartic triangle as one biquartic face with a side\n"
+    "                  collapsed to a corner (exact); --iges-triangles split writes three regular\n"
+    "                  biquartic faces instead (STEP and IGES, 3x the size), degenerate writes\n"
+    "                  the one-patch surfaces as loose IGES faces in one group\n"
     "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
     "  --tess N        grid of N x N per patch (default 4)\n"
     "  --patches F     control nets as JSON\n"
@@ -254,7 +255,7 @@ int cmd_smooth(int argc, char **argv)
             eo.units = val;
         } else if (cli_opt_value(argc, argv, &i, "--iges-triangles", &val)) {
             if (val && !strcmp(val, "split"))
-                eo.degenerate_triangles = false;
+                eo.split_triangles = true;
             else if (val && !strcmp(val, "degenerate"))
                 eo.degenerate_triangles = true;
             else

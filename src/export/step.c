@@ -123,7 +123,7 @@ typedef struct writer {
     bool nomem;
 } writer;
 
-/* "#id=" */
+/* "#id" (an entity name or reference) */
 static void ent_id(sk__out *b, size_t id)
 {
     sk__out_char(b, '#');

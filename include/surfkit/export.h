@@ -3,12 +3,12 @@
  * of one shell whose faces share their edges and vertices), OBJ free-form. The writers know
  * patches only, nothing of how they were made.
  *
- * A triangular patch becomes one tensor patch with a collapsed side (the B-rep face is bounded
- * by the triangle's three sides; sk_patch_triangle_to_degenerate_tensor), or with
- * split_triangles three tensor patches (sk_patch_split_triangle: exact, no singular point, three
- * times the size). STEP needs
- * corner_ids (mesh vertex ids) on every patch to share vertices and edges: two patches sharing
- * corner ids a, b along a side share that edge. */
+ * In STEP and the IGES B-rep a triangular patch becomes one tensor patch with a collapsed side
+ * (the face is bounded by the triangle's three sides; sk_patch_triangle_to_degenerate_tensor), or
+ * with split_triangles three tensor patches (sk_patch_split_triangle: exact, no singular point,
+ * about three times the size). OBJ free-form and the IGES free-surface layout split triangles
+ * unless degenerate_triangles. STEP needs corner_ids (mesh vertex ids) on every patch to share
+ * vertices and edges: two patches sharing corner ids a, b along a side share that edge. */
 #ifndef SURFKIT_EXPORT_H
 #define SURFKIT_EXPORT_H
 
@@ -60,8 +60,9 @@ SK_API sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *pa
                                         const sk_export_opts *opts, sk_export_stats *stats,
                                         sk_error *err);
 
-/* The tensor patches the writers emit for the given patches (triangles split or degenerate per
- * opts), in output order, appended to *out (free it with sk_patch_set_free). Tests compare these
+/* The tensor patches the STEP and IGES writers emit for the given patches (triangles degenerate
+ * unless opts->split_triangles, or opts->iges_free_surfaces without degenerate_triangles), in
+ * output order, appended to *out (free it with sk_patch_set_free). Tests compare these
  * with what a CAD kernel reads back. */
 SK_API sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_opts *opts,
                                           sk_patch_set *out, sk_error *err);

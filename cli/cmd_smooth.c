@@ -208,12 +208,17 @@ static int write_cad(const char *path, cad_kind cad, const sk_smooth *s, sk_expo
     sk_error err = {0};
     sk_export_stats es = {0};
     sk_status st;
+    cli_progress bar; /* drawn on stderr while writing when it is a terminal */
+    cli_progress_init(&bar, "write", quiet);
+    eo->progress = cli_progress_cb;
+    eo->progress_user = &bar;
     if (cad == CAD_IGES)
         st = sk_export_iges(path, &s->surface, eo, &es, &err);
     else if (cad == CAD_STEP)
         st = sk_export_step(path, &s->surface, eo, &es, &err);
     else
         st = sk_export_obj_freeform(path, &s->surface, eo, &es, &err);
+    cli_progress_done(&bar);
     if (st != SK_OK)
         return cli_fail(st, &err);
     if (!quiet) {
@@ -240,7 +245,7 @@ typedef struct smooth_args {
 /* EXIT_OK to run, CLI_HELP, or the usage error's exit code */
 static int parse_args(int argc, char **argv, smooth_args *a)
 {
-    unsigned units = 0;
+    unsigned units = 0, triangles = 0;
     a->tess = 4;
     const cli_opt opts[] = {
         OPT_FILE("-o", a->out, "OUT",
@@ -251,8 +256,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                  "(MANIFOLD_SOLID_BREP) when the surface is closed, else a shell;\n"
                  ".obj with --obj-freeform: OBJ free-form surfaces, each patch as a\n"
                  "B-spline with clamped knots (cstype bspline).\n"
-                 "CAD formats write each quartic triangle as three biquartic patches (exact,\n"
-                 "no singular point)"),
+                 "CAD formats write each quartic triangle as one biquartic face with a side\n"
+                 "collapsed to a corner (exact)"),
         OPT_CHOICE("--scheme", a->so.scheme, "vc1|pn", "vc1 (default) or PN triangles"),
         OPT_INT("--tess", a->tess, 1, 64, "N", "grid of N x N per patch (default 4)"),
         OPT_FILE("--patches", a->patches, "FILE", "control nets as JSON"),
@@ -286,9 +291,10 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_FLAG("--obj-freeform", a->freeform, "-o .obj writes OBJ free-form B-spline surfaces"),
         OPT_CHOICE("--units", units, "mm|cm|m|um|in|ft", "CAD length unit of the coordinates "
                    "(default mm)"),
-        OPT_CHOICE("--iges-triangles", a->eo.degenerate_triangles, "split|degenerate",
-                   "split (default): three biquartic patches per triangle; degenerate: one\n"
-                   "patch with a collapsed side (IGES only, loose faces in one group)"),
+        OPT_CHOICE("--iges-triangles", triangles, "face|split|degenerate",
+                   "face (default): one collapsed-side face per triangle in the B-rep; split:\n"
+                   "three regular biquartic faces (STEP and IGES, 3x the size); degenerate:\n"
+                   "the one-patch surfaces as loose IGES faces in one group"),
         OPT_FLAG("--keep-triangulation", a->so.keep_triangulation,
                  "vc1: keep the input's edges (default: flip edges to remove slivers and\n"
                  "near-folds where the new edge bends under 10 degrees; same vertices)"),
@@ -308,6 +314,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         return rc;
     if (cli_given(&args, "--units"))
         a->eo.units = unit_names[units];
+    a->eo.split_triangles = triangles == 1;
+    a->eo.degenerate_triangles = triangles == 2;
     a->in = cli_input(&args, 0);
     if (!a->out && !a->patches && !a->layout && !a->render && !a->zebra && !a->patch_map &&
         !a->report && !a->json)

@@ -112,9 +112,31 @@ sk_status sk_patch_triangle_to_degenerate_tensor(const sk_patch_set *src, size_t
     unsigned n = p->degree;
     uint32_t tag = p->tag;
     uint32_t corners[4] = {p->corner_ids[0], p->corner_ids[1], p->corner_ids[2], p->corner_ids[0]};
-    double dom[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}};
-    if ((st = compose_bilinear(net, n, dom, out, err)) != SK_OK)
-        return st;
+    /* B^n_ijk(1 - s, s (1 - t), s t) = B^n_l(s) B^l_k(t) with l = j + k: row l (in s) is the
+     * degree-l curve in t over b_{n-l, l-k, k}, k = 0..l, elevated to degree n. Exact where it
+     * matters: row 0 is b_n00 repeated (the collapsed side), row n and the columns t = 0, 1 are the
+     * triangle's own boundary control points. */
+    for (unsigned l = 0; l <= n; ++l) {
+        double c[2][3 * (SK_PATCH_MAX_DEGREE + 1)];
+        int cur = 0;
+        for (unsigned k = 0; k <= l; ++k)
+            memcpy(c[cur] + 3 * k, net + 3 * sk_tri_index(n, l - k, k), 3 * sizeof(double));
+        for (unsigned d = l; d < n; ++d, cur ^= 1) /* one elevation: degree d -> d + 1 */
+            for (unsigned k = 0; k <= d + 1; ++k)
+                for (unsigned x = 0; x < 3; ++x) {
+                    /* c_k + a (c_{k-1} - c_k), a = k / (d + 1): equal neighbours stay exact */
+                    double *o = &c[cur ^ 1][3 * k + x];
+                    if (k == 0)
+                        *o = c[cur][x];
+                    else if (k == d + 1)
+                        *o = c[cur][3 * d + x];
+                    else
+                        *o = c[cur][3 * k + x] + (double)k / (double)(d + 1) *
+                                                     (c[cur][3 * (k - 1) + x] - c[cur][3 * k + x]);
+                }
+        for (unsigned b = 0; b <= n; ++b)
+            memcpy(out + 3 * sk_tensor_index(n, l, b), c[cur] + 3 * b, 3 * sizeof(double));
+    }
     return sk__patch_set_add_tagged(dst, SK_PATCH_TENSOR, n, n, out, corners, tag, err);
 }
 

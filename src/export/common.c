@@ -58,10 +58,9 @@ static void fmt_g(char buf[32], int prec, double x)
     }
 }
 
-const char *sk__fmt_real(char buf[32], double x)
+/* The slow path of sk__fmt_real: glibc's correctly rounded conversions and strtod. */
+static const char *fmt_real_libc(char buf[32], double x)
 {
-    if (x == 0.0)
-        x = 0.0; /* no "-0." */
     /* The shortest "%.<p>G" that reads back exactly. If 15 digits read back, the shortest p is the
      * number of significant digits of that string: a double is within 2.3e-16 (relative) of any
      * decimal that reads back to it, less than half a unit of the 15th digit, so rounding it to
@@ -106,6 +105,209 @@ const char *sk__fmt_real(char buf[32], double x)
     return buf;
 }
 
+/* ---- the fast path: exact integer arithmetic for the usual range ----
+ *
+ * x = m 2^e (m < 2^53). For a precision p, the nearest p-digit decimal is D 10^-k with
+ * D = round(m 5^k 2^(e + k)), computed exactly in 128 bits for 0 <= k <= FAST_MAX_K (5^k < 2^63,
+ * so m 5^k < 2^116), which covers |x| from about 1e-11 to 1e15. D reads back to x exactly when it
+ * lies in x's rounding interval (m -+ 1/2 ulp, the lower half-width 1/4 ulp at a power of two;
+ * ends included for even m: strtod rounds ties to even), also an exact 128-bit comparison. The
+ * result is the one of the libc path, digit for digit (tests/unit/test_export.c compares it with a
+ * scan of "%.1G" .. "%.17G" on 200k values). */
+__extension__ typedef unsigned __int128 u128;
+
+#define FAST_MAX_K 27
+
+static const uint64_t pow10_u64[18] = {1ULL, 10ULL, 100ULL, 1000ULL, 10000ULL, 100000ULL,
+                                       1000000ULL, 10000000ULL, 100000000ULL, 1000000000ULL,
+                                       10000000000ULL, 100000000000ULL, 1000000000000ULL,
+                                       10000000000000ULL, 100000000000000ULL,
+                                       1000000000000000ULL, 10000000000000000ULL,
+                                       100000000000000000ULL};
+
+static uint64_t pow5_u64(int k)
+{
+    uint64_t r = 1;
+    for (int i = 0; i < k; ++i)
+        r *= 5;
+    return r;
+}
+
+/* a 2^s, truncated (*t) and rounded to nearest, ties to even (*r); false if out of the range
+ * handled here (|s| small enough for 128 bits, results below 2^64). */
+static bool scale_pow2(u128 a, int s, uint64_t *t, uint64_t *r)
+{
+    if (s >= 0) {
+        if (s > 8)
+            return false;
+        u128 v = a << s;
+        if (v >> 64)
+            return false;
+        *t = *r = (uint64_t)v;
+        return true;
+    }
+    if (s < -120)
+        return false;
+    unsigned sh = (unsigned)-s;
+    u128 v = a >> sh, rem = a - (v << sh), half = (u128)1 << (sh - 1);
+    if (v >> 64)
+        return false;
+    *t = (uint64_t)v;
+    if (rem > half || (rem == half && (v & 1)))
+        ++v;
+    if (v >> 64)
+        return false;
+    *r = (uint64_t)v;
+    return true;
+}
+
+/* Whether D 10^-k reads back to m 2^e (pow2: m is the smallest mantissa of its binade, so the
+ * gap below is half the gap above): 1 yes, 0 no, -1 out of the range handled here. */
+static int reads_back(uint64_t d, int k, uint64_t m, int e, bool pow2)
+{
+    /* D 10^-k against (4m -+ c) 2^(e-2), that is D 2^-(e-2+k) against (4m -+ c) 5^k */
+    if (k < 0 || k > FAST_MAX_K)
+        return -1;
+    u128 p5 = pow5_u64(k);
+    u128 lo = ((u128)4 * m - (pow2 ? 1 : 2)) * p5, hi = ((u128)4 * m + 2) * p5, v = d;
+    int t = e - 2 + k;
+    if (t < 0) {
+        if (-t > 62)
+            return -1;
+        v <<= -t;
+    } else {
+        if (t > 8)
+            return -1;
+        lo <<= t;
+        hi <<= t;
+    }
+    bool even = (m & 1) == 0;
+    return (v > lo && v < hi) || (even && (v == lo || v == hi));
+}
+
+/* The nearest p-digit decimal of m 2^e as D (10^(p-1) <= D < 10^p) and its decimal exponent X
+ * (m 2^e ~ D 10^(X-p+1)); x10 is an estimate of floor(log10 (m 2^e)), off by at most one. False
+ * when outside the fast range. */
+static bool nearest_digits(uint64_t m, int e, int p, int x10, uint64_t *d, int *xout)
+{
+    for (int tries = 0; tries < 3; ++tries) {
+        int k = p - 1 - x10;
+        if (k < 0 || k > FAST_MAX_K)
+            return false;
+        uint64_t t, r;
+        if (!scale_pow2((u128)m * pow5_u64(k), e + k, &t, &r))
+            return false;
+        if (t >= pow10_u64[p]) {
+            ++x10; /* the estimate was one too low */
+            continue;
+        }
+        if (t < pow10_u64[p - 1]) {
+            --x10; /* one too high */
+            continue;
+        }
+        if (r == pow10_u64[p]) { /* rounds up to the next power of ten */
+            *d = pow10_u64[p - 1];
+            *xout = x10 + 1;
+        } else {
+            *d = r;
+            *xout = x10;
+        }
+        return true;
+    }
+    return false;
+}
+
+/* Writes the %.<digits>G form of D (digits significant digits, no trailing zeros) with decimal
+ * exponent X, with a decimal point always, as fmt_real_libc does. */
+static void write_g(char *o, bool neg, uint64_t d, int digits, int x10)
+{
+    char dig[20];
+    for (int i = digits - 1; i >= 0; --i) {
+        dig[i] = (char)('0' + d % 10);
+        d /= 10;
+    }
+    if (neg)
+        *o++ = '-';
+    if (x10 >= -4 && x10 < digits) {
+        if (x10 >= 0) {
+            for (int i = 0; i <= x10; ++i)
+                *o++ = dig[i];
+            *o++ = '.';
+            for (int i = x10 + 1; i < digits; ++i)
+                *o++ = dig[i];
+        } else {
+            *o++ = '0';
+            *o++ = '.';
+            for (int i = 0; i < -x10 - 1; ++i)
+                *o++ = '0';
+            for (int i = 0; i < digits; ++i)
+                *o++ = dig[i];
+        }
+    } else {
+        *o++ = dig[0];
+        *o++ = '.';
+        for (int i = 1; i < digits; ++i)
+            *o++ = dig[i];
+        *o++ = 'E';
+        int ax = x10 < 0 ? -x10 : x10;
+        *o++ = x10 < 0 ? '-' : '+';
+        if (ax >= 100)
+            *o++ = (char)('0' + ax / 100);
+        *o++ = (char)('0' + ax / 10 % 10);
+        *o++ = (char)('0' + ax % 10);
+    }
+    *o = '\0';
+}
+
+static bool fmt_real_fast(char buf[32], double x)
+{
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    bool neg = bits >> 63;
+    int be = (int)((bits >> 52) & 0x7ff);
+    if (be == 0 || be == 0x7ff)
+        return false; /* subnormal, inf, nan (zero is handled by the caller) */
+    uint64_t m = (bits & ((1ULL << 52) - 1)) | (1ULL << 52);
+    int e = be - 1075;
+    bool pow2 = m == (1ULL << 52) && be > 1;
+    /* decimal exponent estimate: floor(log10 |x|), corrected by nearest_digits */
+    int x10 = (int)floor(log10(fabs(x)));
+    for (int p = 15; p <= 17; ++p) {
+        uint64_t d;
+        int xp;
+        if (!nearest_digits(m, e, p, x10, &d, &xp))
+            return false;
+        if (p < 17) {
+            /* exponent of D: the power of ten is X - p + 1 (after a carry, D = 10^(p-1)) */
+            int ok = reads_back(d, p - 1 - xp, m, e, pow2);
+            if (ok < 0)
+                return false;
+            if (!ok)
+                continue;
+        }
+        int digits = p;
+        if (p == 15)
+            while (digits > 1 && d % 10 == 0) {
+                d /= 10;
+                --digits;
+            }
+        write_g(buf, neg, d, digits, xp);
+        return true;
+    }
+    return false;
+}
+
+const char *sk__fmt_real(char buf[32], double x)
+{
+    if (x == 0.0) {
+        memcpy(buf, "0.", 3); /* no "-0." */
+        return buf;
+    }
+    if (fmt_real_fast(buf, x))
+        return buf;
+    return fmt_real_libc(buf, x);
+}
+
 void sk__export_time(const sk_export_opts *opts, char out[32])
 {
     if (opts && opts->timestamp) {
@@ -134,7 +336,30 @@ sk_status sk_export_tensor_patches(const sk_patch_set *patches, const sk_export_
 {
     if (!patches || !out)
         return sk__fail(err, SK_ERR_ARG, "sk_export_tensor_patches: NULL argument");
-    return sk_patch_set_to_tensor(patches, opts && opts->degenerate_triangles, out, err);
+    return sk_patch_set_to_tensor(patches, sk__export_degenerate(opts), out, err);
+}
+
+void sk__export_progress_init(sk__export_progress *p, const sk_export_opts *opts, size_t total)
+{
+    p->opts = opts;
+    p->total = total;
+    p->next = 0;
+}
+
+bool sk__export_tick(sk__export_progress *p, size_t done)
+{
+    if (!p->opts || !p->opts->progress || (done < p->next && done < p->total))
+        return false;
+    p->next = done + (p->total / 100 > 0 ? p->total / 100 : 1);
+    double f = p->total ? (double)done / (double)p->total : 1.0;
+    return p->opts->progress(p->opts->progress_user, f > 1.0 ? 1.0 : f) != 0;
+}
+
+bool sk__export_degenerate(const sk_export_opts *opts)
+{
+    if (!opts)
+        return true;
+    return opts->degenerate_triangles || (!opts->split_triangles && !opts->iges_free_surfaces);
 }
 
 void sk__bezier_halve(const double *cp, unsigned n, double *left, double *right)

@@ -30,6 +30,21 @@ void sk__export_time(const sk_export_opts *opts, char out[32]);
  * left and right halves, same direction. */
 void sk__bezier_halve(const double *cp, unsigned n, double *left, double *right);
 
+/* Whether triangles are written as one tensor patch with a collapsed side (the default, and
+ * degenerate_triangles) or split in three (split_triangles, and the free-surface layout of
+ * iges_free_surfaces alone). */
+bool sk__export_degenerate(const sk_export_opts *opts);
+
+/* Progress of a writer: reports done / total to opts->progress about every 1% (and at the end);
+ * returns true when the callback asks to stop. */
+typedef struct sk__export_progress {
+    const sk_export_opts *opts;
+    size_t total, next;
+} sk__export_progress;
+
+void sk__export_progress_init(sk__export_progress *p, const sk_export_opts *opts, size_t total);
+bool sk__export_tick(sk__export_progress *p, size_t done);
+
 /* Largest absolute coordinate of the control points. */
 double sk__patches_max_coord(const sk_patch_set *patches);
 

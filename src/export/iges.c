@@ -40,9 +40,36 @@
 
 /* Appends one 80-column record: 72 (or 64 + pointer) columns of text, the section letter and the
  * sequence number. */
+static void record_n(sk__out *b, const char *text, size_t n, char section, size_t seq)
+{
+    if (!sk__out_room(b, 81))
+        return;
+    char *o = b->buf + b->len;
+    if (n > 72)
+        n = 72;
+    memcpy(o, text, n);
+    memset(o + n, ' ', 72 - n);
+    o[72] = section;
+    for (int i = 79; i >= 73; --i) { /* sequence number, right-aligned in columns 74-80 */
+        o[i] = seq || i == 79 ? (char)('0' + seq % 10) : ' ';
+        seq /= 10;
+    }
+    o[80] = '\n';
+    b->len += 81;
+}
+
 static void record(sk__out *b, const char *text, char section, size_t seq)
 {
-    sk__out_printf(b, "%-72.72s%c%7zu\n", text, section, seq);
+    record_n(b, text, strlen(text), section, seq);
+}
+
+/* x right-aligned in a field of `width` columns at o (x fits). */
+static void field(char *o, int width, size_t x)
+{
+    for (int i = width - 1; i >= 0; --i) {
+        o[i] = x || i == width - 1 ? (char)('0' + x % 10) : ' ';
+        x /= 10;
+    }
 }
 
 /* Packs free-format tokens into records of `width` columns. Every token but the last of the
@@ -65,13 +92,14 @@ static void pack_flush(packer *p)
 {
     if (!p->len)
         return;
-    p->line[p->len] = '\0';
-    if (p->section == 'P') {
-        char text[256];
-        snprintf(text, sizeof text, "%-64.64s %7zu", p->line, p->de);
-        record(p->b, text, 'P', ++*p->seq);
+    if (p->section == 'P') { /* 64 columns of data, a blank, the DE pointer in 66-72 */
+        char text[72];
+        memcpy(text, p->line, p->len);
+        memset(text + p->len, ' ', 65 - p->len);
+        field(text + 65, 7, p->de);
+        record_n(p->b, text, 72, 'P', ++*p->seq);
     } else {
-        record(p->b, p->line, p->section, ++*p->seq);
+        record_n(p->b, p->line, p->len, p->section, ++*p->seq);
     }
     p->len = 0;
 }
@@ -93,7 +121,11 @@ static void pack(packer *p, const char *token)
 {
     if (p->has_pending)
         pack_emit(p, ',');
-    snprintf(p->pending, sizeof p->pending, "%s", token);
+    size_t n = strlen(token);
+    if (n >= sizeof p->pending)
+        n = sizeof p->pending - 1;
+    memcpy(p->pending, token, n);
+    p->pending[n] = '\0';
     p->has_pending = true;
 }
 
@@ -104,23 +136,40 @@ static void pack_end(packer *p)
     pack_flush(p);
 }
 
+/* The shortest exact real (sk__fmt_real) without the zero before the point of |x| < 1 (IGES
+ * reals need the point, not a digit before it: ".25", "-.5"; zero stays "0."). */
 static void pack_real(packer *p, double x)
 {
     char buf[32];
-    pack(p, sk__fmt_real(buf, x));
-}
-
-static void pack_int(packer *p, long x)
-{
-    char buf[32];
-    snprintf(buf, sizeof buf, "%ld", x);
-    pack(p, buf);
+    char *r = (char *)sk__fmt_real(buf, x);
+    if (r[0] == '0' && r[1] == '.' && r[2])
+        r += 1;
+    else if (r[0] == '-' && r[1] == '0' && r[2] == '.') {
+        r[1] = '-';
+        r += 1;
+    }
+    pack(p, r);
 }
 
 static void pack_size(packer *p, size_t x)
 {
+    char buf[24], *o = buf + sizeof buf - 1;
+    *o = '\0';
+    do {
+        *--o = (char)('0' + x % 10);
+        x /= 10;
+    } while (x);
+    pack(p, o);
+}
+
+static void pack_int(packer *p, long x)
+{
+    if (x >= 0) {
+        pack_size(p, (size_t)x);
+        return;
+    }
     char buf[32];
-    snprintf(buf, sizeof buf, "%zu", x);
+    snprintf(buf, sizeof buf, "%ld", x);
     pack(p, buf);
 }
 
@@ -449,7 +498,10 @@ static sk_status build_brep(brep *br, const sk_patch_set *t, double size, bool *
             const double *uv0 = corner_uv[k], *uv1 = corner_uv[(k + 1) % 4];
             sk__bezier_halve(cp, deg, l, r);
             size_t vm = pool_find(&br->verts, r);
-            if (a == b) { /* a collapsed side: no edge; the caller writes free surfaces */
+            if (a == b && vm == a)
+                continue; /* a side collapsed to a point (a triangle's s = 0): no edge, the
+                             importer adds the degenerated edge */
+            if (a == b) { /* a closed side: no B-rep edge here; the caller writes free surfaces */
                 *collapsed = true;
                 goto done;
             }
@@ -474,8 +526,9 @@ done:
 /* Writes the B-rep entities; *closed tells whether the shell is closed (and a solid written),
  * *edges and *vertices the sizes of the edge and vertex lists. Writes nothing and sets *collapsed
  * when a patch has a side collapsed to a point. */
-static sk_status write_brep(sections *s, const sk_patch_set *t, double size, bool *closed,
-                            size_t *edges, size_t *vertices, bool *collapsed, sk_error *err)
+static sk_status write_brep(sections *s, const sk_patch_set *t, double size, bool pcurves,
+                            sk__export_progress *prog, bool *closed, size_t *edges, size_t *vertices, bool *collapsed,
+                            sk_error *err)
 {
     brep br = {0};
     size_t nt = t->count;
@@ -492,8 +545,10 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
     size_t base = *closed ? 1 : 0; /* the solid is entity 0 */
     size_t k_shell = base, k_vlist = base + 1, k_elist = base + 2, k_curve0 = base + 3;
     size_t k_face0 = k_curve0 + br.ne;
-    /* face i: surface, pcurves, loop, face at k_face0 + 3 i + face_first[i] + {0, 1.., n+1, n+2} */
-#define K_FACE(i) (k_face0 + 3 * (i) + br.face_first[i])
+    /* face i: surface, pcurves (if any), loop, face at
+     * k_face0 + 3 i + face_first[i] + {0, 1.., n+1, n+2} (without pcurves: k_face0 + 3 i + {0, 1, 2}) */
+    size_t npc = pcurves ? 1 : 0; /* pcurves per loop piece */
+#define K_FACE(i) (k_face0 + 3 * (i) + npc * br.face_first[i])
 
     if (*closed) {
         packer pp = entity_begin(s, 186);
@@ -507,7 +562,7 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
         pack_size(&pp, nt);
         for (size_t i = 0; i < nt; ++i) {
             size_t n = br.face_first[i + 1] - br.face_first[i];
-            pack_size(&pp, de_of(K_FACE(i) + n + 2));
+            pack_size(&pp, de_of(K_FACE(i) + npc * n + 2));
             pack_int(&pp, 1); /* face normal is the surface normal */
         }
         entity_end(s, &pp, 514, *closed ? 1 : 2, *closed ? ST_DEPENDENT : ST_INDEPENDENT);
@@ -552,12 +607,16 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
     }
     for (size_t i = 0; i < nt; ++i) {
         size_t f0 = br.face_first[i], n = br.face_first[i + 1] - f0, k0 = K_FACE(i);
+        if (sk__export_tick(prog, i)) {
+            st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+            goto done;
+        }
         if (s->d_seq + 1 != de_of(k0)) { /* programmer error in the numbering above */
             st = sk__fail(err, SK_ERR_NUMERIC, "IGES: directory numbering mismatch");
             goto done;
         }
         write_surface(s, t, i, ST_DEPENDENT);
-        for (size_t j = 0; j < n; ++j) { /* pcurve along the edge's own direction */
+        for (size_t j = 0; j < n && pcurves; ++j) { /* pcurve along the edge's own direction */
             const use *u = &br.uses[f0 + j];
             const double *a = u->same ? u->uv0 : u->uv1, *b = u->same ? u->uv1 : u->uv0;
             packer pp = entity_begin(s, 110);
@@ -578,9 +637,11 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
                 pack_size(&pp, de_of(k_elist));
                 pack_size(&pp, u->edge + 1);
                 pack_int(&pp, u->same ? 1 : 0); /* OF: loop direction agrees with the curve */
-                pack_int(&pp, 1);               /* K: one parameter-space curve */
-                pack_int(&pp, 0);               /* ISOP */
-                pack_size(&pp, de_of(k0 + 1 + j));
+                pack_int(&pp, (long)npc);       /* K: parameter-space curves */
+                if (pcurves) {
+                    pack_int(&pp, 0); /* ISOP */
+                    pack_size(&pp, de_of(k0 + 1 + j));
+                }
             }
             entity_end(s, &pp, 508, 1, ST_DEPENDENT);
         }
@@ -589,7 +650,7 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
             pack_size(&pp, de_of(k0));
             pack_int(&pp, 1); /* one loop */
             pack_int(&pp, 1); /* it is the outer loop */
-            pack_size(&pp, de_of(k0 + 1 + n));
+            pack_size(&pp, de_of(k0 + 1 + npc * n));
             entity_end(s, &pp, 510, 1, ST_DEPENDENT);
         }
     }
@@ -599,17 +660,21 @@ done:
     return st;
 }
 
-/* Free surfaces: the 128 entities and one 402 (form 1) group of them. */
-static void write_free_surfaces(sections *s, const sk_patch_set *t)
+/* Free surfaces: the 128 entities and one 402 (form 1) group of them; false when cancelled. */
+static bool write_free_surfaces(sections *s, const sk_patch_set *t, sk__export_progress *prog)
 {
     size_t nt = t->count;
-    for (size_t i = 0; i < nt; ++i)
+    for (size_t i = 0; i < nt; ++i) {
+        if (sk__export_tick(prog, i))
+            return false;
         write_surface(s, t, i, ST_DEPENDENT);
+    }
     packer pp = entity_begin(s, 402);
     pack_size(&pp, nt);
     for (size_t i = 0; i < nt; ++i)
         pack_size(&pp, de_of(i));
     entity_end(s, &pp, 402, 1, ST_INDEPENDENT);
+    return true;
 }
 
 sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
@@ -679,11 +744,20 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
     pack_end(&g);
 
     bool collapsed = false;
+    sk__export_progress prog;
+    sk__export_progress_init(&prog, opts, nt);
+    /* the regular split faces keep their parameter-space lines; the default one-face-per-triangle
+     * layout leaves them out unless asked (Open CASCADE projects the edges, which costs open
+     * time, see bench/export.sh) */
+    bool pcurves = !sk__export_degenerate(opts) || (opts && opts->iges_pcurves);
     if (!free_layout &&
-        (st = write_brep(&sec, &ts, size, &closed, &nedges, &nverts, &collapsed, err)))
+        (st = write_brep(&sec, &ts, size, pcurves, &prog, &closed, &nedges, &nverts, &collapsed,
+                                err)))
         goto done;
-    if (free_layout || collapsed)
-        write_free_surfaces(&sec, &ts);
+    if ((free_layout || collapsed) && !write_free_surfaces(&sec, &ts, &prog)) {
+        st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+        goto done;
+    }
     sk__out_bytes(&out, sec.d.buf ? sec.d.buf : "", sec.d.len);
     sk__out_bytes(&out, sec.p.buf ? sec.p.buf : "", sec.p.len);
     char term[256];
@@ -691,6 +765,10 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
     record(&out, term, 'T', 1);
     if (sec.d.failed || sec.p.failed)
         out.failed = SK_ERR_NOMEM;
+    if (sk__export_tick(&prog, nt)) {
+        st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+        goto done;
+    }
     st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         memset(stats, 0, sizeof *stats);

@@ -13,7 +13,7 @@ sk_status sk_export_obj_freeform(const char *path, const sk_patch_set *patches,
                                  sk_error *err)
 {
     sk_patch_set ts = {0};
-    sk_status st = sk_export_tensor_patches(patches, opts, &ts, err);
+    sk_status st = sk_patch_set_to_tensor(patches, opts && opts->degenerate_triangles, &ts, err);
     if (st) {
         sk_patch_set_free(&ts);
         return st;

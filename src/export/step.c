@@ -1,13 +1,21 @@
 /* STEP AP214 (ISO 10303-21) writer: every tensor Bezier patch is a B_SPLINE_SURFACE_WITH_KNOTS
  * (one Bezier span: knots 0 and 1 of multiplicity degree + 1) carried by an ADVANCED_FACE; all
  * faces form one OPEN_SHELL of a SHELL_BASED_SURFACE_MODEL, or, when every edge has two faces, a
- * CLOSED_SHELL bounding a MANIFOLD_SOLID_BREP (in an ADVANCED_BREP_SHAPE_REPRESENTATION). Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a
- * CAD system sees one connected surface.
+ * CLOSED_SHELL bounding a MANIFOLD_SOLID_BREP (in an ADVANCED_BREP_SHAPE_REPRESENTATION).
+ * Neighbouring faces share their EDGE_CURVEs and VERTEX_POINTs, so a CAD system sees one
+ * connected surface; edges are plain 3D curves (no pcurves: importers compute them).
  *
- * Topology comes from the patches' corner ids (mesh vertices). A triangle is split into three
- * tensor patches at its centroid and edge midpoints; the mesh edges next to a triangle are split
+ * Topology comes from the patches' corner ids (mesh vertices). By default a triangle is one face:
+ * the biquartic of sk_patch_triangle_to_degenerate_tensor, whose side s = 0 is collapsed to
+ * corner 0, bounded by a loop of its three real sides (importers add the degenerated edge, as
+ * at the pole of a sphere). With opts->split_triangles a triangle is split into three tensor
+ * patches at its centroid and edge midpoints; the mesh edges next to a triangle are then split
  * at their midpoints in every face that uses them (a quad next to a triangle has that side in two
- * edges), so faces always meet edge to edge. */
+ * edges), so faces always meet edge to edge.
+ *
+ * Size: every CARTESIAN_POINT is written once per distinct position (exact bits) and referenced
+ * by every surface and edge curve that has that control point; an edge curve's control points
+ * are the boundary row of the first face that uses it. */
 #include "export/export_internal.h"
 
 #include <stdlib.h>
@@ -96,21 +104,92 @@ static key edge_key(key_kind kind, uint32_t a, uint32_t b)
     return k;
 }
 
+/* CARTESIAN_POINT entities by the exact bits of their coordinates. */
+typedef struct pentry {
+    uint64_t x, y, z;
+    size_t id; /* 0 = empty slot */
+} pentry;
+
+typedef struct pmap {
+    pentry *e;
+    size_t cap, n;
+} pmap;
+
 typedef struct writer {
     sk__out *b;
-    size_t next;      /* next entity id */
+    size_t next; /* next entity id */
     map vertices, edges;
-    size_t *oriented; /* loop of the current face */
+    pmap points;
     bool nomem;
 } writer;
 
+/* "#id" (an entity name or reference) */
+static void ent_id(sk__out *b, size_t id)
+{
+    sk__out_char(b, '#');
+    sk__out_uint(b, id);
+}
+
+static uint64_t hash_point(const uint64_t q[3])
+{
+    uint64_t h = q[0] * 0x9E3779B97F4A7C15ULL ^ (q[1] + 0x632BE59BD9B4E019ULL) * 0xC2B2AE3D27D4EB4FULL ^
+                 q[2] * 0x165667B19E3779F9ULL;
+    h ^= h >> 31;
+    h *= 0xBF58476D1CE4E5B9ULL;
+    return h ^ (h >> 29);
+}
+
+/* The slot of the point with bits q (empty if absent); the table has room. */
+static pentry *pmap_slot(pmap *m, const uint64_t q[3])
+{
+    size_t j = hash_point(q) & (m->cap - 1);
+    while (m->e[j].id && !(m->e[j].x == q[0] && m->e[j].y == q[1] && m->e[j].z == q[2]))
+        j = (j + 1) & (m->cap - 1);
+    return &m->e[j];
+}
+
+/* The CARTESIAN_POINT at p, written on first use. */
 static size_t point(writer *w, const double p[3])
 {
-    char x[32], y[32], z[32];
-    size_t id = w->next++;
-    sk__out_printf(w->b, "#%zu=CARTESIAN_POINT('',(%s,%s,%s));\n", id, sk__fmt_real(x, p[0]),
-                   sk__fmt_real(y, p[1]), sk__fmt_real(z, p[2]));
-    return id;
+    pmap *m = &w->points;
+    if (2 * (m->n + 1) > m->cap) {
+        size_t cap = m->cap ? 2 * m->cap : 4096;
+        pentry *old = m->e, *ne = sk__calloc_array(cap, sizeof *ne);
+        if (!ne) {
+            w->nomem = true;
+            return 0;
+        }
+        size_t ocap = m->cap;
+        m->e = ne;
+        m->cap = cap;
+        for (size_t i = 0; i < ocap; ++i)
+            if (old[i].id) {
+                const uint64_t q[3] = {old[i].x, old[i].y, old[i].z};
+                *pmap_slot(m, q) = old[i];
+            }
+        sk__free(old);
+    }
+    double c[3];
+    for (int k = 0; k < 3; ++k)
+        c[k] = p[k] == 0.0 ? 0.0 : p[k]; /* -0 and 0 are the same point */
+    uint64_t q[3];
+    memcpy(q, c, sizeof q);
+    pentry *e = pmap_slot(m, q);
+    if (e->id)
+        return e->id;
+    e->x = q[0], e->y = q[1], e->z = q[2];
+    e->id = w->next++;
+    m->n++;
+    char x[32];
+    ent_id(w->b, e->id);
+    sk__out_str(w->b, "=CARTESIAN_POINT('',(");
+    for (int k = 0; k < 3; ++k) {
+        if (k)
+            sk__out_char(w->b, ',');
+        sk__out_str(w->b, sk__fmt_real(x, c[k]));
+    }
+    sk__out_str(w->b, "));\n");
+    return e->id;
 }
 
 static size_t vertex(writer *w, key k, const double p[3])
@@ -124,7 +203,10 @@ static size_t vertex(writer *w, key k, const double p[3])
     if (created) {
         size_t pt = point(w, p);
         e->id = w->next++;
-        sk__out_printf(w->b, "#%zu=VERTEX_POINT('',#%zu);\n", e->id, pt);
+        ent_id(w->b, e->id);
+        sk__out_str(w->b, "=VERTEX_POINT('',");
+        ent_id(w->b, pt);
+        sk__out_str(w->b, ");\n");
     }
     return e->id;
 }
@@ -145,19 +227,37 @@ static size_t oriented_edge(writer *w, key k, size_t from, size_t to, const doub
         for (unsigned i = 0; i <= deg; ++i)
             ids[i] = point(w, cp + 3 * i);
         size_t curve = w->next++;
-        sk__out_printf(w->b, "#%zu=B_SPLINE_CURVE_WITH_KNOTS('',%u,(", curve, deg);
-        for (unsigned i = 0; i <= deg; ++i)
-            sk__out_printf(w->b, "%s#%zu", i ? "," : "", ids[i]);
-        sk__out_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,(%u,%u),(0.,1.),.UNSPECIFIED.);\n", deg + 1,
-                       deg + 1);
+        ent_id(w->b, curve);
+        sk__out_str(w->b, "=B_SPLINE_CURVE_WITH_KNOTS('',");
+        sk__out_uint(w->b, deg);
+        sk__out_str(w->b, ",(");
+        for (unsigned i = 0; i <= deg; ++i) {
+            if (i)
+                sk__out_char(w->b, ',');
+            ent_id(w->b, ids[i]);
+        }
+        sk__out_str(w->b, "),.UNSPECIFIED.,.F.,.F.,(");
+        sk__out_uint(w->b, deg + 1);
+        sk__out_char(w->b, ',');
+        sk__out_uint(w->b, deg + 1);
+        sk__out_str(w->b, "),(0.,1.),.UNSPECIFIED.);\n");
         e->id = w->next++;
         e->start = from;
-        sk__out_printf(w->b, "#%zu=EDGE_CURVE('',#%zu,#%zu,#%zu,.T.);\n", e->id, from, to, curve);
+        ent_id(w->b, e->id);
+        sk__out_str(w->b, "=EDGE_CURVE('',");
+        ent_id(w->b, from);
+        sk__out_char(w->b, ',');
+        ent_id(w->b, to);
+        sk__out_char(w->b, ',');
+        ent_id(w->b, curve);
+        sk__out_str(w->b, ",.T.);\n");
     }
     e->uses++;
     size_t id = w->next++;
-    sk__out_printf(w->b, "#%zu=ORIENTED_EDGE('',*,*,#%zu,%s);\n", id, e->id,
-                   e->start == from ? ".T." : ".F.");
+    ent_id(w->b, id);
+    sk__out_str(w->b, "=ORIENTED_EDGE('',*,*,");
+    ent_id(w->b, e->id);
+    sk__out_str(w->b, e->start == from ? ",.T.);\n" : ",.F.);\n");
     return id;
 }
 
@@ -175,25 +275,45 @@ static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *lo
     for (unsigned k = 0; k < (du + 1) * (dv + 1); ++k)
         ids[k] = point(w, cp + 3 * k);
     size_t surf = w->next++;
-    sk__out_printf(w->b, "#%zu=B_SPLINE_SURFACE_WITH_KNOTS('',%u,%u,(", surf, du, dv);
+    ent_id(w->b, surf);
+    sk__out_str(w->b, "=B_SPLINE_SURFACE_WITH_KNOTS('',");
+    sk__out_uint(w->b, du);
+    sk__out_char(w->b, ',');
+    sk__out_uint(w->b, dv);
+    sk__out_str(w->b, ",(");
     for (unsigned i = 0; i <= du; ++i) { /* outer list along u (s), inner along v (t) */
         sk__out_str(w->b, i ? ",(" : "(");
-        for (unsigned j = 0; j <= dv; ++j)
-            sk__out_printf(w->b, "%s#%zu", j ? "," : "", ids[sk_tensor_index(du, i, j)]);
-        sk__out_str(w->b, ")");
+        for (unsigned j = 0; j <= dv; ++j) {
+            if (j)
+                sk__out_char(w->b, ',');
+            ent_id(w->b, ids[sk_tensor_index(du, i, j)]);
+        }
+        sk__out_char(w->b, ')');
     }
     sk__out_printf(w->b, "),.UNSPECIFIED.,.F.,.F.,.F.,(%u,%u),(%u,%u),(0.,1.),(0.,1.),"
                          ".UNSPECIFIED.);\n", du + 1, du + 1, dv + 1, dv + 1);
     sk__free(ids);
     size_t lp = w->next++;
-    sk__out_printf(w->b, "#%zu=EDGE_LOOP('',(", lp);
-    for (size_t i = 0; i < nloop; ++i)
-        sk__out_printf(w->b, "%s#%zu", i ? "," : "", loop[i]);
+    ent_id(w->b, lp);
+    sk__out_str(w->b, "=EDGE_LOOP('',(");
+    for (size_t i = 0; i < nloop; ++i) {
+        if (i)
+            sk__out_char(w->b, ',');
+        ent_id(w->b, loop[i]);
+    }
     sk__out_str(w->b, "));\n");
     size_t bound = w->next++;
-    sk__out_printf(w->b, "#%zu=FACE_OUTER_BOUND('',#%zu,.T.);\n", bound, lp);
+    ent_id(w->b, bound);
+    sk__out_str(w->b, "=FACE_OUTER_BOUND('',");
+    ent_id(w->b, lp);
+    sk__out_str(w->b, ",.T.);\n");
     *face_id = w->next++;
-    sk__out_printf(w->b, "#%zu=ADVANCED_FACE('',(#%zu),#%zu,.T.);\n", *face_id, bound, surf);
+    ent_id(w->b, *face_id);
+    sk__out_str(w->b, "=ADVANCED_FACE('',(");
+    ent_id(w->b, bound);
+    sk__out_str(w->b, "),");
+    ent_id(w->b, surf);
+    sk__out_str(w->b, ",.T.);\n");
 }
 
 static void step_string(sk__out *b, const char *s)
@@ -319,6 +439,32 @@ static sk_status triangle_faces(writer *w, const sk_patch_set *set, size_t i,
     return SK_OK;
 }
 
+/* The one face of triangle i: the degenerate biquartic (side s = 0 collapsed to corner 0) in
+ * scratch, bounded by its sides 0, 1, 2 (corners 0 -> 1 -> 2 -> 0 of the triangle). */
+static sk_status degenerate_face(writer *w, const sk_patch_set *set, size_t i,
+                                 sk_patch_set *scratch, size_t *face_id, sk_error *err)
+{
+    const uint32_t *c = set->patches[i].corner_ids;
+    double cp[3 * (SK_PATCH_MAX_DEGREE + 1)], q[3];
+    size_t loop[3], vid[3];
+    sk_patch_set_clear(scratch);
+    sk_status st = sk_patch_triangle_to_degenerate_tensor(set, i, scratch, err);
+    if (st)
+        return st;
+    for (unsigned k = 0; k < 3; ++k) {
+        sk_patch_edge_point(scratch, 0, k, 0.0, q);
+        vid[k] = vertex(w, (key){K_VERTEX, c[k], 0}, q);
+    }
+    for (unsigned k = 0; k < 3 && !w->nomem; ++k) {
+        unsigned deg = sk_patch_edge_curve(scratch, 0, k, cp);
+        loop[k] = oriented_edge(w, edge_key(K_FULL, c[k], c[(k + 1) % 3]), vid[k],
+                                vid[(k + 1) % 3], cp, deg);
+    }
+    if (!w->nomem)
+        face(w, scratch, 0, loop, 3, face_id);
+    return SK_OK;
+}
+
 sk_status sk_export_step(const char *path, const sk_patch_set *patches,
                          const sk_export_opts *opts, sk_export_stats *stats, sk_error *err)
 {
@@ -340,8 +486,9 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     size_t *faces = NULL, nfaces = 0;
     sk_status st = SK_OK;
 
-    /* sides next to a triangle are split at their midpoints */
-    for (size_t i = 0; i < patches->count && !w.nomem; ++i) {
+    bool split_tri = !sk__export_degenerate(opts);
+    /* split layout: sides next to a triangle are split at their midpoints */
+    for (size_t i = 0; i < patches->count && split_tri && !w.nomem; ++i) {
         const sk_patch *p = &patches->patches[i];
         if (p->kind != SK_PATCH_TRIANGLE)
             continue;
@@ -354,7 +501,7 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     }
     size_t nt = 0;
     for (size_t i = 0; i < patches->count; ++i)
-        nt += patches->patches[i].kind == SK_PATCH_TRIANGLE ? 3 : 1;
+        nt += patches->patches[i].kind == SK_PATCH_TRIANGLE && split_tri ? 3 : 1;
     faces = sk__malloc_array((nt ? nt : 1) * sizeof *faces, 1);
     if (!faces || w.nomem) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -364,9 +511,17 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     write_header(&out, path, name, when, unit);
     w.next = 30;
 
+    sk__export_progress prog;
+    sk__export_progress_init(&prog, opts, patches->count);
     for (size_t i = 0; i < patches->count && !w.nomem && st == SK_OK; ++i) {
+        if (sk__export_tick(&prog, i)) {
+            st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+            break;
+        }
         if (patches->patches[i].kind == SK_PATCH_TENSOR)
             tensor_face(&w, &split, patches, i, &faces[nfaces++]);
+        else if (!split_tri)
+            st = degenerate_face(&w, patches, i, &sub, &faces[nfaces++], err);
         else if ((st = triangle_faces(&w, patches, i, &sub, &faces[nfaces], err)) == SK_OK)
             nfaces += 3;
     }
@@ -397,6 +552,10 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
     }
     sk__out_printf(&out, "#%zu=SHAPE_DEFINITION_REPRESENTATION(#9,#%zu);\n", sdr, rep);
     sk__out_str(&out, "ENDSEC;\nEND-ISO-10303-21;\n");
+    if (sk__export_tick(&prog, patches->count)) {
+        st = sk__fail(err, SK_ERR_CANCELLED, "cancelled");
+        goto done;
+    }
     st = sk__out_write_file(&out, path, err);
     if (st == SK_OK && stats) {
         stats->faces = nfaces;
@@ -411,6 +570,7 @@ done:
     sk__free(split.e);
     sk__free(w.vertices.e);
     sk__free(w.edges.e);
+    sk__free(w.points.e);
     sk__out_free(&out);
     return st;
 }

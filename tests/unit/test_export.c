@@ -113,7 +113,8 @@ static void given_patches_when_iges_written_then_faces_form_a_brep_with_shared_e
     (void)state;
     sk_patch_set p = {0};
     sample_patches(&p);
-    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05",
+                        .split_triangles = true};
     sk_export_stats st, sst;
     assert_int_equal(sk_export_step(skt_tmp_path("brep.step"), &p, &o, &sst, NULL), SK_OK);
     const char *path = skt_tmp_path("brep.igs");
@@ -141,9 +142,9 @@ static void given_patches_when_iges_written_then_faces_form_a_brep_with_shared_e
     free(text);
 }
 
-/* A tensor patch with a side collapsed to a point has no B-rep edge there: the writer falls back
- * to the free surfaces in one group. */
-static void given_a_collapsed_side_when_iges_written_then_free_surfaces(void **state)
+/* A tensor patch with a side collapsed to a point (the degenerate form of a triangle) is a B-rep
+ * face bounded by its other three sides: no edge for the collapsed one. */
+static void given_a_collapsed_side_when_iges_written_then_a_face_without_that_edge(void **state)
 {
     (void)state;
     sk_patch_set p = {0}, d = {0};
@@ -159,12 +160,144 @@ static void given_a_collapsed_side_when_iges_written_then_free_surfaces(void **s
     size_t size;
     char *text = skt_read_file(path, &size);
     assert_int_equal(st.faces, 2);
-    assert_int_equal(st.edges, 0);
+    assert_int_equal(st.vertices, 6);       /* 1 2 5 (triangle), 0 1 4 3 (quad): 1 shared */
+    assert_int_equal(st.edges, 3 + 4);      /* no shared side: the triangle (1, 2, 5) */
     assert_false(st.solid);
     assert_int_equal(count_entities(text, 128, NULL), 2);
-    assert_int_equal(count_entities(text, 402, NULL), 1);
-    assert_int_equal(count_entities(text, 514, NULL), 0);
+    assert_int_equal(count_entities(text, 510, NULL), 2);
+    assert_int_equal(count_entities(text, 508, NULL), 2);
+    assert_int_equal(count_entities(text, 126, NULL), 7);
+    assert_int_equal(count_entities(text, 402, NULL), 0);
+    assert_int_equal(count_entities(text, 514, NULL), 1);
     free(text);
+}
+
+/* The default layout: one face per triangle (a biquartic with the side s = 0 collapsed to its
+ * first corner) bounded by the triangle's three edges; STEP writes every distinct control point
+ * once, so the collapsed row is one point five times; IGES leaves out the parameter-space curves
+ * unless asked. */
+static void given_triangles_when_written_then_one_face_each_and_points_shared(void **state)
+{
+    (void)state;
+    sk_patch_set p = {0};
+    sample_patches(&p);
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_stats st;
+    const char *path = skt_tmp_path("one_face.step");
+    assert_int_equal(sk_export_step(path, &p, &o, &st, NULL), SK_OK);
+    size_t size;
+    char *text = skt_read_file(path, &size);
+    assert_int_equal(st.faces, 3);
+    assert_int_equal(count(text, "ADVANCED_FACE("), 3);
+    assert_int_equal(st.vertices, 6);
+    assert_int_equal(count(text, "VERTEX_POINT("), 6);
+    /* quad 4 sides, triangles 3 each; (1, 4) and (1, 5) are shared */
+    assert_int_equal(st.edges, 8);
+    assert_int_equal(count(text, "EDGE_CURVE("), 8);
+    assert_int_equal(count(text, "ORIENTED_EDGE("), 10);
+    /* no two CARTESIAN_POINTs of the geometry at the same coordinates (the header's placement
+     * origin, #15, comes first and stands apart) */
+    size_t npts = 0;
+    char **pts = malloc(1000 * sizeof *pts);
+    assert_non_null(strstr(text, "#15=CARTESIAN_POINT('',(0.,0.,0.));"));
+    for (const char *c = strstr(strstr(text, "#16="), "CARTESIAN_POINT('',("); c; c = strstr(c + 1, "CARTESIAN_POINT('',(")) {
+        const char *e = strchr(c, ')');
+        assert_non_null(e);
+        assert_true(npts < 1000);
+        pts[npts] = calloc((size_t)(e - c) + 1, 1);
+        memcpy(pts[npts], c, (size_t)(e - c));
+        for (size_t k = 0; k < npts; ++k)
+            assert_string_not_equal(pts[k], pts[npts]);
+        ++npts;
+    }
+    /* the quad's 16, each triangle's 21 distinct points, less those on the sides it shares with
+     * the quad or the other triangle where they agree to the bit */
+    assert_true(npts <= 16 + 21 + 21);
+    assert_true(npts >= 16 + 21 + 21 - 5 - 5);
+    for (size_t k = 0; k < npts; ++k)
+        free(pts[k]);
+    free(pts);
+    /* each triangle's surface: the first row (s = 0) is one point, five times */
+    size_t degenerate_rows = 0;
+    for (const char *c = strstr(text, "B_SPLINE_SURFACE_WITH_KNOTS('',4,4,(("); c;
+         c = strstr(c + 1, "B_SPLINE_SURFACE_WITH_KNOTS('',4,4,((")) {
+        unsigned ids[5];
+        assert_int_equal(sscanf(c + strlen("B_SPLINE_SURFACE_WITH_KNOTS('',4,4,(("),
+                                "#%u,#%u,#%u,#%u,#%u", &ids[0], &ids[1], &ids[2], &ids[3], &ids[4]),
+                         5);
+        degenerate_rows += ids[0] == ids[1] && ids[1] == ids[2] && ids[2] == ids[3] &&
+                           ids[3] == ids[4];
+    }
+    assert_int_equal(degenerate_rows, 2);
+    free(text);
+
+    path = skt_tmp_path("one_face.igs");
+    assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
+    text = skt_read_file(path, &size);
+    assert_int_equal(st.faces, 3);
+    assert_int_equal(st.vertices, 6);
+    assert_int_equal(st.edges, 8);
+    assert_int_equal(count_entities(text, 510, NULL), 3);
+    assert_int_equal(count_entities(text, 128, NULL), 3);
+    assert_int_equal(count_entities(text, 126, NULL), 8);
+    assert_int_equal(count_entities(text, 110, NULL), 0);
+    free(text);
+    o.iges_pcurves = true;
+    assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
+    text = skt_read_file(path, &size);
+    assert_int_equal(count_entities(text, 110, NULL), 10); /* one per loop piece */
+    free(text);
+    /* the tensor patches that tests compare with a CAD kernel's reading: the same 3 */
+    sk_patch_set t = {0};
+    assert_int_equal(sk_export_tensor_patches(&p, &o, &t, NULL), SK_OK);
+    assert_int_equal(t.count, 3);
+    sk_patch_set_free(&t);
+    sk_patch_set_free(&p);
+}
+
+typedef struct progress_log {
+    size_t calls, stop_at;
+    double last;
+    bool monotone;
+} progress_log;
+
+static int log_progress(void *user, double f)
+{
+    progress_log *l = user;
+    if (f < l->last || f < 0.0 || f > 1.0)
+        l->monotone = false;
+    l->last = f;
+    return ++l->calls == l->stop_at;
+}
+
+/* The writers report their progress, increasing to 1; a non-zero return cancels and leaves no
+ * file. */
+static void given_a_progress_callback_when_writing_then_fractions_to_one_and_cancel(void **state)
+{
+    (void)state;
+    sk_patch_set p = {0};
+    sample_patches(&p);
+    for (int f = 0; f < 2; ++f) {
+        progress_log l = {.monotone = true};
+        sk_export_opts o = {.progress = log_progress, .progress_user = &l};
+        const char *path = skt_tmp_path(f ? "progress.igs" : "progress.step");
+        unlink(path);
+        sk_status s = f ? sk_export_iges(path, &p, &o, NULL, NULL)
+                        : sk_export_step(path, &p, &o, NULL, NULL);
+        assert_int_equal(s, SK_OK);
+        assert_true(l.monotone);
+        assert_true(l.calls >= 2);
+        assert_true(l.last == 1.0);
+        unlink(path);
+        progress_log stop = {.monotone = true, .stop_at = 2};
+        o.progress_user = &stop;
+        sk_error err;
+        s = f ? sk_export_iges(path, &p, &o, NULL, &err) : sk_export_step(path, &p, &o, NULL, &err);
+        assert_int_equal(s, SK_ERR_CANCELLED);
+        assert_int_equal(stop.calls, 2);
+        assert_int_equal(access(path, F_OK), -1);
+    }
+    sk_patch_set_free(&p);
 }
 
 /* A closed surface (a flat tetrahedron) gives a solid: 186 over a closed 514 shell. */
@@ -185,7 +318,8 @@ static void given_closed_patches_when_iges_written_then_a_solid(void **state)
         assert_int_equal(sk_patch_elevate(&lin, k, 4, 0, &p, NULL), SK_OK);
     }
     sk_patch_set_free(&lin);
-    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05",
+                        .split_triangles = true};
     sk_export_stats st;
     const char *path = skt_tmp_path("tetra.igs");
     assert_int_equal(sk_export_iges(path, &p, &o, &st, NULL), SK_OK);
@@ -218,7 +352,8 @@ static void given_patches_when_step_written_then_faces_share_edges(void **state)
     (void)state;
     sk_patch_set p = {0};
     sample_patches(&p);
-    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05"};
+    sk_export_opts o = {.timestamp = "2026-01-02T03:04:05",
+                        .split_triangles = true};
     sk_export_stats st;
     const char *path = skt_tmp_path("sample.step");
     assert_int_equal(sk_export_step(path, &p, &o, &st, NULL), SK_OK);
@@ -339,7 +474,9 @@ int main(void)
         cmocka_unit_test(given_patches_when_iges_written_then_records_are_80_columns_and_counted),
         cmocka_unit_test(given_patches_when_iges_written_then_faces_form_a_brep_with_shared_edges),
         cmocka_unit_test(given_closed_patches_when_iges_written_then_a_solid),
-        cmocka_unit_test(given_a_collapsed_side_when_iges_written_then_free_surfaces),
+        cmocka_unit_test(given_a_collapsed_side_when_iges_written_then_a_face_without_that_edge),
+        cmocka_unit_test(given_triangles_when_written_then_one_face_each_and_points_shared),
+        cmocka_unit_test(given_a_progress_callback_when_writing_then_fractions_to_one_and_cancel),
         cmocka_unit_test(given_reals_when_formatted_then_shortest_exact_with_a_point),
         cmocka_unit_test(given_patches_when_step_written_then_faces_share_edges),
         cmocka_unit_test(given_patches_when_obj_freeform_written_then_one_surf_per_tensor_patch),

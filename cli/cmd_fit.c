@@ -73,6 +73,7 @@ static void write_json(FILE *fp, const void *ctx)
     json_arr_close(&j);
     json_kuint(&j, "rounds", x->fs.rounds);
     json_kuint(&j, "samples", x->fs.samples);
+    json_kuint(&j, "split_edges", x->fs.split_edges);
     json_kuint(&j, "flipped", x->fs.flipped);
     json_knum(&j, "tolerance", x->fs.tolerance);
     json_knum(&j, "tolerance_rel", x->fs.tolerance / diag);

@@ -44,7 +44,10 @@ typedef struct sk_fit_stats {
                                     to the surface, to within the correction's convergence */
     double surface_to_mesh;    /* largest distance of a grid of surface points to the mesh */
     bool met;                  /* max_error and surface_to_mesh <= tolerance */
-    size_t flipped;            /* flipped triangles of the square parametrization */
+    size_t split_edges;        /* dividing edges split (sk_param_split_side_edges) before the
+                                  square map */
+    size_t flipped;            /* flipped triangles of the square parametrization (of the split
+                                  mesh) */
     double seconds_param, seconds_fit;
 } sk_fit_stats;
 

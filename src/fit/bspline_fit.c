@@ -38,77 +38,6 @@ static sk_status ccw_boundary(const sk_mesh *m, uint32_t **out, size_t *n, sk_er
     return SK_OK;
 }
 
-/* Sum of the face angles at v (pi on a straight stretch of boundary, pi/2 at a square corner). */
-static double interior_angle(const sk_mesh *m, uint32_t v)
-{
-    double sum = 0;
-    uint32_t h0 = m->v_halfedge[v], h = h0;
-    do {
-        if (!sk_is_boundary_h(m, h)) {
-            uint32_t a = sk_to(m, h), b = sk_from(m, sk_prev(m, h));
-            double e1[3], e2[3];
-            sk__sub3(e1, m->positions + 3 * (size_t)a, m->positions + 3 * (size_t)v);
-            sk__sub3(e2, m->positions + 3 * (size_t)b, m->positions + 3 * (size_t)v);
-            sum += sk__angle3(e1, e2);
-        }
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return sum;
-}
-
-/* Picks four corners (loop positions in pos[4], increasing): smallest interior angle first, each
- * at least a sixth of the boundary length (cyclically) from those already picked. */
-static sk_status find_corners(const sk_mesh *m, const uint32_t *loop, size_t nb, uint32_t c[4],
-                              sk_error *err)
-{
-    double *arc = sk__malloc_array(nb + 1, sizeof *arc), *ang = sk__malloc_array(nb, sizeof *ang);
-    if (!arc || !ang) {
-        free(arc);
-        free(ang);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    }
-    arc[0] = 0;
-    for (size_t k = 0; k < nb; ++k) {
-        arc[k + 1] = arc[k] + sk__dist3(m->positions + 3 * (size_t)loop[k],
-                                        m->positions + 3 * (size_t)loop[(k + 1) % nb]);
-        ang[k] = interior_angle(m, loop[k]);
-    }
-    double L = arc[nb];
-    size_t pos[4], got = 0;
-    for (double sep = L / 6; got < 4 && sep > L / 64; sep /= 2) {
-        got = 0;
-        for (int pick = 0; pick < 4; ++pick) {
-            size_t best = SIZE_MAX;
-            for (size_t k = 0; k < nb; ++k) {
-                bool ok = true;
-                for (size_t q = 0; q < got && ok; ++q) {
-                    double d = fabs(arc[k] - arc[pos[q]]);
-                    ok = fmin(d, L - d) >= sep;
-                }
-                if (ok && (best == SIZE_MAX || ang[k] < ang[best]))
-                    best = k;
-            }
-            if (best == SIZE_MAX)
-                break;
-            pos[got++] = best;
-        }
-    }
-    free(arc);
-    free(ang);
-    if (got < 4)
-        return sk__fail(err, SK_ERR_TOPOLOGY, "the boundary has %zu vertices: too few for four corners", nb);
-    for (int i = 0; i < 4; ++i) /* into loop order */
-        for (int j = i + 1; j < 4; ++j)
-            if (pos[j] < pos[i]) {
-                size_t t = pos[i];
-                pos[i] = pos[j];
-                pos[j] = t;
-            }
-    for (int i = 0; i < 4; ++i)
-        c[i] = loop[pos[i]];
-    return SK_OK;
-}
-
 /* ---------------------------------------------------------------------------------------------
  * Least squares with the thin-plate energy
  * ------------------------------------------------------------------------------------------- */
@@ -486,6 +415,7 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     samples x = {0};
     sk_soup *soup = NULL;
     sk_bvh *bvh = NULL;
+    sk_mesh *split = NULL;
     if (!uv) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -494,7 +424,18 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     if (!st && o.has_corners)
         st = check_corners(loop, nb, o.corners, err);
     if (!st && !o.has_corners)
-        st = find_corners(disk, loop, nb, o.corners, err);
+        st = sk_param_square_corners(disk, o.corners, err);
+    /* no triangle with its three vertices on one side of the square: split dividing edges */
+    if (!st)
+        st = sk_param_split_side_edges(disk, o.corners, &split, &fs.split_edges, err);
+    if (!st) {
+        disk = split;
+        double *grown = sk__realloc_array(uv, 2 * disk->num_vertices, sizeof *uv);
+        if (!grown)
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        else
+            uv = grown;
+    }
     if (!st)
         st = square_map(disk, o.corners, uv, &fs.flipped, err);
     if (st)
@@ -572,5 +513,6 @@ done:
     samples_free(&x);
     sk_bvh_destroy(&bvh);
     sk_soup_destroy(&soup);
+    sk_mesh_destroy(&split);
     return st;
 }

@@ -15,8 +15,10 @@ static const char help[] =
     "                     [--no-normalize] [-q]\n"
     "\n"
     "Maps a triangulated disk (one boundary loop, Euler characteristic 1) to the plane.\n"
-    "Fixed boundary (circle by default, or the unit square with corners at quarter arc length;\n"
-    "boundary spacing by chord length by default): tutte (uniform weights), floater\n"
+    "Fixed boundary (circle by default, or the unit square with corners at the four sharpest\n"
+    "boundary turns, where an interior edge with both ends on one side is split at its midpoint,\n"
+    "adding an interior vertex to the output, so that no triangle lies on one side; boundary\n"
+    "spacing by chord length by default): tutte (uniform weights), floater\n"
     "(shape-preserving, the default), mvc (mean value), harmonic (cotangent weights; obtuse\n"
     "triangles give negative weights that can flip triangles). Free boundary: lscm (least\n"
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
@@ -254,6 +256,28 @@ int cmd_param(int argc, char **argv)
         uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
         if (!uv)
             st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
+    }
+    if (st == SK_OK && a.po.boundary.shape == SK_BOUNDARY_SQUARE && !a.po.boundary.has_corners &&
+        sk_param_check_disk(mesh, NULL) == SK_OK) {
+        /* corners at the sharpest turns; dividing edges split (else their triangles flatten) */
+        sk_mesh *split = NULL;
+        size_t splits = 0;
+        st = sk_param_square_corners(mesh, a.po.boundary.corners, &err);
+        if (st == SK_OK)
+            st = sk_param_split_side_edges(mesh, a.po.boundary.corners, &split, &splits, &err);
+        if (st == SK_OK) {
+            a.po.boundary.has_corners = true;
+            if (splits && !a.quiet)
+                fprintf(stderr, "surfkit param: %s: split %zu interior edges with both ends on one "
+                        "side of the square (%zu vertices added)\n", a.in, splits, splits);
+            sk_mesh_destroy(&mesh);
+            mesh = split;
+            double *grown = realloc(uv, (2 * mesh->num_vertices + 1) * sizeof *uv);
+            if (!grown)
+                st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
+            else
+                memset(uv = grown, 0, (2 * mesh->num_vertices + 1) * sizeof *uv);
+        }
     }
     if (st == SK_OK)
         st = sk_parametrize(mesh, &a.po, uv, &r.ps, &err);

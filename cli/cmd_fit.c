@@ -9,6 +9,7 @@
 static const char help[] =
     "usage: surfkit fit DISK -o OUT.step|OUT.stp|OUT.igs|OUT.iges|OUT.obj|OUT.ply\n"
     "                   [--tolerance T | --tolerance-rel R] [--degree D] [--corners I,J,K,L]\n"
+    "                   [--method floater|mips]\n"
     "                   [--units U] [--tessellation MESH] [--report REPORT.json] [--json] [-q]\n"
     "\n"
     "Fits one tensor-product B-spline surface to the triangulated disk DISK: parametrizes it over\n"
@@ -26,6 +27,8 @@ static const char help[] =
     "  --degree D      degree in both directions, 2 to 5 (default 3, bicubic)\n"
     "  --corners I,J,K,L  the boundary vertices mapped to (0,0), (1,0), (1,1), (0,1), in\n"
     "                  counter-clockwise order around the surface (0-based vertex ids)\n"
+    "  --method M      the square map: floater (default) or mips (hierarchical MIPS with the\n"
+    "                  square boundary fixed)\n"
     "  --units U       CAD length unit of the coordinates: mm (default), cm, m, um, in, ft\n"
     "  --tessellation MESH  also writes the tessellation (as -o does for a mesh file): vertex\n"
     "                  (i, j) of the N x N grid is the surface point at (u, v) = (i / N, j / N)\n"
@@ -42,7 +45,7 @@ static const char help[] =
     "  surfkit fit patch.off -o patch.igs --corners 0,40,80,120 --json\n";
 
 typedef struct fit_run {
-    const char *in, *out;
+    const char *in, *out, *method;
     sk_fit_stats fs;
     sk_deviation_report dev;
     size_t nu, nv;
@@ -63,6 +66,7 @@ static void write_json(FILE *fp, const void *ctx)
     json_kstr(&j, "input", x->in);
     json_kstr(&j, "output", x->out);
     json_kint(&j, "degree", x->degree);
+    json_kstr(&j, "method", x->method);
     json_kuint(&j, "control_points", x->fs.control_points);
     json_kuint(&j, "nu", x->nu);
     json_kuint(&j, "nv", x->nv);
@@ -236,6 +240,13 @@ int cmd_fit(int argc, char **argv)
             if (!parse_corners(val, fo.corners))
                 return cli_usage("fit", "--corners takes four vertex ids I,J,K,L");
             fo.has_corners = true;
+        } else if (cli_opt_value(argc, argv, &i, "--method", &val)) {
+            if (val && !strcmp(val, "floater"))
+                fo.method = SK_PARAM_FLOATER;
+            else if (val && !strcmp(val, "mips"))
+                fo.method = SK_PARAM_MIPS;
+            else
+                return cli_usage("fit", "--method takes floater or mips");
         } else if (cli_opt_value(argc, argv, &i, "--units", &val)) {
             if (!val || !sk_export_units_known(val))
                 return cli_usage("fit", "--units takes mm, cm, m, um, in or ft");
@@ -258,6 +269,7 @@ int cmd_fit(int argc, char **argv)
     if (fo.tolerance > 0 && tol_rel > 0)
         return cli_usage("fit", "give --tolerance or --tolerance-rel, not both");
 
+    x.method = fo.method == SK_PARAM_MIPS ? "mips" : "floater";
     double t0 = sk_seconds();
     cli_progress bar;
     cli_progress_init(&bar, "fit", quiet);

@@ -3,6 +3,7 @@
 #include "surfkit/fit.h"
 #include "surfkit/deviation.h"
 #include "surfkit/param.h"
+#include "surfkit/parametrize.h"
 #include "surfkit/solve.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -373,21 +374,27 @@ static sk_status check_corners(const uint32_t *loop, size_t nb, const uint32_t c
     return SK_OK;
 }
 
-/* The square parametrization with the corners, and its flip count. */
-static sk_status square_map(const sk_mesh *disk, const uint32_t c[4], double *uv, size_t *flipped,
-                            sk_error *err)
+/* The square parametrization with the corners (Floater's map, or another method of
+ * sk_parametrize with the square boundary fixed), and its flip count. */
+static sk_status square_map(const sk_mesh *disk, sk_param_method method, const uint32_t c[4],
+                            double *uv, size_t *flipped, sk_error *err)
 {
-    sk_param_opts po = {0};
-    po.method = SK_PARAM_FLOATER;
+    sk_parametrize_opts po = {0};
+    po.method = method ? method : SK_PARAM_FLOATER;
     po.boundary.shape = SK_BOUNDARY_SQUARE;
     po.boundary.has_corners = true;
     memcpy(po.boundary.corners, c, 4 * sizeof *c);
-    sk_status st = sk_param_linear(disk, &po, uv, NULL, err);
+    po.raw = true; /* the unit square itself: the sides at exact 0 and 1 */
+    sk_parametrize_stats ps;
+    sk_status st = sk_parametrize(disk, &po, uv, &ps, err);
+    if (st == SK_WARN_FLIPS)
+        st = SK_OK; /* counted below; the fit still works on a folded map, less well */
     sk_param_metrics pm;
     if (!st)
         st = sk_param_metrics_compute(disk, uv, &pm, err);
     if (!st)
         *flipped = pm.flipped;
+    sk_parametrize_stats_release(&ps);
     return st;
 }
 
@@ -407,6 +414,7 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     sk_status st = sk_param_check_disk(disk, err);
     if (st)
         return st;
+    size_t n_input = disk->num_vertices;
     uint32_t *loop = NULL;
     size_t nb = 0;
     double *uv = sk__malloc_array(2 * disk->num_vertices, sizeof *uv);
@@ -437,7 +445,7 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
             uv = grown;
     }
     if (!st)
-        st = square_map(disk, o.corners, uv, &fs.flipped, err);
+        st = square_map(disk, o.method, o.corners, uv, &fs.flipped, err);
     if (st)
         goto done;
     memcpy(fs.corners, o.corners, sizeof fs.corners);
@@ -478,7 +486,9 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
         size_t nu = s->nu, nv = s->nv;
         double *ku = refine_knots(s->knots_u, &nu, s->degree_u, mark_u);
         double *kv = refine_knots(s->knots_v, &nv, s->degree_v, mark_v);
-        bool grow = ku && kv && nu * nv <= x.n && nu <= MAX_CTRL_1D &&
+        /* no more control points than the mesh has vertices: beyond that the surface is no
+         * reduction of the data (the face samples are interpolated from the vertices) */
+        bool grow = ku && kv && nu * nv <= n_input && nu <= MAX_CTRL_1D &&
                     nv <= MAX_CTRL_1D;
         double *pts = grow ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
         if (!ku || !kv || (grow && !pts)) {

@@ -52,6 +52,18 @@ corners=$(tr -d ' \n' < "$tmp/auto.json" | sed 's/.*"corners":\[\([0-9,]*\)\].*/
 [ "$(val control_points "$tmp/given.json")" = "$(val control_points "$tmp/auto.json")" ] \
   || fail "the same corners gave another surface"
 
+# a ragged disk (cut from bunny00): the dividing edges are split, the square map flips nothing;
+# --method mips runs too and flips nothing
+python3 "$2/tests/cli/cut_disk.py" "$m/bunny00.off" "$tmp/rag.off" 4000 0 || fail "cut"
+for meth in floater mips; do
+  "$bin" fit "$tmp/rag.off" -o "$tmp/rag.step" --method $meth --json > "$tmp/rag.json" 2> /dev/null
+  rc=$?
+  [ $rc = 0 ] || [ $rc = 4 ] || fail "ragged $meth: exit $rc"
+  [ "$(val flipped "$tmp/rag.json")" = 0 ] || fail "ragged $meth: $(val flipped "$tmp/rag.json") flipped"
+  [ "$(val split_edges "$tmp/rag.json")" -gt 0 ] || fail "ragged $meth: no edge split"
+  [ "$(val method "$tmp/rag.json")" = "\"$meth\"" ] || fail "ragged: method $(val method "$tmp/rag.json")"
+done
+
 # a tolerance that cannot be met: exit 4, the file is written, stderr says so
 "$bin" fit "$m/nefertiti.off" -o "$tmp/n.step" --tolerance-rel 1e-6 -q 2> "$tmp/n.err"
 [ $? = 4 ] || fail "unmet tolerance does not exit 4"

@@ -9,7 +9,8 @@
 #   - surface to mesh: a G x G grid of points evaluated by Open CASCADE, their distances to the
 #     mesh's triangles computed here (numpy, brute force, point-triangle distance).
 # Environment: SK_IN (the CAD file), SK_TESS (surfkit's tessellation, OBJ), SK_N (its grid),
-# SK_MESH (the fitted mesh, OFF), SK_GRID (G), SK_OUT (the JSON written).
+# SK_MESH (the fitted mesh, OFF), SK_GRID (G), SK_OUT (the JSON written), SK_MEASURE=0 for the
+# evaluation alone.
 import json
 import math
 import os
@@ -63,6 +64,11 @@ if len(faces) == 1:
             worst = max(worst, math.dist((p.x, p.y, p.z), q))
     res["eval_samples"] = len(idx) ** 2
     res["eval_max_rel"] = worst / diag
+
+    if os.environ.get("SK_MEASURE", "1") == "0":  # evaluation only (the IGES of the same fit)
+        with open(out, "w") as f:
+            json.dump(res, f)
+        raise SystemExit(0)
 
     # 2. mesh to surface: vertices and 4 sub-triangle centroids per face, projected
     A, B, C = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]

@@ -20,14 +20,17 @@ for mesh in paraboloid-patch; do
     "$bin" fit "$m/$mesh.off" -o "$f" --tessellation "$tmp/$mesh.$ext.obj" --json \
       > "$tmp/$mesh.$ext.json" 2> "$tmp/$mesh.$ext.log" || { echo "FAIL: surfkit fit $mesh -o $ext"; cat "$tmp/$mesh.$ext.log"; fails=1; continue; }
     n=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tessellation"])' "$tmp/$mesh.$ext.json")
-    SK_IN=$f SK_TESS=$tmp/$mesh.$ext.obj SK_N=$n SK_MESH=$m/$mesh.off SK_GRID=96 \
+    # the deviation there is measured on the STEP (it takes minutes on a loaded machine); the IGES
+    # of the same fit is checked by its evaluation, which fixes the deviation too
+    measure=1; [ "$ext" = igs ] && measure=0
+    SK_IN=$f SK_TESS=$tmp/$mesh.$ext.obj SK_N=$n SK_MESH=$m/$mesh.off SK_GRID=96 SK_MEASURE=$measure \
       SK_OUT=$tmp/$mesh.$ext.fc.json timeout 500 freecadcmd "$src/tests/interop/freecad_fit.py" \
       > "$tmp/$mesh.$ext.fc.log" 2>&1
     python3 - "$tmp/$mesh.$ext.json" "$tmp/$mesh.$ext.fc.json" "$mesh" "$ext" <<'PY' || fails=1
 import json, sys
 ours_path, fc_path, mesh, ext = sys.argv[1:]
 o = json.load(open(ours_path))
-bad = []
+bad, measured = [], False
 try:
     r = json.load(open(fc_path))
 except (OSError, ValueError):
@@ -38,6 +41,7 @@ if r:
     if r["faces"] != 1 or not r["valid"] or r.get("surface_type") != "BSplineSurface":
         bad.append("want one valid B-spline face, got %s" % r)
     else:
+        measured = "mesh_to_surface_max" in r
         if r["poles"] != [o["nu"], o["nv"]] or r["degrees"] != [o["degree"], o["degree"]]:
             bad.append("grid %s degrees %s, we wrote %d x %d degree %d" % (
                 r["poles"], r["degrees"], o["nu"], o["nv"], o["degree"]))
@@ -45,6 +49,7 @@ if r:
             bad.append("tessellation has %d vertices" % r["tess_vertices"])
         if not r["eval_max_rel"] <= 1e-9:
             bad.append("evaluation differs by %.3g of the diagonal" % r["eval_max_rel"])
+    if r and measured:
         # mesh to surface: the same samples (vertices, 4 sub-triangle centroids per face);
         # Open CASCADE projects onto the exact surface, surfkit deviation measures to its
         # tessellation (chord error bound `chord`), the fit's foot points to the exact surface

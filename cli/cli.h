@@ -187,6 +187,7 @@ int cmd_smooth(int argc, char **argv);
 int cmd_param(int argc, char **argv);
 int cmd_simplify(int argc, char **argv);
 int cmd_deviation(int argc, char **argv);
+int cmd_fit(int argc, char **argv);
 int cmd_view(int argc, char **argv);
 
 

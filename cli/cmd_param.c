@@ -8,8 +8,10 @@
 static const char about[] =
     "Quads and larger polygons are triangulated on the way in (--keep-polygons refuses them).\n"
     "Maps a triangulated disk (one boundary loop, Euler characteristic 1) to the plane.\n"
-    "Fixed boundary (circle by default, or the unit square with corners at quarter arc length;\n"
-    "boundary spacing by chord length by default): tutte (uniform weights), floater\n"
+    "Fixed boundary (circle by default, or the unit square with corners at the four sharpest\n"
+    "boundary turns, where an interior edge with both ends on one side is split at its midpoint,\n"
+    "adding an interior vertex to the output, so that no triangle lies on one side; boundary\n"
+    "spacing by chord length by default): tutte (uniform weights), floater\n"
     "(shape-preserving, the default), mvc (mean value), harmonic (cotangent weights; obtuse\n"
     "triangles give negative weights that can flip triangles). Free boundary: lscm (least\n"
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
@@ -293,8 +295,31 @@ static void print_summary(const void *ctx)
 }
 
 /* The disk path: one sk_parametrize call, metrics, output, pictures. */
-static int run_disk(param_args *a, sk_mesh *mesh)
+/* --boundary square without --corners: corners at the four sharpest boundary turns, and the
+ * interior edges with both ends on one side split at their midpoints (else their triangles
+ * flatten onto the side); *split is the new mesh when it differs from mesh */
+static sk_status square_corners(param_args *a, const sk_mesh *mesh, sk_mesh **split, sk_error *err)
 {
+    *split = NULL;
+    if (a->po.boundary.shape != SK_BOUNDARY_SQUARE || a->po.boundary.has_corners ||
+        sk_param_check_disk(mesh, NULL) != SK_OK)
+        return SK_OK;
+    size_t splits = 0;
+    sk_status st = sk_param_square_corners(mesh, a->po.boundary.corners, err);
+    if (st == SK_OK)
+        st = sk_param_split_side_edges(mesh, a->po.boundary.corners, split, &splits, err);
+    if (st != SK_OK)
+        return st;
+    a->po.boundary.has_corners = true;
+    if (splits && !a->quiet)
+        fprintf(stderr, "surfkit param: %s: split %zu interior edges with both ends on one side "
+                "of the square (%zu vertices added)\n", a->in, splits, splits);
+    return SK_OK;
+}
+
+static int run_disk(param_args *a, sk_mesh *input)
+{
+    sk_mesh *split = NULL, *mesh = input;
     cli_progress bar;
     cli_progress_init(&bar, "param", a->quiet);
     a->po.progress = cli_progress_cb;
@@ -304,9 +329,11 @@ static int run_disk(param_args *a, sk_mesh *mesh)
     memset(&r, 0, sizeof r);
     r.in = a->in;
     r.tri = a->tri;
-    sk_status st = SK_OK;
-    double *uv = calloc(2 * mesh->num_vertices + 1, sizeof *uv);
-    if (!uv)
+    sk_status st = square_corners(a, input, &split, &err);
+    if (split)
+        mesh = split;
+    double *uv = st ? NULL : calloc(2 * mesh->num_vertices + 1, sizeof *uv);
+    if (!st && !uv)
         st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
     if (st == SK_OK)
         st = sk_parametrize(mesh, &a->po, uv, &r.ps, &err);
@@ -330,6 +357,7 @@ static int run_disk(param_args *a, sk_mesh *mesh)
     }
     int rc = param_finish(a, st, &err, write_json, print_summary, &r);
     sk_parametrize_stats_release(&r.ps);
+    sk_mesh_destroy(&split);
     free(uv);
     return rc;
 }

@@ -17,6 +17,7 @@ static const command commands[] = {
     {"subdivide", cmd_subdivide, "Loop or midpoint subdivision"},
     {"smooth", cmd_smooth, "VC1 smooth surface with continuity report; tessellation, IGES, STEP, OBJ free-form"},
     {"param", cmd_param, "parametrization of a disk: hierarchical MIPS, Tutte, Floater, mean value, harmonic, LSCM"},
+    {"fit", cmd_fit, "one B-spline surface fitted to a disk within a tolerance; STEP, IGES"},
     {"deviation", cmd_deviation, "two-sided distance between a surface and a mesh, with a colour map"},
     {"view", cmd_view, "interactive HTML viewer: mesh, uv checkerboard, smooth surface with zebra stripes"},
     {"simplify", cmd_simplify, "progressive-mesh hierarchy by random independent half-edge collapses"},

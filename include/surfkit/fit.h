@@ -12,6 +12,7 @@
 #include "surfkit/bspline.h"
 #include "surfkit/core.h"
 #include "surfkit/mesh.h"
+#include "surfkit/param.h"
 
 #include <stdbool.h>
 
@@ -27,6 +28,9 @@ typedef struct sk_fit_opts {
                                 (scale free: both are normalized by their traces); 0 = 1e-6 */
     unsigned initial_spans;  /* knot spans per direction to start from; 0 = 4 */
     unsigned max_rounds;     /* refinement rounds; 0 = 12 */
+    sk_param_method method;  /* the square map: 0 = Floater (shape preserving, linear);
+                                SK_PARAM_MIPS = hierarchical MIPS with the square boundary fixed
+                                (the same corners and spacing); others as sk_parametrize */
     bool has_corners;        /* corners: four boundary vertices, counter-clockwise around the */
     uint32_t corners[4];     /* surface, mapped to (0,0), (1,0), (1,1), (0,1) */
     sk_progress_fn progress;
@@ -44,13 +48,16 @@ typedef struct sk_fit_stats {
                                     to the surface, to within the correction's convergence */
     double surface_to_mesh;    /* largest distance of a grid of surface points to the mesh */
     bool met;                  /* max_error and surface_to_mesh <= tolerance */
-    size_t flipped;            /* flipped triangles of the square parametrization */
+    size_t split_edges;        /* dividing edges split (sk_param_split_side_edges) before the
+                                  square map */
+    size_t flipped;            /* flipped triangles of the square parametrization (of the split
+                                  mesh) */
     double seconds_param, seconds_fit;
 } sk_fit_stats;
 
 /* Fits a B-spline to a triangulated disk (sk_param_check_disk's conditions: SK_ERR_TOPOLOGY with
  * its message otherwise, e.g. for closed meshes). When the tolerance is not met after the last
- * round (or the control grid would exceed the samples), the best surface is returned with
+ * round (or the control grid would exceed the number of mesh vertices), the best surface is returned with
  * stats->met false and status SK_OK: the caller decides. SK_ERR_ARG for bad options (corners
  * not on the boundary or not in order), SK_ERR_NUMERIC when the normal equations are singular. */
 SK_API sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bspline_surface **out,

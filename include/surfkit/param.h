@@ -143,6 +143,24 @@ SK_API sk_status sk_param_check_disk(const sk_mesh *mesh, sk_error *err);
 SK_API sk_status sk_param_boundary(const sk_mesh *mesh, const sk_boundary_opts *opts, double *uv,
                                    sk_error *err);
 
+/* Corners for the square boundary map of a disk: four boundary vertices, counter-clockwise
+ * around the surface, at the four sharpest turns of the boundary (smallest sums of face angles),
+ * each at least a sixth of the boundary length from the others (less when that leaves fewer than
+ * four), then moved into the span of an interior edge whose two ends would lie on one side where
+ * that removes it. SK_ERR_TOPOLOGY when the mesh has not one boundary loop or it has fewer than
+ * four vertices. */
+SK_API sk_status sk_param_square_corners(const sk_mesh *disk, uint32_t corners[4], sk_error *err);
+
+/* A copy of the disk in which every dividing edge of the square map with these corners (an
+ * interior edge whose two ends lie on one side of the square, e.g. the inner edge of an "ear"
+ * triangle at a ragged boundary) is split at its midpoint: the new vertex is interior, so no
+ * triangle has all its vertices on one side and Tutte, Floater and mean value keep their
+ * no-flip guarantee (Floater 2003). The surface is the same (the midpoints lie on the edges);
+ * vertices keep their ids, the new ones follow (*splits of them, may be NULL). Corners as in
+ * sk_boundary_opts; SK_ERR_ARG when they are not boundary vertices in counter-clockwise order. */
+SK_API sk_status sk_param_split_side_edges(const sk_mesh *disk, const uint32_t corners[4],
+                                           sk_mesh **out, size_t *splits, sk_error *err);
+
 /* Per half-edge weights w[h] = w_ij for i = from(h), j = to(h), over mesh->num_halfedges
  * entries; defined for half-edges leaving interior vertices (others 0). Floater and mean value
  * are normalised to sum 1 per vertex; Tutte is 1, harmonic (cot alpha + cot beta) / 2. */

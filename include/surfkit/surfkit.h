@@ -24,5 +24,6 @@
 #include "surfkit/intersect.h"
 #include "surfkit/bspline.h"
 #include "surfkit/fit.h"
+#include "surfkit/bspline_export.h"
 
 #endif

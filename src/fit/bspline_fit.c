@@ -3,6 +3,7 @@
 #include "surfkit/fit.h"
 #include "surfkit/deviation.h"
 #include "surfkit/param.h"
+#include "surfkit/parametrize.h"
 #include "surfkit/solve.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -35,77 +36,6 @@ static sk_status ccw_boundary(const sk_mesh *m, uint32_t **out, size_t *n, sk_er
     sk_loops_free(&loops);
     *out = v;
     *n = nb;
-    return SK_OK;
-}
-
-/* Sum of the face angles at v (pi on a straight stretch of boundary, pi/2 at a square corner). */
-static double interior_angle(const sk_mesh *m, uint32_t v)
-{
-    double sum = 0;
-    uint32_t h0 = m->v_halfedge[v], h = h0;
-    do {
-        if (!sk_is_boundary_h(m, h)) {
-            uint32_t a = sk_to(m, h), b = sk_from(m, sk_prev(m, h));
-            double e1[3], e2[3];
-            sk__sub3(e1, m->positions + 3 * (size_t)a, m->positions + 3 * (size_t)v);
-            sk__sub3(e2, m->positions + 3 * (size_t)b, m->positions + 3 * (size_t)v);
-            sum += sk__angle3(e1, e2);
-        }
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return sum;
-}
-
-/* Picks four corners (loop positions in pos[4], increasing): smallest interior angle first, each
- * at least a sixth of the boundary length (cyclically) from those already picked. */
-static sk_status find_corners(const sk_mesh *m, const uint32_t *loop, size_t nb, uint32_t c[4],
-                              sk_error *err)
-{
-    double *arc = sk__malloc_array(nb + 1, sizeof *arc), *ang = sk__malloc_array(nb, sizeof *ang);
-    if (!arc || !ang) {
-        free(arc);
-        free(ang);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    }
-    arc[0] = 0;
-    for (size_t k = 0; k < nb; ++k) {
-        arc[k + 1] = arc[k] + sk__dist3(m->positions + 3 * (size_t)loop[k],
-                                        m->positions + 3 * (size_t)loop[(k + 1) % nb]);
-        ang[k] = interior_angle(m, loop[k]);
-    }
-    double L = arc[nb];
-    size_t pos[4], got = 0;
-    for (double sep = L / 6; got < 4 && sep > L / 64; sep /= 2) {
-        got = 0;
-        for (int pick = 0; pick < 4; ++pick) {
-            size_t best = SIZE_MAX;
-            for (size_t k = 0; k < nb; ++k) {
-                bool ok = true;
-                for (size_t q = 0; q < got && ok; ++q) {
-                    double d = fabs(arc[k] - arc[pos[q]]);
-                    ok = fmin(d, L - d) >= sep;
-                }
-                if (ok && (best == SIZE_MAX || ang[k] < ang[best]))
-                    best = k;
-            }
-            if (best == SIZE_MAX)
-                break;
-            pos[got++] = best;
-        }
-    }
-    free(arc);
-    free(ang);
-    if (got < 4)
-        return sk__fail(err, SK_ERR_TOPOLOGY, "the boundary has %zu vertices: too few for four corners", nb);
-    for (int i = 0; i < 4; ++i) /* into loop order */
-        for (int j = i + 1; j < 4; ++j)
-            if (pos[j] < pos[i]) {
-                size_t t = pos[i];
-                pos[i] = pos[j];
-                pos[j] = t;
-            }
-    for (int i = 0; i < 4; ++i)
-        c[i] = loop[pos[i]];
     return SK_OK;
 }
 
@@ -444,21 +374,27 @@ static sk_status check_corners(const uint32_t *loop, size_t nb, const uint32_t c
     return SK_OK;
 }
 
-/* The square parametrization with the corners, and its flip count. */
-static sk_status square_map(const sk_mesh *disk, const uint32_t c[4], double *uv, size_t *flipped,
-                            sk_error *err)
+/* The square parametrization with the corners (Floater's map, or another method of
+ * sk_parametrize with the square boundary fixed), and its flip count. */
+static sk_status square_map(const sk_mesh *disk, sk_param_method method, const uint32_t c[4],
+                            double *uv, size_t *flipped, sk_error *err)
 {
-    sk_param_opts po = {0};
-    po.method = SK_PARAM_FLOATER;
+    sk_parametrize_opts po = {0};
+    po.method = method ? method : SK_PARAM_FLOATER;
     po.boundary.shape = SK_BOUNDARY_SQUARE;
     po.boundary.has_corners = true;
     memcpy(po.boundary.corners, c, 4 * sizeof *c);
-    sk_status st = sk_param_linear(disk, &po, uv, NULL, err);
+    po.raw = true; /* the unit square itself: the sides at exact 0 and 1 */
+    sk_parametrize_stats ps;
+    sk_status st = sk_parametrize(disk, &po, uv, &ps, err);
+    if (st == SK_WARN_FLIPS)
+        st = SK_OK; /* counted below; the fit still works on a folded map, less well */
     sk_param_metrics pm;
     if (!st)
         st = sk_param_metrics_compute(disk, uv, &pm, err);
     if (!st)
         *flipped = pm.flipped;
+    sk_parametrize_stats_release(&ps);
     return st;
 }
 
@@ -478,6 +414,7 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     sk_status st = sk_param_check_disk(disk, err);
     if (st)
         return st;
+    size_t n_input = disk->num_vertices;
     uint32_t *loop = NULL;
     size_t nb = 0;
     double *uv = sk__malloc_array(2 * disk->num_vertices, sizeof *uv);
@@ -486,6 +423,7 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     samples x = {0};
     sk_soup *soup = NULL;
     sk_bvh *bvh = NULL;
+    sk_mesh *split = NULL;
     if (!uv) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -494,9 +432,20 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     if (!st && o.has_corners)
         st = check_corners(loop, nb, o.corners, err);
     if (!st && !o.has_corners)
-        st = find_corners(disk, loop, nb, o.corners, err);
+        st = sk_param_square_corners(disk, o.corners, err);
+    /* no triangle with its three vertices on one side of the square: split dividing edges */
     if (!st)
-        st = square_map(disk, o.corners, uv, &fs.flipped, err);
+        st = sk_param_split_side_edges(disk, o.corners, &split, &fs.split_edges, err);
+    if (!st) {
+        disk = split;
+        double *grown = sk__realloc_array(uv, 2 * disk->num_vertices, sizeof *uv);
+        if (!grown)
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        else
+            uv = grown;
+    }
+    if (!st)
+        st = square_map(disk, o.method, o.corners, uv, &fs.flipped, err);
     if (st)
         goto done;
     memcpy(fs.corners, o.corners, sizeof fs.corners);
@@ -537,7 +486,9 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
         size_t nu = s->nu, nv = s->nv;
         double *ku = refine_knots(s->knots_u, &nu, s->degree_u, mark_u);
         double *kv = refine_knots(s->knots_v, &nv, s->degree_v, mark_v);
-        bool grow = ku && kv && nu * nv <= x.n && nu <= MAX_CTRL_1D &&
+        /* no more control points than the mesh has vertices: beyond that the surface is no
+         * reduction of the data (the face samples are interpolated from the vertices) */
+        bool grow = ku && kv && nu * nv <= n_input && nu <= MAX_CTRL_1D &&
                     nv <= MAX_CTRL_1D;
         double *pts = grow ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
         if (!ku || !kv || (grow && !pts)) {
@@ -572,5 +523,6 @@ done:
     samples_free(&x);
     sk_bvh_destroy(&bvh);
     sk_soup_destroy(&soup);
+    sk_mesh_destroy(&split);
     return st;
 }

@@ -9,7 +9,7 @@ rm -rf "$tmp"; mkdir -p "$tmp"
 fail() { echo "FAIL: $*"; exit 1; }
 bindir=$(cd "$(dirname "$bin")" && pwd)
 ln -s "$src/data" "$tmp/data"
-for cmd in info convert subdivide simplify param smooth deviation view; do
+for cmd in info convert subdivide simplify param smooth deviation view fit; do
   "$bin" $cmd --help > "$tmp/$cmd.help" || fail "$cmd --help exit"
   head -1 "$tmp/$cmd.help" | grep -q "^usage: surfkit $cmd " || fail "$cmd: usage line"
   grep -q '^options:$' "$tmp/$cmd.help" || fail "$cmd: no options list"

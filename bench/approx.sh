@@ -1,0 +1,67 @@
+#!/bin/bash
+# B-spline fitting of disks (issue 13, the B-spline half): `surfkit fit` against Open CASCADE's
+# own approximation (GeomAPI_PointsToBSplineSurface, through FreeCAD's
+# Part.BSplineSurface().approximate, its defaults: degree 3 to 8, C2) of the same mesh resampled on a G x G grid
+# through our square parametrization (`surfkit param --method floater --boundary square`, the map
+# the fit starts from), both at T = 1e-3 of the diagonal. Both surfaces are measured the same way
+# inside FreeCAD (bench/approx_occt.py): mesh vertices and face centroids projected onto the
+# surface by Open CASCADE (max), a 65 x 65 grid of the surface against the mesh (max).
+# mask_cone has two components: the cone (the one holding its last vertex) is used; the other
+# is the nefertiti mask again.
+#   bench/approx.sh [SCRATCH_DIR]      env: BUILD (default build-bench), SHARED, GRID (default 60),
+#                                      REL (default 1e-3), MESHES
+set -eu
+SRC=$(cd "$(dirname "$0")/.." && pwd)
+BUILD=${BUILD:-$SRC/build-bench}
+SHARED=${SHARED:-$SRC/../shared}
+SCRATCH=${1:-$(mktemp -d /tmp/sk-bench-approx.XXXXXX)}
+GRID=${GRID:-60} REL=${REL:-1e-3}
+MESHES=${MESHES:-"paraboloid-patch nefertiti patch-01 mask_cone lion-head"}
+mkdir -p "$SCRATCH"
+command -v freecadcmd > /dev/null || { echo "freecadcmd not installed (scripts/setup.sh --interop)"; exit 1; }
+cmake -S "$SRC" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_BUILD_TESTS=OFF > /dev/null
+cmake --build "$BUILD" -j2 --target surfkit > /dev/null
+SK=$BUILD/surfkit M=$SHARED/data/meshes
+export HOME=$SCRATCH/home; mkdir -p "$HOME"
+echo "# load average: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores; T = $REL of the diagonal, OCCT grid ${GRID}x${GRID}"
+echo "| disk | tool | control points | max mesh->surface / diag | max surface->mesh / diag | met | seconds |"
+echo "|---|---|---|---|---|---|---|"
+for mesh in $MESHES; do
+  in=$M/$mesh.off
+  if [ "$mesh" = mask_cone ]; then
+    python3 "$SRC/tests/cli/cut_disk.py" "$in" "$SCRATCH/$mesh.off" "$(sed -n 2p "$in" | cut -d' ' -f2)" \
+      "$(( $(sed -n 2p "$in" | cut -d' ' -f1) - 1 ))"
+    in=$SCRATCH/$mesh.off
+  fi
+  "$SK" param "$in" -o "$SCRATCH/$mesh-uv.obj" --method floater --boundary square -q 2> /dev/null
+  "$SK" fit "$in" -o "$SCRATCH/$mesh.step" --tolerance-rel "$REL" --json -q > "$SCRATCH/$mesh.json" 2> /dev/null || true
+  tol=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tolerance"])' "$SCRATCH/$mesh.json")
+  SK_MESH=$SCRATCH/$mesh-uv.obj SK_STEP=$SCRATCH/$mesh.step SK_TOL=$tol SK_GRID=$GRID \
+    SK_OUT=$SCRATCH/$mesh.occt.json timeout 1800 freecadcmd "$SRC/bench/approx_occt.py" > "$SCRATCH/$mesh.fc.log" 2>&1 || true
+  python3 - "$mesh" "$SCRATCH/$mesh.json" "$SCRATCH/$mesh.occt.json" <<'PY'
+import json, sys
+mesh, ours_p, occ_p = sys.argv[1:]
+o = json.load(open(ours_p))
+try:
+    r = json.load(open(occ_p))
+except (OSError, ValueError):
+    r = {}
+d, tol = o["deviation"]["diagonal"], o["tolerance"]
+def row(tool, m, secs):
+    if not m:
+        print("| %s | %s | - | - | - | - | - |" % (mesh, tool))
+        return
+    met = max(m["mesh_to_surface_max"], m["surface_to_mesh_max"]) <= tol
+    print("| %s | %s | %d (%d x %d) | %.3g | %.3g | %s | %.2f |" % (
+        mesh, tool, m["control_points"], m["poles"][0], m["poles"][1],
+        m["mesh_to_surface_max"] / d, m["surface_to_mesh_max"] / d, "yes" if met else "no", secs))
+row("surfkit fit", r.get("ours"), o["seconds_param"] + o["seconds_fit"])
+if "occt_error" in r:
+    print("| %s | OCCT approximate | failed: %s | | | | |" % (mesh, r["occt_error"][:60]))
+elif r.get("grid_missing"):
+    print("| %s | OCCT approximate | grid has %d holes | | | | |" % (mesh, r["grid_missing"]))
+else:
+    row("OCCT approximate, degree %s" % "x".join(map(str, r.get("occt_degrees", []))), r.get("occt"),
+        r.get("occt_seconds", 0))
+PY
+done

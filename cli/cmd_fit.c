@@ -1,0 +1,361 @@
+/* surfkit fit: one tensor-product B-spline surface fitted to a triangulated disk within a
+ * tolerance, written as STEP or IGES (or tessellated), with its deviation from the mesh. */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char about[] =
+    "Fits one tensor-product B-spline surface to the triangulated disk DISK: parametrizes it over\n"
+    "the unit square (Floater's shape-preserving map; the four corners are the four sharpest\n"
+    "turns of the boundary, spread apart, or --corners), fits the control points to the vertices\n"
+    "and to points of every face by least squares with a thin-plate smoothing term, corrects the\n"
+    "parameters towards the foot points, and inserts knots in the spans where the surface is\n"
+    "farther than the tolerance from the mesh, until it holds both ways or the data runs out.\n";
+
+static const char more[] =
+    "The summary gives the control points, the tolerance, and the deviation between the surface\n"
+    "(tessellated) and the mesh measured both ways (surfkit deviation's figures: vertices and face\n"
+    "samples of each to the other). Exit 4 when the tolerance is not met (the surface is still\n"
+    "written). A closed surface or one with several boundary loops is not a disk: cut it into\n"
+    "disks with `surfkit param --atlas`, or build G1 patches with `surfkit smooth`.\n";
+
+static const char examples[] =
+    "  surfkit fit data/nefertiti.off -o nefertiti.step --tolerance-rel 0.05\n"
+    "  surfkit fit data/nefertiti.off -o nefertiti.igs --tolerance-rel 0.05 --degree 4 --json\n";
+
+typedef struct fit_run {
+    const char *in, *out, *method;
+    sk_fit_stats fs;
+    sk_deviation_report dev;
+    size_t nu, nv;
+    int degree;
+    size_t bytes;
+    double chord;    /* bound on the tessellation's chord error */
+    unsigned tess_n; /* grid of the tessellation (deviation, mesh output) */
+    double seconds_write, seconds_deviation, seconds;
+} fit_run;
+
+static void write_json(FILE *fp, const void *ctx)
+{
+    const fit_run *x = ctx;
+    double diag = x->dev.diagonal > 0 ? x->dev.diagonal : 1;
+    cli_json j;
+    json_begin(&j, fp);
+    json_obj_open(&j);
+    json_kstr(&j, "input", x->in);
+    json_kstr(&j, "output", x->out);
+    json_kint(&j, "degree", x->degree);
+    json_kstr(&j, "method", x->method);
+    json_kuint(&j, "control_points", x->fs.control_points);
+    json_kuint(&j, "nu", x->nu);
+    json_kuint(&j, "nv", x->nv);
+    json_key(&j, "corners");
+    json_arr_open(&j);
+    for (int k = 0; k < 4; ++k)
+        json_uint(&j, x->fs.corners[k]);
+    json_arr_close(&j);
+    json_kuint(&j, "rounds", x->fs.rounds);
+    json_kuint(&j, "samples", x->fs.samples);
+    json_kuint(&j, "split_edges", x->fs.split_edges);
+    json_kuint(&j, "flipped", x->fs.flipped);
+    json_knum(&j, "tolerance", x->fs.tolerance);
+    json_knum(&j, "tolerance_rel", x->fs.tolerance / diag);
+    json_kbool(&j, "met", x->fs.met);
+    json_knum(&j, "fit_max", x->fs.max_error);
+    json_knum(&j, "fit_rms", x->fs.rms_error);
+    json_knum(&j, "fit_surface_to_mesh", x->fs.surface_to_mesh);
+    json_key(&j, "deviation");
+    json_obj_open(&j);
+    json_knum(&j, "hausdorff", x->dev.hausdorff);
+    json_knum(&j, "hausdorff_rel", x->dev.hausdorff / diag);
+    json_knum(&j, "diagonal", x->dev.diagonal);
+    json_knum(&j, "mesh_to_surface_max", x->dev.mesh_to_surface.max);
+    json_knum(&j, "mesh_to_surface_rms", x->dev.mesh_to_surface.rms);
+    json_knum(&j, "surface_to_mesh_max", x->dev.surface_to_mesh.max);
+    json_knum(&j, "surface_to_mesh_rms", x->dev.surface_to_mesh.rms);
+    json_obj_close(&j);
+    json_kuint(&j, "bytes", x->bytes);
+    json_kuint(&j, "tessellation", x->tess_n);
+    json_knum(&j, "tessellation_chord_bound", x->chord);
+    json_knum(&j, "seconds_param", x->fs.seconds_param);
+    json_knum(&j, "seconds_fit", x->fs.seconds_fit);
+    json_knum(&j, "seconds_write", x->seconds_write);
+    json_knum(&j, "seconds_deviation", x->seconds_deviation);
+    json_knum(&j, "seconds", x->seconds);
+    json_obj_close(&j);
+    json_end(&j);
+}
+
+static void print_summary(const fit_run *x)
+{
+    double diag = x->dev.diagonal > 0 ? x->dev.diagonal : 1;
+    printf("fit: wrote %s: degree %d, %zu x %zu = %zu control points, %zu rounds, %.3f s\n", x->out,
+           x->degree, x->nu, x->nv, x->fs.control_points, x->fs.rounds, x->seconds);
+    printf("fit: tolerance %.6g (%.3g of the diagonal) %s; deviation max %.6g (%.3g), "
+           "rms %.6g: mesh to surface max %.6g rms %.6g, surface to mesh max %.6g rms %.6g\n",
+           x->fs.tolerance, x->fs.tolerance / diag, x->fs.met ? "met" : "NOT MET",
+           x->dev.hausdorff, x->dev.hausdorff / diag, x->dev.mesh_to_surface.rms,
+           x->dev.mesh_to_surface.max, x->dev.mesh_to_surface.rms, x->dev.surface_to_mesh.max,
+           x->dev.surface_to_mesh.rms);
+}
+
+static bool parse_corners(const char *s, uint32_t c[4])
+{
+    for (int k = 0; k < 4; ++k) {
+        char *end = NULL;
+        if (!s || *s < '0' || *s > '9')
+            return false;
+        unsigned long v = strtoul(s, &end, 10);
+        if (v >= UINT32_MAX || end == s || (k < 3 && *end != ',') || (k == 3 && *end))
+            return false;
+        c[k] = (uint32_t)v;
+        s = end + 1;
+    }
+    return true;
+}
+
+typedef enum { OUT_STEP, OUT_IGES, OUT_MESH } out_kind;
+
+static bool out_kind_of(const char *path, out_kind *k)
+{
+    if (sk_path_has_ext(path, ".step") || sk_path_has_ext(path, ".stp"))
+        *k = OUT_STEP;
+    else if (sk_path_has_ext(path, ".igs") || sk_path_has_ext(path, ".iges"))
+        *k = OUT_IGES;
+    else if (sk_path_has_ext(path, ".obj") || sk_path_has_ext(path, ".ply") ||
+             sk_path_has_ext(path, ".off") || sk_path_has_ext(path, ".stl"))
+        *k = OUT_MESH;
+    else
+        return false;
+    return true;
+}
+
+/* Bound on the second derivatives of s in the direction (1, 1) of the parameter square, from
+ * its control net: |S_uu| <= max |second difference along u| / h_u^2 (h_u the shortest knot
+ * span; exact for uniform knots up to the end spans), likewise S_vv and S_uv. */
+static double second_derivative_bound(const sk_bspline_surface *s)
+{
+    double hu = 1, hv = 1;
+    for (size_t k = 0; k + 1 < s->nu + (size_t)s->degree_u + 1; ++k)
+        if (s->knots_u[k + 1] > s->knots_u[k])
+            hu = fmin(hu, s->knots_u[k + 1] - s->knots_u[k]);
+    for (size_t k = 0; k + 1 < s->nv + (size_t)s->degree_v + 1; ++k)
+        if (s->knots_v[k + 1] > s->knots_v[k])
+            hv = fmin(hv, s->knots_v[k + 1] - s->knots_v[k]);
+    double duu = 0, dvv = 0, duv = 0;
+    const double *P = s->points;
+    size_t nu = s->nu;
+    for (size_t j = 0; j < s->nv; ++j)
+        for (size_t i = 0; i < nu; ++i) {
+            double a = 0, b = 0, c = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double *p = P + 3 * (i + nu * j) + k;
+                if (i > 0 && i + 1 < nu)
+                    a += (p[3] - 2 * p[0] + p[-3]) * (p[3] - 2 * p[0] + p[-3]);
+                if (j > 0 && j + 1 < s->nv)
+                    b += (p[3 * nu] - 2 * p[0] + p[-3 * (ptrdiff_t)nu]) *
+                         (p[3 * nu] - 2 * p[0] + p[-3 * (ptrdiff_t)nu]);
+                if (i + 1 < nu && j + 1 < s->nv)
+                    c += (p[3 * nu + 3] - p[3 * nu] - p[3] + p[0]) *
+                         (p[3 * nu + 3] - p[3 * nu] - p[3] + p[0]);
+            }
+            duu = fmax(duu, sqrt(a)), dvv = fmax(dvv, sqrt(b)), duv = fmax(duv, sqrt(c));
+        }
+    return duu / (hu * hu) + 2 * duv / (hu * hv) + dvv / (hv * hv);
+}
+
+/* Tessellation grid for the deviation and mesh output: fine enough that the chord error of its
+ * triangles (at most |S_dd| / (8 N^2) along a diagonal of a grid cell) stays below 1/20 of the
+ * tolerance, at least 8 per knot span, 64 to 512 (the deviation's cost). *chord gets that error bound. */
+static unsigned tess_n(const sk_bspline_surface *s, double tol, double *chord)
+{
+    size_t spans = s->nu - (size_t)s->degree_u;
+    if (s->nv - (size_t)s->degree_v > spans)
+        spans = s->nv - (size_t)s->degree_v;
+    double k = second_derivative_bound(s);
+    double n = fmax(8.0 * (double)spans, tol > 0 ? ceil(sqrt(k / (8 * tol / 20))) : 0);
+    n = fmin(fmax(n, 64), 512);
+    if (chord)
+        *chord = k / (8 * n * n);
+    return (unsigned)n;
+}
+
+static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
+
+/* argv -> options */
+typedef struct fit_args {
+    const char *report, *tess_path, *corners;
+    double tol_rel;
+    bool json, quiet;
+    out_kind kind;
+    sk_fit_opts fo;
+    sk_export_opts eo;
+} fit_args;
+
+/* EXIT_OK to run, CLI_HELP, or the usage error's exit code */
+static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
+{
+    unsigned units = 0, method = 0;
+    int degree = 3;
+    const cli_opt opts[] = {
+        OPT_OUTPUT(x->out, "OUT",
+                   ".step/.stp: STEP AP214, one B_SPLINE_SURFACE_WITH_KNOTS as the face of an\n"
+                   "open shell; .igs/.iges: IGES 5.3, one entity 128; .obj/.ply/.off/.stl: a\n"
+                   "tessellation of the surface (chord error below 1/20 of the tolerance, 64 to\n"
+                   "512 per side)"),
+        OPT_DOUBLE("--tolerance", a->fo.tolerance, 0, 0, CLI_LO_OPEN, "T",
+                   "largest distance between surface and mesh, model units"),
+        OPT_DOUBLE("--tolerance-rel", a->tol_rel, 0, 1, CLI_LO_OPEN, "R",
+                   "the tolerance as R times the bounding-box diagonal (default 1e-3)"),
+        OPT_INT("--degree", degree, 2, 5, "D", "degree in both directions (default 3, bicubic)"),
+        OPT_STRING("--corners", a->corners, "I,J,K,L",
+                   "the boundary vertices mapped to (0,0), (1,0), (1,1), (0,1), in\n"
+                   "counter-clockwise order around the surface (0-based vertex ids)"),
+        OPT_CHOICE("--method", method, "floater|mips",
+                   "the square map: floater (default) or mips (hierarchical MIPS with the\n"
+                   "square boundary fixed)"),
+        OPT_CHOICE("--units", units, "mm|cm|m|um|in|ft",
+                   "CAD length unit of the coordinates (default mm)"),
+        OPT_FILE("--tessellation", a->tess_path, "MESH",
+                 "also writes the tessellation (as -o does for a mesh file): vertex (i, j) of\n"
+                 "the N x N grid is the surface point at (u, v) = (i / N, j / N)"),
+        OPT_FILE("--report", a->report, "FILE", "the summary as JSON in FILE"),
+        OPT_FLAG("--json", a->json, "print the summary as JSON instead"),
+        OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
+    };
+    const cli_spec spec = {"fit", "DISK -o OUT.step|OUT.igs|OUT.obj|OUT.ply", about,
+                           opts, CLI_COUNT(opts), 1, 1, examples, more};
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &args);
+    if (rc)
+        return rc;
+    x->in = cli_input(&args, 0);
+    a->fo.degree = degree;
+    a->fo.method = method ? SK_PARAM_MIPS : SK_PARAM_FLOATER;
+    if (cli_given(&args, "--units"))
+        a->eo.units = unit_names[units];
+    if (a->corners && !parse_corners(a->corners, a->fo.corners))
+        return cli_usage("fit", "--corners takes four vertex ids I,J,K,L, not '%s'", a->corners);
+    a->fo.has_corners = a->corners != NULL;
+    if (!out_kind_of(x->out, &a->kind))
+        return cli_usage("fit", "-o must name a .step, .stp, .igs, .iges, .obj, .ply, .off or "
+                         ".stl file");
+    if (a->fo.tolerance > 0 && a->tol_rel > 0)
+        return cli_usage("fit", "give --tolerance or --tolerance-rel, not both");
+    return EXIT_OK;
+}
+
+int cmd_fit(int argc, char **argv)
+{
+    fit_run x = {0};
+    fit_args a;
+    memset(&a, 0, sizeof a);
+    int prc = parse_args(argc, argv, &x, &a);
+    if (prc)
+        return prc == CLI_HELP ? EXIT_OK : prc;
+    sk_fit_opts fo = a.fo;
+    sk_export_opts eo = a.eo;
+    const char *report = a.report, *tess_path = a.tess_path;
+    double tol_rel = a.tol_rel;
+    bool json = a.json, quiet = a.quiet;
+    out_kind kind = a.kind;
+
+    x.method = fo.method == SK_PARAM_MIPS ? "mips" : "floater";
+    double t0 = sk_seconds();
+    cli_progress bar;
+    cli_progress_init(&bar, "fit", quiet);
+    fo.progress = cli_progress_cb;
+    fo.progress_user = &bar;
+    sk_error err = {0};
+    sk_mesh *mesh = NULL;
+    sk_bspline_surface *s = NULL;
+    sk_soup *tess = NULL, *ms = NULL;
+    int rc = EXIT_OK;
+    sk_status st = sk_mesh_read(x.in, NULL, &mesh, &err);
+    if (!st)
+        st = sk_mesh_to_soup(mesh, &ms, &err);
+    if (!st && tol_rel > 0) {
+        double lo[3], hi[3];
+        for (int k = 0; k < 3; ++k)
+            lo[k] = hi[k] = mesh->num_vertices ? mesh->positions[k] : 0;
+        for (size_t v = 0; v < mesh->num_vertices; ++v)
+            for (int k = 0; k < 3; ++k) {
+                double c = mesh->positions[3 * v + (size_t)k];
+                lo[k] = c < lo[k] ? c : lo[k];
+                hi[k] = c > hi[k] ? c : hi[k];
+            }
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k)
+            d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        fo.tolerance = tol_rel * sqrt(d2);
+    }
+    if (!st) {
+        st = sk_fit_bspline(mesh, &fo, &s, &x.fs, &err);
+        if (st == SK_ERR_TOPOLOGY) { /* not a disk: say what to do instead, on one line */
+            cli_progress_done(&bar);
+            cli_error("%s: %s; `surfkit fit` fits one disk: cut the surface into disks with "
+                      "`surfkit param --atlas`, or build G1 patches with `surfkit smooth`",
+                      x.in, err.message);
+            rc = EXIT_BAD_INPUT;
+            goto done;
+        }
+    }
+    cli_progress_done(&bar);
+    if (!st) {
+        x.nu = s->nu, x.nv = s->nv, x.degree = s->degree_u, x.tess_n = tess_n(s, x.fs.tolerance, &x.chord);
+        double tw = sk_seconds();
+        sk_export_stats es = {0};
+        if (kind == OUT_STEP) {
+            st = sk_export_bspline_step(x.out, s, &eo, &es, &err);
+        } else if (kind == OUT_IGES) {
+            st = sk_export_bspline_iges(x.out, s, &eo, &es, &err);
+        } else {
+            st = sk_bspline_tessellate(s, tess_n(s, x.fs.tolerance, &x.chord), &tess, &err);
+            if (!st)
+                st = sk_soup_write(x.out, tess, NULL, &err);
+        }
+        if (!st && tess_path) {
+            if (!tess)
+                st = sk_bspline_tessellate(s, tess_n(s, x.fs.tolerance, &x.chord), &tess, &err);
+            if (!st)
+                st = sk_soup_write(tess_path, tess, NULL, &err);
+        }
+        x.bytes = es.bytes;
+        x.seconds_write = sk_seconds() - tw;
+    }
+    if (!st) {
+        double td = sk_seconds();
+        if (!tess)
+            st = sk_bspline_tessellate(s, tess_n(s, x.fs.tolerance, &x.chord), &tess, &err);
+        if (!st)
+            st = sk_deviation(tess, ms, NULL, &x.dev, NULL, &err);
+        x.seconds_deviation = sk_seconds() - td;
+    }
+    x.seconds = sk_seconds() - t0;
+    if (st) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    if (report)
+        rc = cli_write_file(report, write_json, &x);
+    if (rc == EXIT_OK) {
+        if (json)
+            write_json(stdout, &x);
+        else if (!quiet)
+            print_summary(&x);
+        if (!x.fs.met) {
+            fprintf(stderr, "surfkit fit: %s: tolerance %.6g not met (max %.6g, surface to mesh "
+                    "%.6g) with %zu control points: the data supports no finer grid\n", x.in,
+                    x.fs.tolerance, x.fs.max_error, x.fs.surface_to_mesh, x.fs.control_points);
+            rc = EXIT_QUALITY;
+        }
+    }
+done:
+    sk_bspline_destroy(&s);
+    sk_soup_destroy(&tess);
+    sk_soup_destroy(&ms);
+    sk_mesh_destroy(&mesh);
+    return rc;
+}

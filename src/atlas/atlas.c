@@ -211,6 +211,91 @@ static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s,
     return st;
 }
 
+/* The components are the first charts: faces grouped by component in faces[], one range per
+ * component pushed on stack (the first component on top). */
+static sk_status seed_components(const sk_mesh *m, uint32_t *comp, uint32_t *faces, range *stack,
+                                 size_t *top, sk_error *err)
+{
+    size_t nf = m->num_faces, ncomp = sk__face_components(m, comp, faces);
+    uint32_t *start = sk__calloc_array(ncomp + 1, sizeof(uint32_t));
+    if (!start)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t f = 0; f < nf; ++f)
+        start[comp[f] + 1]++;
+    for (size_t c = 0; c < ncomp; ++c)
+        start[c + 1] += start[c];
+    for (size_t c = 0; c < ncomp; ++c)
+        stack[c] = (range){start[ncomp - 1 - c], start[ncomp - c]};
+    for (size_t f = 0; f < nf; ++f)
+        faces[start[comp[f]]++] = (uint32_t)f;
+    sk__free(start);
+    *top = ncomp;
+    return SK_OK;
+}
+
+/* pairs of uv triangles of the chart whose interiors overlap (exact tests) */
+static sk_status chart_overlaps(const sk_mesh *chart, const double *cuv, size_t *ov,
+                                sk_error *err)
+{
+    size_t n = chart->num_faces;
+    *ov = 0;
+    if (n < 2)
+        return SK_OK;
+    double *tri = sk__malloc_array(6 * n, sizeof(double));
+    if (!tri)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t f = 0; f < n; ++f) {
+        uint32_t h = chart->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = chart->h_next[h])
+            memcpy(tri + 6 * f + 2 * k, cuv + 2 * (size_t)sk_from(chart, h), 2 * sizeof(double));
+    }
+    sk_status st = sk_uv_overlaps(n, tri, ov, NULL, err);
+    sk__free(tri);
+    return st;
+}
+
+/* Parametrizes the disk chart into *cuv (reallocated) and decides whether it must be split: it
+ * failed or flipped, its layout overlaps itself, or it exceeds a distortion bound (counted in
+ * s). Errors are out of memory, cancellation, or a single triangle that cannot be laid out. */
+static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf,
+                            double max_stretch, double **cuv, sk__chart_quality *q, bool *split,
+                            sk_atlas_stats *s, sk_error *err)
+{
+    size_t n = chart->num_faces;
+    sk__free(*cuv);
+    *cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
+    if (!*cuv)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk_error perr = {0};
+    sk_status ps = sk__chart_param(chart, seed, *cuv, q, &perr);
+    if (ps == SK_ERR_NOMEM || ps == SK_ERR_CANCELLED || ((ps != SK_OK || q->flipped) && n < 2)) {
+        sk_status st = ps ? ps : SK_ERR_NUMERIC;
+        if (err)
+            *err = perr;
+        if (!ps)
+            sk__fail(err, st, "a single-triangle chart flipped");
+        return st;
+    }
+    if (ps != SK_OK || q->flipped) {
+        *split = true;
+        s->splits_failed++;
+        return SK_OK;
+    }
+    size_t ov = 0; /* every chart is checked for self-overlap with exact tests */
+    sk_status st = chart_overlaps(chart, *cuv, &ov, err);
+    if (st)
+        return st;
+    if (ov) {
+        *split = true;
+        s->splits_overlap++;
+    } else if (n >= MIN_SPLIT_FACES && ((max_conf > 0 && q->conformal_mean > max_conf) ||
+                                        (max_stretch > 0 && q->area_log_dev > log(max_stretch)))) {
+        *split = true;
+        s->splits_distortion++;
+    }
+    return SK_OK;
+}
+
 sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas **out,
                          sk_atlas_stats *stats, sk_error *err)
 {
@@ -256,25 +341,9 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     }
     for (size_t h = 0; h < m->num_halfedges; ++h)
         a->corner_uv[h] = SK_INVALID;
-    /* the components are the first charts: faces grouped by component */
-    size_t ncomp = sk__face_components(m, comp, faces);
-    {
-        uint32_t *start = sk__calloc_array(ncomp + 1, sizeof(uint32_t));
-        if (!start) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
-        }
-        for (size_t f = 0; f < nf; ++f)
-            start[comp[f] + 1]++;
-        for (size_t c = 0; c < ncomp; ++c)
-            start[c + 1] += start[c];
-        for (size_t c = 0; c < ncomp; ++c)
-            stack[c] = (range){start[ncomp - 1 - c], start[ncomp - c]};
-        for (size_t f = 0; f < nf; ++f)
-            faces[start[comp[f]]++] = (uint32_t)f;
-        sk__free(start);
-    }
-    size_t top = ncomp, done_faces = 0;
+    size_t top = 0, done_faces = 0;
+    if ((st = seed_components(m, comp, faces, stack, &top, err)))
+        goto done;
     uint32_t stamp = 0;
     s.charts_seconds = 0;
     while (top > 0) {
@@ -318,62 +387,10 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
             s.splits_distortion++;
         } else if (disk) {
             double tq = sk_seconds();
-            sk__free(cuv);
-            cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
-            if (!cuv) {
-                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-                goto done;
-            }
             sk__chart_quality q;
-            sk_error perr;
-            sk_status ps = sk__chart_param(chart, o.seed + stamp, cuv, &q, &perr);
-            if (ps == SK_ERR_NOMEM || ps == SK_ERR_CANCELLED) {
-                st = ps;
-                if (err)
-                    *err = perr;
+            if ((st = judge_disk(chart, o.seed + stamp, max_conf, max_stretch, &cuv, &q, &split,
+                                 &s, err)))
                 goto done;
-            }
-            if (ps != SK_OK || q.flipped) {
-                if (n < 2) {
-                    st = ps ? ps : SK_ERR_NUMERIC;
-                    if (err)
-                        *err = perr;
-                    if (!ps)
-                        sk__fail(err, st, "a single-triangle chart flipped");
-                    goto done;
-                }
-                split = true;
-                s.splits_failed++;
-            } else {
-                /* every chart is checked for self-overlap with exact tests */
-                size_t ov = 0;
-                if (n > 1) {
-                    double *tri = sk__malloc_array(6 * n, sizeof(double));
-                    if (!tri) {
-                        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-                        goto done;
-                    }
-                    for (size_t f = 0; f < n; ++f) {
-                        uint32_t h = chart->f_halfedge[f];
-                        for (int k = 0; k < 3; ++k, h = chart->h_next[h])
-                            memcpy(tri + 6 * f + 2 * k, cuv + 2 * (size_t)sk_from(chart, h),
-                                   2 * sizeof(double));
-                    }
-                    st = sk_uv_overlaps(n, tri, &ov, NULL, err);
-                    sk__free(tri);
-                    if (st)
-                        goto done;
-                }
-                if (ov) {
-                    split = true;
-                    s.splits_overlap++;
-                } else if (n >= MIN_SPLIT_FACES &&
-                           ((max_conf > 0 && q.conformal_mean > max_conf) ||
-                            (max_stretch > 0 && q.area_log_dev > log(max_stretch)))) {
-                    split = true;
-                    s.splits_distortion++;
-                }
-            }
             tp += sk_seconds() - tq;
             if (!split) {
                 if ((st = accept_chart(&acc, m, cf, n, chart, cuv, &w, a, err)))

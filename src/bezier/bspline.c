@@ -53,10 +53,10 @@ void sk_bspline_destroy(sk_bspline_surface **s)
 {
     if (!s || !*s)
         return;
-    free((*s)->knots_u);
-    free((*s)->knots_v);
-    free((*s)->points);
-    free(*s);
+    sk__free((*s)->knots_u);
+    sk__free((*s)->knots_v);
+    sk__free((*s)->points);
+    sk__free(*s);
     *s = NULL;
 }
 

@@ -83,9 +83,9 @@ typedef struct samples {
 
 static void samples_free(samples *x)
 {
-    free(x->pos);
-    free(x->uv);
-    free(x->fixed);
+    sk__free(x->pos);
+    sk__free(x->uv);
+    sk__free(x->fixed);
     memset(x, 0, sizeof *x);
 }
 
@@ -227,13 +227,13 @@ static sk_status solve_points(sk_bspline_surface *s, const samples *x, double sm
     for (size_t i = 0; !st && i < N; ++i)
         for (int d = 0; d < 3; ++d)
             s->points[3 * i + (size_t)d] = sol[(size_t)d * N + i];
-    free(sol);
+    sk__free(sol);
     sk_sparse_destroy(&A);
     sk_triplets_free(&t);
-    free(rhs);
+    sk__free(rhs);
     for (int r = 0; r < 3; ++r) {
-        free(Gu[r]);
-        free(Gv[r]);
+        sk__free(Gu[r]);
+        sk__free(Gv[r]);
     }
     return st;
 }
@@ -467,8 +467,8 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
             correct_params(s, &x);
             st = solve_points(s, &x, smoothing, err);
         }
-        free(mark_u);
-        free(mark_v);
+        sk__free(mark_u);
+        sk__free(mark_v);
         mark_u = sk__calloc_array(s->nu + 1, 1);
         mark_v = sk__calloc_array(s->nv + 1, 1);
         if (!st && (!mark_u || !mark_v))
@@ -492,19 +492,19 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
                     nv <= MAX_CTRL_1D;
         double *pts = grow ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
         if (!ku || !kv || (grow && !pts)) {
-            free(ku);
-            free(kv);
+            sk__free(ku);
+            sk__free(kv);
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
             break;
         }
         if (!grow) { /* more control points than the data supports: keep the last fit */
-            free(ku);
-            free(kv);
+            sk__free(ku);
+            sk__free(kv);
             break;
         }
-        free(s->knots_u);
-        free(s->knots_v);
-        free(s->points);
+        sk__free(s->knots_u);
+        sk__free(s->knots_v);
+        sk__free(s->points);
         s->knots_u = ku, s->knots_v = kv, s->points = pts, s->nu = nu, s->nv = nv;
     }
     fs.seconds_fit = sk_seconds() - t0 - fs.seconds_param;
@@ -516,10 +516,10 @@ done:
     if (stats)
         *stats = fs;
     sk_bspline_destroy(&s);
-    free(mark_u);
-    free(mark_v);
-    free(loop);
-    free(uv);
+    sk__free(mark_u);
+    sk__free(mark_v);
+    sk__free(loop);
+    sk__free(uv);
     samples_free(&x);
     sk_bvh_destroy(&bvh);
     sk_soup_destroy(&soup);

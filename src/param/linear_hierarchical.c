@@ -93,7 +93,7 @@ static sk_status build_prolongation(const sk_hierarchy *h, size_t k, const uint3
         }
     }
 done:
-    free(split_of);
+    sk__free(split_of);
     if (st)
         sk__csr_free(p);
     return st;
@@ -174,7 +174,7 @@ static sk_status level_operator(const sk_mesh *lm, sk_param_method method, const
         out->ptr[i + 1] = q; /* free vertices are numbered in vertex order */
     }
 done:
-    free(w);
+    sk__free(w);
     if (st)
         sk__csr_free(out);
     return st;
@@ -214,12 +214,12 @@ sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
         goto done;
     double t1 = sk_seconds();
     L = sk_hierarchy_num_levels(h);
-    lidx = calloc(L, sizeof *lidx);
-    nun = calloc(L, sizeof *nun);
-    sel = calloc(L, sizeof *sel);
-    p = calloc(L, sizeof *p);
-    sp = calloc(L, sizeof *sp);
-    ops = calloc(L, sizeof *ops);
+    lidx = sk__calloc_array(L, sizeof *lidx);
+    nun = sk__calloc_array(L, sizeof *nun);
+    sel = sk__calloc_array(L, sizeof *sel);
+    p = sk__calloc_array(L, sizeof *p);
+    sp = sk__calloc_array(L, sizeof *sp);
+    ops = sk__calloc_array(L, sizeof *ops);
     if (!lidx || !nun || !sel || !p || !sp || !ops) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
@@ -353,7 +353,7 @@ done:
     sk_mesh_destroy(&lm);
     for (size_t k = 0; k < L; ++k) {
         if (lidx && k + 1 < L)
-            free(lidx[k]);
+            sk__free(lidx[k]);
         if (p)
             sk__csr_free(&p[k]);
         if (sp)
@@ -361,12 +361,12 @@ done:
         if (ops)
             sk__csr_free(&ops[k]);
     }
-    free(lidx);
-    free(nun);
-    free(sel);
-    free(p);
-    free(sp);
-    free(ops);
+    sk__free(lidx);
+    sk__free(nun);
+    sk__free(sel);
+    sk__free(p);
+    sk__free(sp);
+    sk__free(ops);
     sk_hierarchy_destroy(&h);
     return st;
 }

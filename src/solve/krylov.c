@@ -17,9 +17,9 @@ void sk__csr_free(sk__csr *a)
 {
     if (!a)
         return;
-    free(a->ptr);
-    free(a->col);
-    free(a->val);
+    sk__free(a->ptr);
+    sk__free(a->col);
+    sk__free(a->val);
     memset(a, 0, sizeof *a);
 }
 
@@ -80,7 +80,7 @@ sk_status sk__csr_from_sparse(const sk_sparse *a, sk__csr *out, sk_error *err)
                 out->val[pos[c]++] = v;
             }
         }
-    free(pos);
+    sk__free(pos);
     return SK_OK;
 }
 
@@ -106,7 +106,7 @@ sk_status sk__csr_transpose(const sk__csr *a, sk__csr *out, sk_error *err)
             out->col[p] = (uint32_t)i;
             out->val[p] = a->val[k];
         }
-    free(pos);
+    sk__free(pos);
     return SK_OK;
 }
 
@@ -180,9 +180,9 @@ sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_e
         out->ptr[row + 1] = nnz;
     }
 done:
-    free(acc);
-    free(mark);
-    free(list);
+    sk__free(acc);
+    sk__free(mark);
+    sk__free(list);
     if (st)
         sk__csr_free(out);
     return st;
@@ -237,7 +237,7 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
         if (mg->A)
             sk__csr_free(&mg->A[k]);
         if (mg->dinv)
-            free(mg->dinv[k]);
+            sk__free(mg->dinv[k]);
         if (k + 1 < mg->L) {
             if (mg->P)
                 sk__csr_free(&mg->P[k]);
@@ -245,13 +245,13 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
                 sk__csr_free(&mg->R[k]);
         }
     }
-    free(mg->A);
-    free(mg->P);
-    free(mg->R);
-    free(mg->dinv);
+    sk__free(mg->A);
+    sk__free(mg->P);
+    sk__free(mg->R);
+    sk__free(mg->dinv);
     sk_solver_destroy(&mg->solver);
     sk_sparse_destroy(&mg->coarse);
-    free(mg);
+    sk__free(mg);
     *mgp = NULL;
 }
 
@@ -278,7 +278,7 @@ static sk_status coarse_sparse(const sk__csr *a, bool symmetric, sk_sparse **out
         for (size_t k = src->ptr[i]; k < src->ptr[i + 1]; ++k)
             if (!symmetric || src->col[k] >= i)
                 nnz++;
-    sk_sparse *s = calloc(1, sizeof *s);
+    sk_sparse *s = sk__calloc_array(1, sizeof *s);
     if (s) {
         s->colptr = sk__malloc_array(n + 1, sizeof(int));
         s->rowind = sk__malloc_array(nnz ? nnz : 1, sizeof(int));
@@ -315,14 +315,14 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
     *out = NULL;
     double t0 = sk_seconds();
     sk_status st = SK_OK;
-    sk__multilevel *mg = calloc(1, sizeof *mg);
+    sk__multilevel *mg = sk__calloc_array(1, sizeof *mg);
     if (mg) {
         mg->L = L;
         mg->symmetric = symmetric;
-        mg->A = calloc(L, sizeof *mg->A);
-        mg->P = calloc(L, sizeof *mg->P);
-        mg->R = calloc(L, sizeof *mg->R);
-        mg->dinv = calloc(L, sizeof *mg->dinv);
+        mg->A = sk__calloc_array(L, sizeof *mg->A);
+        mg->P = sk__calloc_array(L, sizeof *mg->P);
+        mg->R = sk__calloc_array(L, sizeof *mg->R);
+        mg->dinv = sk__calloc_array(L, sizeof *mg->dinv);
     }
     if (!mg || !mg->A || !mg->P || !mg->R || !mg->dinv) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -415,23 +415,23 @@ static void ws_free(workspace *w, size_t L)
 {
     for (size_t k = 0; k < L; ++k) {
         if (w->b)
-            free(w->b[k]);
+            sk__free(w->b[k]);
         if (w->x)
-            free(w->x[k]);
+            sk__free(w->x[k]);
         if (w->r)
-            free(w->r[k]);
+            sk__free(w->r[k]);
         if (w->z)
-            free(w->z[k]);
+            sk__free(w->z[k]);
         if (w->t)
-            free(w->t[k]);
+            sk__free(w->t[k]);
     }
-    free(w->b);
-    free(w->x);
-    free(w->r);
-    free(w->z);
-    free(w->t);
+    sk__free(w->b);
+    sk__free(w->x);
+    sk__free(w->r);
+    sk__free(w->z);
+    sk__free(w->t);
     for (int i = 0; i < 8; ++i)
-        free(w->kv[i]);
+        sk__free(w->kv[i]);
     memset(w, 0, sizeof *w);
 }
 
@@ -439,11 +439,11 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg)
 {
     memset(w, 0, sizeof *w);
     size_t L = mg->L;
-    w->b = calloc(L, sizeof *w->b);
-    w->x = calloc(L, sizeof *w->x);
-    w->r = calloc(L, sizeof *w->r);
-    w->z = calloc(L, sizeof *w->z);
-    w->t = calloc(L, sizeof *w->t);
+    w->b = sk__calloc_array(L, sizeof *w->b);
+    w->x = sk__calloc_array(L, sizeof *w->x);
+    w->r = sk__calloc_array(L, sizeof *w->r);
+    w->z = sk__calloc_array(L, sizeof *w->z);
+    w->t = sk__calloc_array(L, sizeof *w->t);
     if (!w->b || !w->x || !w->r || !w->z || !w->t)
         return false;
     for (size_t k = 0; k < L; ++k) {

@@ -27,11 +27,10 @@ sk_status sk_export_bspline_iges(const char *path, const sk_bspline_surface *s,
     if (!unit)
         return sk__fail(err, SK_ERR_ARG, "unknown unit '%s'", opts->units);
     const char *name = opts && opts->name ? opts->name : "surfkit";
-    char when[32], stamp[32], file_name[48], version[48];
+    char when[32], stamp[32], version[48];
     sk__export_time(opts, when);
     snprintf(stamp, sizeof stamp, "%.4s%.2s%.2s.%.2s%.2s%.2s", when, when + 5, when + 8, when + 11,
              when + 14, when + 17); /* IGES dates: YYYYMMDD.HHNNSS */
-    snprintf(file_name, sizeof file_name, "%s", sk__basename(path));
     snprintf(version, sizeof version, "surfkit %s", sk_version());
 
     sk__out o = {0}, d = {0}, pd = {0};
@@ -39,32 +38,8 @@ sk_status sk_export_bspline_iges(const char *path, const sk_bspline_surface *s,
     size_t g_seq = 0, p_seq = 0;
     sk__iges_packer g = {.b = &o, .section = 'G', .seq = &g_seq, .width = 72,
                          .zero_before_point = true};
-    sk__iges_pack(&g, "1H,");
-    sk__iges_pack(&g, "1H;");
-    sk__iges_pack_string(&g, name);
-    sk__iges_pack_string(&g, file_name);
-    sk__iges_pack_string(&g, "surfkit");
-    sk__iges_pack_string(&g, version);
-    sk__iges_pack_int(&g, 32);
-    sk__iges_pack_int(&g, 38);
-    sk__iges_pack_int(&g, 6);
-    sk__iges_pack_int(&g, 308);
-    sk__iges_pack_int(&g, 15);
-    sk__iges_pack_string(&g, name);
-    sk__iges_pack_real(&g, 1.0);
-    sk__iges_pack_int(&g, unit->iges_flag);
-    sk__iges_pack_string(&g, unit->iges_name);
-    sk__iges_pack_int(&g, 1);
-    sk__iges_pack_real(&g, 1.0);
-    sk__iges_pack_string(&g, stamp);
-    sk__iges_pack_real(&g, fmax(1e-7, 1e-9 * maxc)); /* minimum resolution, as the patch writer's */
-    sk__iges_pack_real(&g, maxc);
-    sk__iges_pack_string(&g, "surfkit");
-    sk__iges_pack_string(&g, "surfkit");
-    sk__iges_pack_int(&g, 11); /* version 5.3 */
-    sk__iges_pack_int(&g, 0);
-    sk__iges_pack_string(&g, stamp);
-    sk__iges_pack_end(&g);
+    /* minimum resolution as the patch writer's */
+    sk__iges_global(&g, name, path, version, unit, stamp, fmax(1e-7, 1e-9 * maxc), maxc);
 
     /* entity 128, DE pointer 1 */
     sk__iges_packer p = {.b = &pd, .section = 'P', .seq = &p_seq, .width = 64, .de = 1,

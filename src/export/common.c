@@ -550,3 +550,36 @@ void sk__iges_pack_string(sk__iges_packer *p, const char *s)
     snprintf(buf, sizeof buf, "%zuH%.60s", strlen(s) > 60 ? (size_t)60 : strlen(s), s);
     sk__iges_pack(p, buf);
 }
+
+void sk__iges_global(sk__iges_packer *g, const char *name, const char *path, const char *system,
+                     const sk__unit *unit, const char *stamp, double resolution, double maxc)
+{
+    char file_name[128];
+    snprintf(file_name, sizeof file_name, "%s", sk__basename(path));
+    sk__iges_pack(g, "1H,");
+    sk__iges_pack(g, "1H;");
+    sk__iges_pack_string(g, name);
+    sk__iges_pack_string(g, file_name);
+    sk__iges_pack_string(g, "surfkit");
+    sk__iges_pack_string(g, system);
+    sk__iges_pack_int(g, 32);
+    sk__iges_pack_int(g, 38);
+    sk__iges_pack_int(g, 6);
+    sk__iges_pack_int(g, 308);
+    sk__iges_pack_int(g, 15);
+    sk__iges_pack_string(g, name);
+    sk__iges_pack_real(g, 1.0);
+    sk__iges_pack_int(g, unit->iges_flag);
+    sk__iges_pack_string(g, unit->iges_name);
+    sk__iges_pack_int(g, 1);
+    sk__iges_pack_real(g, 1.0);
+    sk__iges_pack_string(g, stamp);
+    sk__iges_pack_real(g, resolution);
+    sk__iges_pack_real(g, maxc);
+    sk__iges_pack_string(g, "surfkit");
+    sk__iges_pack_string(g, "surfkit");
+    sk__iges_pack_int(g, 11); /* version 5.3 */
+    sk__iges_pack_int(g, 0);
+    sk__iges_pack_string(g, stamp);
+    sk__iges_pack_end(g);
+}

@@ -92,4 +92,10 @@ void sk__iges_pack_int(sk__iges_packer *p, long x);
 /* A Hollerith string "nHtext" of at most 60 characters. */
 void sk__iges_pack_string(sk__iges_packer *p, const char *s);
 
+/* The parameters of the IGES Global section (IGES 5.3 section 2.2.4): delimiters, product `name`,
+ * the base name of `path`, originating `system`, 64-bit number ranges, unit, the time stamp
+ * ("YYYYMMDD.HHNNSS"), the minimum `resolution` and the largest coordinate, version 5.3. */
+void sk__iges_global(sk__iges_packer *g, const char *name, const char *path, const char *system,
+                     const sk__unit *unit, const char *stamp, double resolution, double maxc);
+
 #endif

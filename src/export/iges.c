@@ -572,36 +572,10 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
                     'S', ++s_seq);
 
     sk__iges_packer g = {.b = &out, .section = 'G', .seq = &g_seq, .width = 72};
-    char file_name[128];
-    snprintf(file_name, sizeof file_name, "%s", sk__basename(path));
-    sk__iges_pack(&g, "1H,");
-    sk__iges_pack(&g, "1H;");
-    sk__iges_pack_string(&g, name);
-    sk__iges_pack_string(&g, file_name);
-    sk__iges_pack_string(&g, "surfkit");
-    sk__iges_pack_string(&g, "surfkit 0.1.0");
-    sk__iges_pack_int(&g, 32);
-    sk__iges_pack_int(&g, 38);
-    sk__iges_pack_int(&g, 6);
-    sk__iges_pack_int(&g, 308);
-    sk__iges_pack_int(&g, 15);
-    sk__iges_pack_string(&g, name);
-    sk__iges_pack_real(&g, 1.0);
-    sk__iges_pack_int(&g, unit->iges_flag);
-    sk__iges_pack_string(&g, unit->iges_name);
-    sk__iges_pack_int(&g, 1);
-    sk__iges_pack_real(&g, 1.0);
-    sk__iges_pack_string(&g, stamp);
     /* minimum resolution: importers take it as their working tolerance (Open CASCADE with
      * read.precision.mode 0), so the usual 1e-7 model units, not a rounding-level value */
-    sk__iges_pack_real(&g, fmax(1e-7, IGES_WELD_REL * size));
-    sk__iges_pack_real(&g, maxc);
-    sk__iges_pack_string(&g, "surfkit");
-    sk__iges_pack_string(&g, "surfkit");
-    sk__iges_pack_int(&g, 11); /* version 5.3 */
-    sk__iges_pack_int(&g, 0);
-    sk__iges_pack_string(&g, stamp);
-    sk__iges_pack_end(&g);
+    sk__iges_global(&g, name, path, "surfkit 0.1.0", unit, stamp, fmax(1e-7, IGES_WELD_REL * size),
+                    maxc);
 
     bool collapsed = false;
     sk__export_progress prog;

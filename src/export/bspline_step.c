@@ -8,59 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void step_name(sk__out *b, const char *s)
-{
-    sk__out_char(b, '\'');
-    for (; *s; ++s) {
-        if (*s == '\'')
-            sk__out_str(b, "''");
-        else if ((unsigned char)*s >= 0x20 && (unsigned char)*s < 0x7f)
-            sk__out_bytes(b, s, 1);
-    }
-    sk__out_char(b, '\'');
-}
-
-/* Header, product, units and the geometric context (#14) with its placement (#18); entity ids
- * from 30 on are free. */
-static void header(sk__out *o, const char *path, const char *name, const char *when,
-                   const sk__unit *unit)
-{
-    sk__out_str(o, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit B-spline fit of a disk'),"
-                   "'2;1');\nFILE_NAME(");
-    step_name(o, sk__basename(path));
-    sk__out_printf(o, ",'%s',('surfkit'),('surfkit'),'surfkit %s','surfkit','');\n", when,
-                   sk_version());
-    sk__out_str(o, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n"
-                   "#1=APPLICATION_CONTEXT('core data for automotive mechanical design processes');\n"
-                   "#2=APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',"
-                   "2000,#1);\n#3=PRODUCT_CONTEXT('',#1,'mechanical');\n#4=PRODUCT(");
-    step_name(o, name);
-    sk__out_char(o, ',');
-    step_name(o, name);
-    sk__out_str(o, ",'',(#3));\n#5=PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#4));\n"
-                   "#6=PRODUCT_DEFINITION_FORMATION('','',#4);\n"
-                   "#7=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');\n"
-                   "#8=PRODUCT_DEFINITION('design','',#6,#7);\n"
-                   "#9=PRODUCT_DEFINITION_SHAPE('','',#8);\n");
-    if (unit->step_unit)
-        sk__out_printf(o, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
-                       unit->step_prefix ? unit->step_prefix : "$", unit->step_unit);
-    else
-        sk__out_printf(o, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
-                          "#21=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%.6g),#20);\n"
-                          "#22=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
-                          "#10=(CONVERSION_BASED_UNIT('%s',#21)LENGTH_UNIT()NAMED_UNIT(#22));\n",
-                       unit->metres, unit->iges_name);
-    sk__out_str(o, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
-                   "#12=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n"
-                   "#13=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#10,"
-                   "'distance_accuracy_value','confusion accuracy');\n"
-                   "#14=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#13))"
-                   "GLOBAL_UNIT_ASSIGNED_CONTEXT((#10,#11,#12))REPRESENTATION_CONTEXT('',''));\n"
-                   "#15=CARTESIAN_POINT('',(0.,0.,0.));\n#16=DIRECTION('',(0.,0.,1.));\n"
-                   "#17=DIRECTION('',(1.,0.,0.));\n#18=AXIS2_PLACEMENT_3D('',#15,#16,#17);\n");
-}
-
 /* "(m1,m2,...)" or "(k1,k2,...)": the multiplicities or the distinct values of a clamped knot
  * vector (STEP lists a surface's u and v multiplicities first, then its u and v knots). */
 static void knot_list(sk__out *o, const double *k, size_t m, bool multiplicities)
@@ -132,7 +79,9 @@ sk_status sk_export_bspline_step(const char *path, const sk_bspline_surface *s,
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    header(&o, path, name, when, unit);
+    char system[48];
+    snprintf(system, sizeof system, "surfkit %s", sk_version());
+    sk__step_header(&o, "surfkit B-spline fit of a disk", path, name, when, system, unit);
     size_t next = 30;
     for (size_t j = 0; j < nv; ++j)
         for (size_t i = 0; i < nu; ++i) {

@@ -38,148 +38,6 @@
  * 27 cells around a point hold every point within the weld distance. */
 #define IGES_CELL_REL 1e-6
 
-/* Appends one 80-column record: 72 (or 64 + pointer) columns of text, the section letter and the
- * sequence number. */
-static void record_n(sk__out *b, const char *text, size_t n, char section, size_t seq)
-{
-    if (!sk__out_room(b, 81))
-        return;
-    char *o = b->buf + b->len;
-    if (n > 72)
-        n = 72;
-    memcpy(o, text, n);
-    memset(o + n, ' ', 72 - n);
-    o[72] = section;
-    for (int i = 79; i >= 73; --i) { /* sequence number, right-aligned in columns 74-80 */
-        o[i] = seq || i == 79 ? (char)('0' + seq % 10) : ' ';
-        seq /= 10;
-    }
-    o[80] = '\n';
-    b->len += 81;
-}
-
-static void record(sk__out *b, const char *text, char section, size_t seq)
-{
-    record_n(b, text, strlen(text), section, seq);
-}
-
-/* x right-aligned in a field of `width` columns at o (x fits). */
-static void field(char *o, int width, size_t x)
-{
-    for (int i = width - 1; i >= 0; --i) {
-        o[i] = x || i == width - 1 ? (char)('0' + x % 10) : ' ';
-        x /= 10;
-    }
-}
-
-/* Packs free-format tokens into records of `width` columns. Every token but the last of the
- * section or entity is followed by ',', the last by ';' (pack_end). For the P section, each record
- * carries the DE pointer in columns 66-72. */
-typedef struct packer {
-    sk__out *b;
-    char section;
-    size_t *seq;
-    size_t width;
-    size_t de;    /* P section: directory entry pointer */
-    size_t first; /* P section: sequence number of the entity's first record */
-    char line[81];
-    size_t len;
-    char pending[96]; /* the last token, written once the next delimiter is known */
-    bool has_pending;
-} packer;
-
-static void pack_flush(packer *p)
-{
-    if (!p->len)
-        return;
-    if (p->section == 'P') { /* 64 columns of data, a blank, the DE pointer in 66-72 */
-        char text[72];
-        memcpy(text, p->line, p->len);
-        memset(text + p->len, ' ', 65 - p->len);
-        field(text + 65, 7, p->de);
-        record_n(p->b, text, 72, 'P', ++*p->seq);
-    } else {
-        record_n(p->b, p->line, p->len, p->section, ++*p->seq);
-    }
-    p->len = 0;
-}
-
-static void pack_emit(packer *p, char delim)
-{
-    size_t n = strlen(p->pending);
-    if (p->len + n + 1 > p->width)
-        pack_flush(p);
-    if (n + 1 > p->width) /* cannot happen for our tokens (numbers, short strings) */
-        n = p->width - 1;
-    memcpy(p->line + p->len, p->pending, n);
-    p->len += n;
-    p->line[p->len++] = delim;
-    p->has_pending = false;
-}
-
-static void pack(packer *p, const char *token)
-{
-    if (p->has_pending)
-        pack_emit(p, ',');
-    size_t n = strlen(token);
-    if (n >= sizeof p->pending)
-        n = sizeof p->pending - 1;
-    memcpy(p->pending, token, n);
-    p->pending[n] = '\0';
-    p->has_pending = true;
-}
-
-static void pack_end(packer *p)
-{
-    if (p->has_pending)
-        pack_emit(p, ';');
-    pack_flush(p);
-}
-
-/* The shortest exact real (sk__fmt_real) without the zero before the point of |x| < 1 (IGES
- * reals need the point, not a digit before it: ".25", "-.5"; zero stays "0."). */
-static void pack_real(packer *p, double x)
-{
-    char buf[32];
-    char *r = (char *)sk__fmt_real(buf, x);
-    if (r[0] == '0' && r[1] == '.' && r[2])
-        r += 1;
-    else if (r[0] == '-' && r[1] == '0' && r[2] == '.') {
-        r[1] = '-';
-        r += 1;
-    }
-    pack(p, r);
-}
-
-static void pack_size(packer *p, size_t x)
-{
-    char buf[24], *o = buf + sizeof buf - 1;
-    *o = '\0';
-    do {
-        *--o = (char)('0' + x % 10);
-        x /= 10;
-    } while (x);
-    pack(p, o);
-}
-
-static void pack_int(packer *p, long x)
-{
-    if (x >= 0) {
-        pack_size(p, (size_t)x);
-        return;
-    }
-    char buf[32];
-    snprintf(buf, sizeof buf, "%ld", x);
-    pack(p, buf);
-}
-
-static void pack_string(packer *p, const char *s)
-{
-    char buf[96];
-    snprintf(buf, sizeof buf, "%zuH%.60s", strlen(s) > 60 ? (size_t)60 : strlen(s), s);
-    pack(p, buf);
-}
-
 /* The D and P sections being written: entity k (0-based) has DE pointer 2k + 1. */
 typedef struct sections {
     sk__out d, p;
@@ -191,27 +49,27 @@ static size_t de_of(size_t k)
     return 2 * k + 1;
 }
 
-static packer entity_begin(sections *s, int type)
+static sk__iges_packer entity_begin(sections *s, int type)
 {
-    packer pp = {.b = &s->p, .section = 'P', .seq = &s->p_seq, .width = 64, .de = s->d_seq + 1,
-                 .first = s->p_seq + 1};
-    pack_int(&pp, type);
+    sk__iges_packer pp = {.b = &s->p, .section = 'P', .seq = &s->p_seq, .width = 64,
+                          .de = s->d_seq + 1, .first = s->p_seq + 1};
+    sk__iges_pack_int(&pp, type);
     return pp;
 }
 
 /* Ends the entity's parameter data and writes its two directory entry records. status is the
  * 8-digit status number (blank, subordinate, use, hierarchy). */
-static void entity_end(sections *s, packer *pp, int type, int form, const char *status)
+static void entity_end(sections *s, sk__iges_packer *pp, int type, int form, const char *status)
 {
-    pack_end(pp);
+    sk__iges_pack_end(pp);
     size_t lines = s->p_seq - pp->first + 1;
     char l1[128], l2[128];
     snprintf(l1, sizeof l1, "%8d%8zu%8d%8d%8d%8d%8d%8d%8s", type, pp->first, 0, 0, 0, 0, 0, 0,
              status);
     snprintf(l2, sizeof l2, "%8d%8d%8d%8zu%8d%8s%8s%8s%8d", type, 0, 0, lines, form, "", "", "",
              0);
-    record(&s->d, l1, 'D', ++s->d_seq);
-    record(&s->d, l2, 'D', ++s->d_seq);
+    sk__iges_record(&s->d, l1, 'D', ++s->d_seq);
+    sk__iges_record(&s->d, l2, 'D', ++s->d_seq);
 }
 
 #define ST_INDEPENDENT "00000000"
@@ -224,30 +82,30 @@ static void write_surface(sections *s, const sk_patch_set *t, size_t i, const ch
     const sk_patch *p = &t->patches[i];
     const double *cp = sk_patch_cp(t, i);
     unsigned du = p->degree, dv = p->degree_v;
-    packer pp = entity_begin(s, 128);
-    pack_int(&pp, (long)du); /* K1: upper index of the u sum */
-    pack_int(&pp, (long)dv); /* K2 */
-    pack_int(&pp, (long)du); /* M1: degree */
-    pack_int(&pp, (long)dv); /* M2 */
-    pack_int(&pp, 0);        /* PROP1: not closed in u */
-    pack_int(&pp, 0);        /* PROP2: not closed in v */
-    pack_int(&pp, 1);        /* PROP3: polynomial */
-    pack_int(&pp, 0);        /* PROP4: not periodic in u */
-    pack_int(&pp, 0);        /* PROP5: not periodic in v */
+    sk__iges_packer pp = entity_begin(s, 128);
+    sk__iges_pack_int(&pp, (long)du); /* K1: upper index of the u sum */
+    sk__iges_pack_int(&pp, (long)dv); /* K2 */
+    sk__iges_pack_int(&pp, (long)du); /* M1: degree */
+    sk__iges_pack_int(&pp, (long)dv); /* M2 */
+    sk__iges_pack_int(&pp, 0);        /* PROP1: not closed in u */
+    sk__iges_pack_int(&pp, 0);        /* PROP2: not closed in v */
+    sk__iges_pack_int(&pp, 1);        /* PROP3: polynomial */
+    sk__iges_pack_int(&pp, 0);        /* PROP4: not periodic in u */
+    sk__iges_pack_int(&pp, 0);        /* PROP5: not periodic in v */
     for (unsigned k = 0; k < 2 * (du + 1); ++k)
-        pack_real(&pp, k <= du ? 0.0 : 1.0);
+        sk__iges_pack_real(&pp, k <= du ? 0.0 : 1.0);
     for (unsigned k = 0; k < 2 * (dv + 1); ++k)
-        pack_real(&pp, k <= dv ? 0.0 : 1.0);
+        sk__iges_pack_real(&pp, k <= dv ? 0.0 : 1.0);
     for (unsigned k = 0; k < (du + 1) * (dv + 1); ++k)
-        pack_real(&pp, 1.0);
+        sk__iges_pack_real(&pp, 1.0);
     for (unsigned j = 0; j <= dv; ++j) /* first index (u) varies fastest */
         for (unsigned a = 0; a <= du; ++a)
             for (int x = 0; x < 3; ++x)
-                pack_real(&pp, cp[3 * sk_tensor_index(du, a, j) + (unsigned)x]);
-    pack_real(&pp, 0.0);
-    pack_real(&pp, 1.0);
-    pack_real(&pp, 0.0);
-    pack_real(&pp, 1.0);
+                sk__iges_pack_real(&pp, cp[3 * sk_tensor_index(du, a, j) + (unsigned)x]);
+    sk__iges_pack_real(&pp, 0.0);
+    sk__iges_pack_real(&pp, 1.0);
+    sk__iges_pack_real(&pp, 0.0);
+    sk__iges_pack_real(&pp, 1.0);
     entity_end(s, &pp, 128, 0, status);
 }
 
@@ -551,58 +409,58 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
 #define K_FACE(i) (k_face0 + 3 * (i) + npc * br.face_first[i])
 
     if (*closed) {
-        packer pp = entity_begin(s, 186);
-        pack_size(&pp, de_of(k_shell));
-        pack_int(&pp, 1); /* shell orientation agrees with its faces */
-        pack_int(&pp, 0); /* no void shells */
+        sk__iges_packer pp = entity_begin(s, 186);
+        sk__iges_pack_size(&pp, de_of(k_shell));
+        sk__iges_pack_int(&pp, 1); /* shell orientation agrees with its faces */
+        sk__iges_pack_int(&pp, 0); /* no void shells */
         entity_end(s, &pp, 186, 0, ST_INDEPENDENT);
     }
     {
-        packer pp = entity_begin(s, 514);
-        pack_size(&pp, nt);
+        sk__iges_packer pp = entity_begin(s, 514);
+        sk__iges_pack_size(&pp, nt);
         for (size_t i = 0; i < nt; ++i) {
             size_t n = br.face_first[i + 1] - br.face_first[i];
-            pack_size(&pp, de_of(K_FACE(i) + npc * n + 2));
-            pack_int(&pp, 1); /* face normal is the surface normal */
+            sk__iges_pack_size(&pp, de_of(K_FACE(i) + npc * n + 2));
+            sk__iges_pack_int(&pp, 1); /* face normal is the surface normal */
         }
         entity_end(s, &pp, 514, *closed ? 1 : 2, *closed ? ST_DEPENDENT : ST_INDEPENDENT);
     }
     {
-        packer pp = entity_begin(s, 502);
-        pack_size(&pp, br.verts.n);
+        sk__iges_packer pp = entity_begin(s, 502);
+        sk__iges_pack_size(&pp, br.verts.n);
         for (size_t v = 0; v < 3 * br.verts.n; ++v)
-            pack_real(&pp, br.verts.xyz[v]);
+            sk__iges_pack_real(&pp, br.verts.xyz[v]);
         entity_end(s, &pp, 502, 1, ST_DEPENDENT);
     }
     {
-        packer pp = entity_begin(s, 504);
-        pack_size(&pp, br.ne);
+        sk__iges_packer pp = entity_begin(s, 504);
+        sk__iges_pack_size(&pp, br.ne);
         for (size_t e = 0; e < br.ne; ++e) {
-            pack_size(&pp, de_of(k_curve0 + e));
-            pack_size(&pp, de_of(k_vlist));
-            pack_size(&pp, br.edges[e].v0 + 1);
-            pack_size(&pp, de_of(k_vlist));
-            pack_size(&pp, br.edges[e].v1 + 1);
+            sk__iges_pack_size(&pp, de_of(k_curve0 + e));
+            sk__iges_pack_size(&pp, de_of(k_vlist));
+            sk__iges_pack_size(&pp, br.edges[e].v0 + 1);
+            sk__iges_pack_size(&pp, de_of(k_vlist));
+            sk__iges_pack_size(&pp, br.edges[e].v1 + 1);
         }
         entity_end(s, &pp, 504, 1, ST_DEPENDENT);
     }
     for (size_t e = 0; e < br.ne; ++e) { /* 126: one Bezier span, polynomial, not planar */
         const bedge *ed = &br.edges[e];
-        packer pp = entity_begin(s, 126);
-        pack_int(&pp, (long)ed->deg);
-        pack_int(&pp, (long)ed->deg);
-        pack_int(&pp, 0); /* PROP1: not planar */
-        pack_int(&pp, 0); /* PROP2: open */
-        pack_int(&pp, 1); /* PROP3: polynomial */
-        pack_int(&pp, 0); /* PROP4: not periodic */
+        sk__iges_packer pp = entity_begin(s, 126);
+        sk__iges_pack_int(&pp, (long)ed->deg);
+        sk__iges_pack_int(&pp, (long)ed->deg);
+        sk__iges_pack_int(&pp, 0); /* PROP1: not planar */
+        sk__iges_pack_int(&pp, 0); /* PROP2: open */
+        sk__iges_pack_int(&pp, 1); /* PROP3: polynomial */
+        sk__iges_pack_int(&pp, 0); /* PROP4: not periodic */
         for (unsigned k = 0; k < 2 * (ed->deg + 1); ++k)
-            pack_real(&pp, k <= ed->deg ? 0.0 : 1.0);
+            sk__iges_pack_real(&pp, k <= ed->deg ? 0.0 : 1.0);
         for (unsigned k = 0; k <= ed->deg; ++k)
-            pack_real(&pp, 1.0);
+            sk__iges_pack_real(&pp, 1.0);
         for (unsigned k = 0; k < 3 * (ed->deg + 1); ++k)
-            pack_real(&pp, ed->cp[k]);
-        pack_real(&pp, 0.0);
-        pack_real(&pp, 1.0);
+            sk__iges_pack_real(&pp, ed->cp[k]);
+        sk__iges_pack_real(&pp, 0.0);
+        sk__iges_pack_real(&pp, 1.0);
         entity_end(s, &pp, 126, 0, ST_DEPENDENT);
     }
     for (size_t i = 0; i < nt; ++i) {
@@ -619,38 +477,39 @@ static sk_status write_brep(sections *s, const sk_patch_set *t, double size, boo
         for (size_t j = 0; j < n && pcurves; ++j) { /* pcurve along the edge's own direction */
             const use *u = &br.uses[f0 + j];
             const double *a = u->same ? u->uv0 : u->uv1, *b = u->same ? u->uv1 : u->uv0;
-            packer pp = entity_begin(s, 110);
-            pack_real(&pp, a[0]);
-            pack_real(&pp, a[1]);
-            pack_real(&pp, 0.0);
-            pack_real(&pp, b[0]);
-            pack_real(&pp, b[1]);
-            pack_real(&pp, 0.0);
+            sk__iges_packer pp = entity_begin(s, 110);
+            sk__iges_pack_real(&pp, a[0]);
+            sk__iges_pack_real(&pp, a[1]);
+            sk__iges_pack_real(&pp, 0.0);
+            sk__iges_pack_real(&pp, b[0]);
+            sk__iges_pack_real(&pp, b[1]);
+            sk__iges_pack_real(&pp, 0.0);
             entity_end(s, &pp, 110, 0, ST_PARAMETRIC);
         }
         {
-            packer pp = entity_begin(s, 508);
-            pack_size(&pp, n);
+            sk__iges_packer pp = entity_begin(s, 508);
+            sk__iges_pack_size(&pp, n);
             for (size_t j = 0; j < n; ++j) {
                 const use *u = &br.uses[f0 + j];
-                pack_int(&pp, 0); /* TYPE: edge */
-                pack_size(&pp, de_of(k_elist));
-                pack_size(&pp, u->edge + 1);
-                pack_int(&pp, u->same ? 1 : 0); /* OF: loop direction agrees with the curve */
-                pack_int(&pp, (long)npc);       /* K: parameter-space curves */
+                sk__iges_pack_int(&pp, 0); /* TYPE: edge */
+                sk__iges_pack_size(&pp, de_of(k_elist));
+                sk__iges_pack_size(&pp, u->edge + 1);
+                /* OF: loop direction agrees with the curve */
+                sk__iges_pack_int(&pp, u->same ? 1 : 0);
+                sk__iges_pack_int(&pp, (long)npc);       /* K: parameter-space curves */
                 if (pcurves) {
-                    pack_int(&pp, 0); /* ISOP */
-                    pack_size(&pp, de_of(k0 + 1 + j));
+                    sk__iges_pack_int(&pp, 0); /* ISOP */
+                    sk__iges_pack_size(&pp, de_of(k0 + 1 + j));
                 }
             }
             entity_end(s, &pp, 508, 1, ST_DEPENDENT);
         }
         {
-            packer pp = entity_begin(s, 510);
-            pack_size(&pp, de_of(k0));
-            pack_int(&pp, 1); /* one loop */
-            pack_int(&pp, 1); /* it is the outer loop */
-            pack_size(&pp, de_of(k0 + 1 + npc * n));
+            sk__iges_packer pp = entity_begin(s, 510);
+            sk__iges_pack_size(&pp, de_of(k0));
+            sk__iges_pack_int(&pp, 1); /* one loop */
+            sk__iges_pack_int(&pp, 1); /* it is the outer loop */
+            sk__iges_pack_size(&pp, de_of(k0 + 1 + npc * n));
             entity_end(s, &pp, 510, 1, ST_DEPENDENT);
         }
     }
@@ -669,10 +528,10 @@ static bool write_free_surfaces(sections *s, const sk_patch_set *t, sk__export_p
             return false;
         write_surface(s, t, i, ST_DEPENDENT);
     }
-    packer pp = entity_begin(s, 402);
-    pack_size(&pp, nt);
+    sk__iges_packer pp = entity_begin(s, 402);
+    sk__iges_pack_size(&pp, nt);
     for (size_t i = 0; i < nt; ++i)
-        pack_size(&pp, de_of(i));
+        sk__iges_pack_size(&pp, de_of(i));
     entity_end(s, &pp, 402, 1, ST_INDEPENDENT);
     return true;
 }
@@ -705,43 +564,18 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
     size_t s_seq = 0, g_seq = 0;
     bool closed = false;
     size_t nedges = 0, nverts = 0;
-    record(&out, free_layout ? "surfkit: VC1 surface (quartic triangular and bicubic Bezier "
-                               "patches) as IGES entity 128"
-                             : "surfkit: VC1 surface (quartic triangular and bicubic Bezier "
-                               "patches) as an IGES B-rep",
-           'S', ++s_seq);
+    sk__iges_record(&out,
+                    free_layout ? "surfkit: VC1 surface (quartic triangular and bicubic Bezier "
+                                  "patches) as IGES entity 128"
+                                : "surfkit: VC1 surface (quartic triangular and bicubic Bezier "
+                                  "patches) as an IGES B-rep",
+                    'S', ++s_seq);
 
-    packer g = {.b = &out, .section = 'G', .seq = &g_seq, .width = 72};
-    char file_name[128];
-    snprintf(file_name, sizeof file_name, "%s", sk__basename(path));
-    pack(&g, "1H,");
-    pack(&g, "1H;");
-    pack_string(&g, name);
-    pack_string(&g, file_name);
-    pack_string(&g, "surfkit");
-    pack_string(&g, "surfkit 0.1.0");
-    pack_int(&g, 32);
-    pack_int(&g, 38);
-    pack_int(&g, 6);
-    pack_int(&g, 308);
-    pack_int(&g, 15);
-    pack_string(&g, name);
-    pack_real(&g, 1.0);
-    pack_int(&g, unit->iges_flag);
-    pack_string(&g, unit->iges_name);
-    pack_int(&g, 1);
-    pack_real(&g, 1.0);
-    pack_string(&g, stamp);
+    sk__iges_packer g = {.b = &out, .section = 'G', .seq = &g_seq, .width = 72};
     /* minimum resolution: importers take it as their working tolerance (Open CASCADE with
      * read.precision.mode 0), so the usual 1e-7 model units, not a rounding-level value */
-    pack_real(&g, fmax(1e-7, IGES_WELD_REL * size));
-    pack_real(&g, maxc);
-    pack_string(&g, "surfkit");
-    pack_string(&g, "surfkit");
-    pack_int(&g, 11); /* version 5.3 */
-    pack_int(&g, 0);
-    pack_string(&g, stamp);
-    pack_end(&g);
+    sk__iges_global(&g, name, path, "surfkit 0.1.0", unit, stamp, fmax(1e-7, IGES_WELD_REL * size),
+                    maxc);
 
     bool collapsed = false;
     sk__export_progress prog;
@@ -762,7 +596,7 @@ sk_status sk_export_iges(const char *path, const sk_patch_set *patches,
     sk__out_bytes(&out, sec.p.buf ? sec.p.buf : "", sec.p.len);
     char term[256];
     snprintf(term, sizeof term, "S%07zuG%07zuD%07zuP%07zu", s_seq, g_seq, sec.d_seq, sec.p_seq);
-    record(&out, term, 'T', 1);
+    sk__iges_record(&out, term, 'T', 1);
     if (sec.d.failed || sec.p.failed)
         out.failed = SK_ERR_NOMEM;
     if (sk__export_tick(&prog, nt)) {

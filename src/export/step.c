@@ -316,61 +316,6 @@ static void face(writer *w, const sk_patch_set *set, size_t pi, const size_t *lo
     sk__out_str(w->b, ",.T.);\n");
 }
 
-static void step_string(sk__out *b, const char *s)
-{
-    sk__out_str(b, "'");
-    for (; *s; ++s) {
-        if (*s == '\'')
-            sk__out_str(b, "''");
-        else if ((unsigned char)*s >= 0x20 && (unsigned char)*s < 0x7f)
-            sk__out_bytes(b, s, 1);
-    }
-    sk__out_str(b, "'");
-}
-
-static void write_header(sk__out *out, const char *path, const char *name, const char *when,
-                         const sk__unit *unit)
-{
-    sk__out_str(out, "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('surfkit VC1 surface: Bezier "
-                       "patches as B-spline surfaces'),'2;1');\nFILE_NAME(");
-    step_string(out, sk__basename(path));
-    sk__out_printf(out, ",'%s',('surfkit'),('surfkit'),'surfkit 0.1.0','surfkit','');\n", when);
-    sk__out_str(out, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\n"
-                       "DATA;\n");
-    sk__out_str(out, "#1=APPLICATION_CONTEXT('core data for automotive mechanical design "
-                       "processes');\n"
-                       "#2=APPLICATION_PROTOCOL_DEFINITION('international standard',"
-                       "'automotive_design',2000,#1);\n"
-                       "#3=PRODUCT_CONTEXT('',#1,'mechanical');\n#4=PRODUCT(");
-    step_string(out, name);
-    sk__out_str(out, ",");
-    step_string(out, name);
-    sk__out_str(out, ",'',(#3));\n"
-                       "#5=PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#4));\n"
-                       "#6=PRODUCT_DEFINITION_FORMATION('','',#4);\n"
-                       "#7=PRODUCT_DEFINITION_CONTEXT('part definition',#1,'design');\n"
-                       "#8=PRODUCT_DEFINITION('design','',#6,#7);\n"
-                       "#9=PRODUCT_DEFINITION_SHAPE('','',#8);\n");
-    if (unit->step_unit)
-        sk__out_printf(out, "#10=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,%s));\n",
-                       unit->step_prefix ? unit->step_prefix : "$", unit->step_unit);
-    else
-        sk__out_printf(out, "#20=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
-                             "#21=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%.6g),#20);\n"
-                             "#22=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
-                             "#10=(CONVERSION_BASED_UNIT('%s',#21)LENGTH_UNIT()NAMED_UNIT(#22));\n",
-                       unit->metres, unit->iges_name);
-    sk__out_str(out, "#11=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
-                       "#12=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n"
-                       "#13=UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#10,"
-                       "'distance_accuracy_value','confusion accuracy');\n"
-                       "#14=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT"
-                       "((#13))GLOBAL_UNIT_ASSIGNED_CONTEXT((#10,#11,#12))REPRESENTATION_CONTEXT("
-                       "'',''));\n"
-                       "#15=CARTESIAN_POINT('',(0.,0.,0.));\n#16=DIRECTION('',(0.,0.,1.));\n"
-                       "#17=DIRECTION('',(1.,0.,0.));\n#18=AXIS2_PLACEMENT_3D('',#15,#16,#17);\n");
-}
-
 /* The face of tensor patch i: its sides are the mesh edges between its corner ids, each in two
  * halves where a triangle uses it (split). */
 static void tensor_face(writer *w, const map *split, const sk_patch_set *set, size_t i,
@@ -508,7 +453,8 @@ sk_status sk_export_step(const char *path, const sk_patch_set *patches,
         goto done;
     }
 
-    write_header(&out, path, name, when, unit);
+    sk__step_header(&out, "surfkit VC1 surface: Bezier patches as B-spline surfaces", path, name,
+                    when, "surfkit 0.1.0", unit);
     w.next = 30;
 
     sk__export_progress prog;

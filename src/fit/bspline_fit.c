@@ -5,6 +5,7 @@
 #include "surfkit/param.h"
 #include "surfkit/parametrize.h"
 #include "surfkit/solve.h"
+#include "param/param_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -13,31 +14,6 @@
 #include <string.h>
 
 enum { MAX_DEG = 5, MAX_CTRL_1D = 1024, CORRECTIONS = 3 };
-
-/* ---------------------------------------------------------------------------------------------
- * Corners: the four sharpest turns of the boundary, apart from each other
- * ------------------------------------------------------------------------------------------- */
-
-/* Boundary vertices counter-clockwise around the surface (boundary half-edges run clockwise). */
-static sk_status ccw_boundary(const sk_mesh *m, uint32_t **out, size_t *n, sk_error *err)
-{
-    sk_loops loops = {0};
-    sk_status st = sk_mesh_boundary_loops(m, &loops, err);
-    if (st)
-        return st;
-    size_t nb = loops.offsets[1] - loops.offsets[0];
-    uint32_t *v = sk__malloc_array(nb, sizeof *v);
-    if (!v) {
-        sk_loops_free(&loops);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    }
-    for (size_t k = 0; k < nb; ++k)
-        v[k] = sk_to(m, loops.halfedges[loops.offsets[0] + (nb - 1 - k)]);
-    sk_loops_free(&loops);
-    *out = v;
-    *n = nb;
-    return SK_OK;
-}
 
 /* ---------------------------------------------------------------------------------------------
  * Least squares with the thin-plate energy
@@ -356,24 +332,6 @@ static double mesh_diagonal(const sk_mesh *m)
     return sk__norm3(d);
 }
 
-static sk_status check_corners(const uint32_t *loop, size_t nb, const uint32_t c[4], sk_error *err)
-{
-    size_t pos[4];
-    for (int i = 0; i < 4; ++i) {
-        for (pos[i] = 0; pos[i] < nb && loop[pos[i]] != c[i]; ++pos[i])
-            ;
-        if (pos[i] == nb)
-            return sk__fail(err, SK_ERR_ARG, "corner %u is not a boundary vertex", c[i]);
-    }
-    /* counter-clockwise: the positions increase cyclically from the first corner */
-    for (int i = 1; i < 4; ++i)
-        if ((pos[i] + nb - pos[0]) % nb <= (pos[i - 1] + nb - pos[0]) % nb)
-            return sk__fail(err, SK_ERR_ARG,
-                            "the corners are not four distinct boundary vertices in "
-                            "counter-clockwise order");
-    return SK_OK;
-}
-
 /* The square parametrization with the corners (Floater's map, or another method of
  * sk_parametrize with the square boundary fixed), and its flip count. */
 static sk_status square_map(const sk_mesh *disk, sk_param_method method, const uint32_t c[4],
@@ -428,9 +386,9 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    st = ccw_boundary(disk, &loop, &nb, err);
+    st = sk__param_ccw_loop(disk, &loop, &nb, err);
     if (!st && o.has_corners)
-        st = check_corners(loop, nb, o.corners, err);
+        st = sk__param_check_corners(loop, nb, o.corners, err);
     if (!st && !o.has_corners)
         st = sk_param_square_corners(disk, o.corners, err);
     /* no triangle with its three vertices on one side of the square: split dividing edges */

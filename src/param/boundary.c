@@ -1,5 +1,6 @@
 /* Boundary maps: the boundary loop onto a circle or a square, by chord length or uniformly. */
 #include "surfkit/param.h"
+#include "param/param_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -7,9 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Boundary loop as a vertex cycle, counter-clockwise around the surface (the loop of boundary
- * half-edges runs clockwise, so we walk it backwards). */
-static sk_status ccw_loop(const sk_mesh *m, uint32_t **verts, size_t *count, sk_error *err)
+sk_status sk__param_ccw_loop(const sk_mesh *m, uint32_t **verts, size_t *count, sk_error *err)
 {
     sk_loops loops = {0};
     sk_status st = sk_mesh_boundary_loops(m, &loops, err);
@@ -31,6 +30,25 @@ static sk_status ccw_loop(const sk_mesh *m, uint32_t **verts, size_t *count, sk_
     sk_loops_free(&loops);
     *verts = v;
     *count = nb;
+    return SK_OK;
+}
+
+sk_status sk__param_check_corners(const uint32_t *loop, size_t nb, const uint32_t c[4],
+                                  sk_error *err)
+{
+    size_t pos[4];
+    for (int i = 0; i < 4; ++i) {
+        for (pos[i] = 0; pos[i] < nb && loop[pos[i]] != c[i]; ++pos[i])
+            ;
+        if (pos[i] == nb)
+            return sk__fail(err, SK_ERR_ARG, "corner %u is not a boundary vertex", c[i]);
+    }
+    /* counter-clockwise: the positions increase cyclically from the first corner */
+    for (int i = 1; i < 4; ++i)
+        if ((pos[i] + nb - pos[0]) % nb <= (pos[i - 1] + nb - pos[0]) % nb)
+            return sk__fail(err, SK_ERR_ARG,
+                            "the corners are not four distinct boundary vertices in "
+                            "counter-clockwise order");
     return SK_OK;
 }
 
@@ -97,7 +115,7 @@ sk_status sk_param_boundary(const sk_mesh *m, const sk_boundary_opts *opts, doub
         return sk__fail(err, SK_ERR_ARG, "a free boundary has no boundary map");
     uint32_t *loop = NULL;
     size_t nb = 0;
-    sk_status st = ccw_loop(m, &loop, &nb, err);
+    sk_status st = sk__param_ccw_loop(m, &loop, &nb, err);
     if (st)
         return st;
     double *t = sk__malloc_array(nb + 1, sizeof *t);
@@ -222,7 +240,7 @@ sk_status sk_param_square_corners(const sk_mesh *m, uint32_t corners[4], sk_erro
 {
     uint32_t *loop = NULL, *rot = NULL;
     size_t nb = 0;
-    sk_status st = ccw_loop(m, &loop, &nb, err);
+    sk_status st = sk__param_ccw_loop(m, &loop, &nb, err);
     if (st)
         return st;
     double *arc = sk__malloc_array(nb + 1, sizeof *arc), *ang = sk__malloc_array(nb, sizeof *ang);
@@ -295,7 +313,7 @@ static sk_status side_positions(const sk_mesh *m, const uint32_t corners[4], siz
 {
     uint32_t *loop = NULL;
     size_t nb = 0;
-    sk_status st = ccw_loop(m, &loop, &nb, err);
+    sk_status st = sk__param_ccw_loop(m, &loop, &nb, err);
     if (st)
         return st;
     size_t *pos = sk__malloc_array(m->num_vertices, sizeof *pos);

@@ -22,4 +22,14 @@ sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
                                        const sk_param_opts *o, sk_param_stats *stats,
                                        sk_error *err);
 
+/* Boundary loop of a disk as a vertex cycle, counter-clockwise around the surface (the loop of
+ * boundary half-edges runs clockwise, so it is walked backwards); *verts is the caller's to
+ * sk__free. Fails with SK_ERR_TOPOLOGY unless the mesh has exactly one boundary loop. */
+sk_status sk__param_ccw_loop(const sk_mesh *m, uint32_t **verts, size_t *count, sk_error *err);
+
+/* Whether c[0..3] are four distinct vertices of the counter-clockwise loop (nb vertices) in
+ * counter-clockwise order, starting anywhere (SK_ERR_ARG with a message otherwise). */
+sk_status sk__param_check_corners(const uint32_t *loop, size_t nb, const uint32_t c[4],
+                                  sk_error *err);
+
 #endif

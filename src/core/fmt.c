@@ -29,12 +29,17 @@ static const uint64_t pow10_u64[18] = {1ULL, 10ULL, 100ULL, 1000ULL, 10000ULL, 1
                                        1000000000000000ULL, 10000000000000000ULL,
                                        100000000000000000ULL};
 
+/* 5^k for 0 <= k <= FAST_MAX_K (5^27 < 2^63). */
 static uint64_t pow5_u64(int k)
 {
-    uint64_t r = 1;
-    for (int i = 0; i < k; ++i)
-        r *= 5;
-    return r;
+    static const uint64_t t[FAST_MAX_K + 1] = {
+        1ULL, 5ULL, 25ULL, 125ULL, 625ULL, 3125ULL, 15625ULL, 78125ULL, 390625ULL, 1953125ULL,
+        9765625ULL, 48828125ULL, 244140625ULL, 1220703125ULL, 6103515625ULL, 30517578125ULL,
+        152587890625ULL, 762939453125ULL, 3814697265625ULL, 19073486328125ULL,
+        95367431640625ULL, 476837158203125ULL, 2384185791015625ULL, 11920928955078125ULL,
+        59604644775390625ULL, 298023223876953125ULL, 1490116119384765625ULL,
+        7450580596923828125ULL};
+    return t[k];
 }
 
 /* a 2^s, truncated (*t) and rounded to nearest, ties to even (*r); false if out of the range
@@ -136,8 +141,11 @@ static bool fast_digits(double x, uint64_t bits, sk__digits *o)
     uint64_t m = (bits & ((1ULL << 52) - 1)) | (1ULL << 52);
     int e = be - 1075;
     bool pow2 = m == (1ULL << 52) && be > 1;
-    /* decimal exponent estimate: floor(log10 |x|), corrected by nearest_digits */
-    int x10 = (int)floor(log10(fabs(x)));
+    /* decimal exponent estimate: floor((be - 1023) log10 2) (78913 / 2^18 = 0.30103, exact over
+     * the normal range), one below floor(log10 |x|) at most; nearest_digits corrects it */
+    (void)x;
+    int b2 = be - 1023;
+    int x10 = b2 >= 0 ? (b2 * 78913) >> 18 : -((-b2 * 78913 + (1 << 18) - 1) >> 18);
     for (int p = 15; p <= 17; ++p) {
         uint64_t d;
         int xp;

@@ -82,8 +82,24 @@ void sk__out_free(sk__out *o);
 /* Writes the whole (unattached) buffer to path through the atomic writer. */
 sk_status sk__out_write_file(const sk__out *o, const char *path, sk_error *err);
 
-/* Shortest of %.15g, %.16g, %.17g that reads back to v exactly, into buf; returns its length. */
+/* The shortest decimal digits that read back (strtod) to a finite nonzero double:
+ * |x| ~ d1.d2..dn 10^x10, d holding the n digits without trailing zeros; prec is the precision of
+ * the first "%.<prec>g" (from 15 for normal doubles, from min_prec for subnormals, up to 17) that
+ * reads back, so n <= prec. For normal doubles the digits are the shortest of all. False for zero,
+ * inf and nan. */
+typedef struct sk__digits {
+    uint64_t d;
+    int n, x10, prec;
+    bool neg;
+} sk__digits;
+bool sk__shortest_digits(double x, int min_prec, sk__digits *out);
+
+/* Mesh text style: the shortest of %.15g, %.16g, %.17g that reads back to v exactly ("-0", "inf"
+ * and "nan" as printf writes them), into buf; returns its length. */
 int sk__fmt_shortest(char buf[32], double v);
+/* CAD style (STEP/IGES reals): the shortest "%.<p>G" (p from 1) that reads back, with a decimal
+ * point always ("1.E+02", "0.5"); zero, also -0, is "0."; returns the length. */
+int sk__fmt_cad(char buf[32], double v);
 
 /* Asks the kernel for transparent huge pages on a large fresh buffer (Linux; else nothing). */
 void sk__huge_hint(void *p, size_t bytes);

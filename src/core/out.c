@@ -1,5 +1,5 @@
 /* The one output buffer of the library (mesh writers, CAD exporters): a growing memory buffer,
- * flushed to a FILE when one is attached; and the one shortest-decimal number formatter. */
+ * flushed to a FILE when one is attached (numbers through the formatter of fmt.c). */
 #include "core/internal.h"
 
 #include <errno.h>
@@ -8,22 +8,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-int sk__fmt_shortest(char buf[32], double v)
-{
-    int n = 0;
-    for (int prec = 15; prec <= 17; ++prec) {
-        n = snprintf(buf, 32, "%.*g", prec, v);
-        if (prec == 17 || strtod(buf, NULL) == v)
-            break;
-    }
-    return n;
-}
-
-int sk_format_double(char buf[32], double v)
-{
-    return sk__fmt_shortest(buf, v);
-}
 
 #define SK__OUT_FLUSH (1u << 20)
 
@@ -99,7 +83,18 @@ void sk__out_double(sk__out *o, double v)
         if (n == 1)
             b[0] = '0';
     } else if (fabs(v) < 1e15 && v == (double)(int64_t)v) { /* range first: the cast */
-        n = snprintf(b, 32, "%lld", (long long)v);
+        int64_t i = (int64_t)v;
+        uint64_t u = i < 0 ? (uint64_t)-i : (uint64_t)i;
+        char t[24];
+        int k = 0;
+        do {
+            t[k++] = (char)('0' + u % 10);
+            u /= 10;
+        } while (u);
+        if (i < 0)
+            b[n++] = '-';
+        while (k > 0)
+            b[n++] = t[--k];
     } else {
         char t[32]; /* formatted locally: gcc -O3 -fsanitize warns about b otherwise */
         n = sk__fmt_shortest(t, v);

@@ -148,24 +148,6 @@ static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, const uint8_t
  * even vertex has no other choice. */
 #define SK_MAX_QUAD_CORNER_DEG 160.0
 
-static double corner_angle(const sk_mesh *m, uint32_t h)
-{
-    /* angle at from(h) in face(h): between h and the reverse of prev(h) */
-    const double *v = m->positions + 3 * (size_t)sk_from(m, h);
-    const double *a = m->positions + 3 * (size_t)sk_to(m, h);
-    const double *b = m->positions + 3 * (size_t)sk_from(m, m->h_prev[h]);
-    double x[3], y[3], c[3];
-    for (int k = 0; k < 3; ++k) {
-        x[k] = a[k] - v[k];
-        y[k] = b[k] - v[k];
-    }
-    c[0] = x[1] * y[2] - x[2] * y[1];
-    c[1] = x[2] * y[0] - x[0] * y[2];
-    c[2] = x[0] * y[1] - x[1] * y[0];
-    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
-                 x[0] * y[0] + x[1] * y[1] + x[2] * y[2]);
-}
-
 /* cosine and sine of the corner angle at from(h) in face(h) */
 static void corner_cos_sin(const sk_mesh *m, uint32_t h, double *c, double *s)
 {
@@ -189,6 +171,14 @@ static void corner_cos_sin(const sk_mesh *m, uint32_t h, double *c, double *s)
     }
     *c = (x[0] * y[0] + x[1] * y[1] + x[2] * y[2]) / n;
     *s = sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]) / n;
+}
+
+/* the corner angle at from(h) in face(h), in [0, pi] */
+static double corner_angle(const sk_mesh *m, uint32_t h)
+{
+    double c, sn;
+    corner_cos_sin(m, h, &c, &sn);
+    return atan2(sn, c);
 }
 
 /* true when the two corners h1, h2 (angles in [0, pi]) sum to more than SK_MAX_QUAD_CORNER_DEG:

@@ -77,10 +77,13 @@ sk_status sk__wireframe_targets(const sk_mesh *m, const double *normals, double 
     }
     if (bad >= 0) {
         uint32_t h = (uint32_t)bad;
-        return sk__fail(err, SK_ERR_NUMERIC,
+        /* the input's normals make the construction impossible: bad input, not a numerical
+         * failure (a sharp edge whose per-corner normals were merged into one per vertex) */
+        return sk__fail(err, SK_ERR_TOPOLOGY,
                         bad_kind == 1
                             ? "edge (%u, %u): the normals at its ends are opposite, no cubic "
-                              "boundary curve can join the two tangent planes"
+                              "boundary curve can join the two tangent planes (estimate the "
+                              "normals instead of the file's)"
                             : "edge (%u, %u): the edge is perpendicular to the tangent plane at "
                               "its first vertex, no cubic boundary curve leaves it in that plane",
                         sk_from(m, h), sk_to(m, h));

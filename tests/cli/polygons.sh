@@ -19,7 +19,12 @@ grep -q 'triangulated 6 quads' "$tmp/out" || fail "param summary: $(cat "$tmp/ou
 [ "$(val triangulated_quads "$tmp/cube.json")" = 6 ] && [ "$(val triangulated_polygons "$tmp/cube.json")" = 0 ] ||
   fail "param cube report: triangulated_quads $(val triangulated_quads "$tmp/cube.json")"
 [ "$(grep -c '^f ' "$tmp/cube.obj")" = 12 ] || fail "param cube: not 12 triangles"
-# the file's per-corner normals are flat (opposite at some edges): the smooth surface estimates them
+# the file's per-corner normals are flat (opposite at some edges): with them the surface cannot be
+# built, a bad input (exit 1, one line naming the file), not an internal failure (it was exit 3)
+"$bin" smooth "$d/blender_cube.obj" -o "$tmp/cube.step" > "$tmp/out" 2> "$tmp/err"; rc=$?
+[ $rc -eq 1 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "blender_cube.obj: .*normals at its ends are opposite" "$tmp/err" &&
+  [ ! -e "$tmp/cube.step" ] || fail "smooth cube with the file's normals: exit $rc, $(cat "$tmp/err")"
+# the smooth surface estimates them
 "$bin" smooth "$d/blender_cube.obj" -o "$tmp/cube.step" --estimate-normals > "$tmp/out" || fail "smooth cube"
 grep -q 'triangulated 6 quads' "$tmp/out" && grep -q 'report pass' "$tmp/out" || fail "smooth cube: $(cat "$tmp/out")"
 # --json keeps stdout JSON

@@ -135,59 +135,12 @@ static bool out_kind_of(const char *path, out_kind *k)
 /* Bound on the second derivatives of s in the direction (1, 1) of the parameter square, from
  * its control net: |S_uu| <= max |second difference along u| / h_u^2 (h_u the shortest knot
  * span; exact for uniform knots up to the end spans), likewise S_vv and S_uv. */
-static double second_derivative_bound(const sk_bspline_surface *s)
-{
-    double hu = 1, hv = 1;
-    for (size_t k = 0; k + 1 < s->nu + (size_t)s->degree_u + 1; ++k)
-        if (s->knots_u[k + 1] > s->knots_u[k])
-            hu = fmin(hu, s->knots_u[k + 1] - s->knots_u[k]);
-    for (size_t k = 0; k + 1 < s->nv + (size_t)s->degree_v + 1; ++k)
-        if (s->knots_v[k + 1] > s->knots_v[k])
-            hv = fmin(hv, s->knots_v[k + 1] - s->knots_v[k]);
-    double duu = 0, dvv = 0, duv = 0;
-    const double *P = s->points;
-    size_t nu = s->nu;
-    for (size_t j = 0; j < s->nv; ++j)
-        for (size_t i = 0; i < nu; ++i) {
-            double a = 0, b = 0, c = 0;
-            for (int k = 0; k < 3; ++k) {
-                const double *p = P + 3 * (i + nu * j) + k;
-                if (i > 0 && i + 1 < nu)
-                    a += (p[3] - 2 * p[0] + p[-3]) * (p[3] - 2 * p[0] + p[-3]);
-                if (j > 0 && j + 1 < s->nv)
-                    b += (p[3 * nu] - 2 * p[0] + p[-3 * (ptrdiff_t)nu]) *
-                         (p[3 * nu] - 2 * p[0] + p[-3 * (ptrdiff_t)nu]);
-                if (i + 1 < nu && j + 1 < s->nv)
-                    c += (p[3 * nu + 3] - p[3 * nu] - p[3] + p[0]) *
-                         (p[3 * nu + 3] - p[3 * nu] - p[3] + p[0]);
-            }
-            duu = fmax(duu, sqrt(a)), dvv = fmax(dvv, sqrt(b)), duv = fmax(duv, sqrt(c));
-        }
-    return duu / (hu * hu) + 2 * duv / (hu * hv) + dvv / (hv * hv);
-}
-
-/* Tessellation grid for the deviation and mesh output: fine enough that the chord error of its
- * triangles (at most |S_dd| / (8 N^2) along a diagonal of a grid cell) stays below 1/20 of the
- * tolerance, at least 8 per knot span, 64 to 512 (the deviation's cost). *chord gets that error bound. */
-static unsigned tess_n(const sk_bspline_surface *s, double tol, double *chord)
-{
-    size_t spans = s->nu - (size_t)s->degree_u;
-    if (s->nv - (size_t)s->degree_v > spans)
-        spans = s->nv - (size_t)s->degree_v;
-    double k = second_derivative_bound(s);
-    double n = fmax(8.0 * (double)spans, tol > 0 ? ceil(sqrt(k / (8 * tol / 20))) : 0);
-    n = fmin(fmax(n, 64), 512);
-    if (chord)
-        *chord = k / (8 * n * n);
-    return (unsigned)n;
-}
 
 static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
 
 /* argv -> options */
 typedef struct fit_args {
     const char *report, *tess_path, *corners;
-    double tol_rel;
     bool json, quiet;
     out_kind kind;
     sk_fit_opts fo;
@@ -207,7 +160,7 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
                    "512 per side)"),
         OPT_DOUBLE("--tolerance", a->fo.tolerance, 0, 0, CLI_LO_OPEN, "T",
                    "largest distance between surface and mesh, model units"),
-        OPT_DOUBLE("--tolerance-rel", a->tol_rel, 0, 1, CLI_LO_OPEN, "R",
+        OPT_DOUBLE("--tolerance-rel", a->fo.tolerance_rel, 0, 1, CLI_LO_OPEN, "R",
                    "the tolerance as R times the bounding-box diagonal (default 1e-3)"),
         OPT_INT("--degree", degree, 2, 5, "D", "degree in both directions (default 3, bicubic)"),
         OPT_STRING("--corners", a->corners, "I,J,K,L",
@@ -242,7 +195,7 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
     if (!out_kind_of(x->out, &a->kind))
         return cli_usage("fit", "-o must name a .step, .stp, .igs, .iges, .obj, .ply, .off or "
                          ".stl file");
-    if (a->fo.tolerance > 0 && a->tol_rel > 0)
+    if (a->fo.tolerance > 0 && a->fo.tolerance_rel > 0)
         return cli_usage("fit", "give --tolerance or --tolerance-rel, not both");
     return EXIT_OK;
 }
@@ -258,7 +211,6 @@ int cmd_fit(int argc, char **argv)
     sk_fit_opts fo = a.fo;
     sk_export_opts eo = a.eo;
     const char *report = a.report, *tess_path = a.tess_path;
-    double tol_rel = a.tol_rel;
     bool json = a.json, quiet = a.quiet;
     out_kind kind = a.kind;
 
@@ -276,21 +228,6 @@ int cmd_fit(int argc, char **argv)
     sk_status st = sk_mesh_read(x.in, NULL, &mesh, &err);
     if (!st)
         st = sk_mesh_to_soup(mesh, &ms, &err);
-    if (!st && tol_rel > 0) {
-        double lo[3], hi[3];
-        for (int k = 0; k < 3; ++k)
-            lo[k] = hi[k] = mesh->num_vertices ? mesh->positions[k] : 0;
-        for (size_t v = 0; v < mesh->num_vertices; ++v)
-            for (int k = 0; k < 3; ++k) {
-                double c = mesh->positions[3 * v + (size_t)k];
-                lo[k] = c < lo[k] ? c : lo[k];
-                hi[k] = c > hi[k] ? c : hi[k];
-            }
-        double d2 = 0;
-        for (int k = 0; k < 3; ++k)
-            d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-        fo.tolerance = tol_rel * sqrt(d2);
-    }
     if (!st) {
         st = sk_fit_bspline(mesh, &fo, &s, &x.fs, &err);
         if (st == SK_ERR_TOPOLOGY) { /* not a disk: say what to do instead, on one line */
@@ -304,7 +241,7 @@ int cmd_fit(int argc, char **argv)
     }
     cli_progress_done(&bar);
     if (!st) {
-        x.nu = s->nu, x.nv = s->nv, x.degree = s->degree_u, x.tess_n = tess_n(s, x.fs.tolerance, &x.chord);
+        x.nu = s->nu, x.nv = s->nv, x.degree = s->degree_u, x.tess_n = sk_bspline_tessellation_grid(s, x.fs.tolerance, &x.chord);
         double tw = sk_seconds();
         sk_export_stats es = {0};
         if (kind == OUT_STEP) {
@@ -312,13 +249,13 @@ int cmd_fit(int argc, char **argv)
         } else if (kind == OUT_IGES) {
             st = sk_export_bspline_iges(x.out, s, &eo, &es, &err);
         } else {
-            st = sk_bspline_tessellate(s, tess_n(s, x.fs.tolerance, &x.chord), &tess, &err);
+            st = sk_bspline_tessellate(s, x.tess_n, &tess, &err);
             if (!st)
                 st = sk_soup_write(x.out, tess, NULL, &err);
         }
         if (!st && tess_path) {
             if (!tess)
-                st = sk_bspline_tessellate(s, tess_n(s, x.fs.tolerance, &x.chord), &tess, &err);
+                st = sk_bspline_tessellate(s, x.tess_n, &tess, &err);
             if (!st)
                 st = sk_soup_write(tess_path, tess, NULL, &err);
         }
@@ -328,7 +265,7 @@ int cmd_fit(int argc, char **argv)
     if (!st) {
         double td = sk_seconds();
         if (!tess)
-            st = sk_bspline_tessellate(s, tess_n(s, x.fs.tolerance, &x.chord), &tess, &err);
+            st = sk_bspline_tessellate(s, x.tess_n, &tess, &err);
         if (!st)
             st = sk_deviation(tess, ms, NULL, &x.dev, NULL, &err);
         x.seconds_deviation = sk_seconds() - td;

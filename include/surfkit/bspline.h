@@ -38,6 +38,12 @@ SK_API void sk_bspline_eval(const sk_bspline_surface *s, double u, double v, dou
 SK_API sk_status sk_bspline_tessellate(const sk_bspline_surface *s, unsigned n, sk_soup **out,
                                        sk_error *err);
 
+/* The grid n for sk_bspline_tessellate whose chord error stays below tol / 20 by a bound from
+ * the control net (second differences), at least 8 per knot span, 64 to 512; *chord (may be
+ * NULL) receives the bound for that n. */
+SK_API unsigned sk_bspline_tessellation_grid(const sk_bspline_surface *s, double tol,
+                                             double *chord);
+
 /* Index of the knot span holding t (knots[span] <= t < knots[span + 1], the last non-empty span
  * for t = 1) of a clamped knot vector with n control points and degree p. */
 SK_API size_t sk_bspline_span(const double *knots, size_t n, int p, double t);

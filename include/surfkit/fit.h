@@ -22,7 +22,8 @@ extern "C" {
 
 typedef struct sk_fit_opts {
     double tolerance;        /* largest distance of a vertex from the surface, model units;
-                                0 = 1e-3 of the bounding-box diagonal */
+                                0 = tolerance_rel times the bounding-box diagonal */
+    double tolerance_rel;    /* used when tolerance is 0; 0 = 1e-3 */
     int degree;              /* 0 = 3 (bicubic) */
     double smoothing;        /* weight of the thin-plate energy relative to the data term
                                 (scale free: both are normalized by their traces); 0 = 1e-6 */

@@ -181,3 +181,52 @@ sk_status sk_bspline_tessellate(const sk_bspline_surface *s, unsigned n, sk_soup
     *out = soup;
     return SK_OK;
 }
+
+/* a bound on the second derivatives of s from its control net: second differences over the
+ * smallest knot spans */
+static double second_derivative_bound(const sk_bspline_surface *s)
+{
+    double hu = 1, hv = 1;
+    for (size_t k = 0; k + 1 < s->nu + (size_t)s->degree_u + 1; ++k)
+        if (s->knots_u[k + 1] > s->knots_u[k])
+            hu = fmin(hu, s->knots_u[k + 1] - s->knots_u[k]);
+    for (size_t k = 0; k + 1 < s->nv + (size_t)s->degree_v + 1; ++k)
+        if (s->knots_v[k + 1] > s->knots_v[k])
+            hv = fmin(hv, s->knots_v[k + 1] - s->knots_v[k]);
+    double duu = 0, dvv = 0, duv = 0;
+    const double *P = s->points;
+    size_t nu = s->nu;
+    for (size_t j = 0; j < s->nv; ++j)
+        for (size_t i = 0; i < nu; ++i) {
+            double a = 0, b = 0, c = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double *p = P + 3 * (i + nu * j) + k;
+                if (i > 0 && i + 1 < nu)
+                    a += (p[3] - 2 * p[0] + p[-3]) * (p[3] - 2 * p[0] + p[-3]);
+                if (j > 0 && j + 1 < s->nv)
+                    b += (p[3 * nu] - 2 * p[0] + p[-3 * (ptrdiff_t)nu]) *
+                         (p[3 * nu] - 2 * p[0] + p[-3 * (ptrdiff_t)nu]);
+                if (i + 1 < nu && j + 1 < s->nv)
+                    c += (p[3 * nu + 3] - p[3 * nu] - p[3] + p[0]) *
+                         (p[3 * nu + 3] - p[3 * nu] - p[3] + p[0]);
+            }
+            duu = fmax(duu, sqrt(a)), dvv = fmax(dvv, sqrt(b)), duv = fmax(duv, sqrt(c));
+        }
+    return duu / (hu * hu) + 2 * duv / (hu * hv) + dvv / (hv * hv);
+}
+
+/* Tessellation grid for the deviation and mesh output: fine enough that the chord error of its
+ * triangles (at most |S_dd| / (8 N^2) along a diagonal of a grid cell) stays below 1/20 of the
+ * tolerance, at least 8 per knot span, 64 to 512 (the deviation's cost). *chord gets that error bound. */
+unsigned sk_bspline_tessellation_grid(const sk_bspline_surface *s, double tol, double *chord)
+{
+    size_t spans = s->nu - (size_t)s->degree_u;
+    if (s->nv - (size_t)s->degree_v > spans)
+        spans = s->nv - (size_t)s->degree_v;
+    double k = second_derivative_bound(s);
+    double n = fmax(8.0 * (double)spans, tol > 0 ? ceil(sqrt(k / (8 * tol / 20))) : 0);
+    n = fmin(fmax(n, 64), 512);
+    if (chord)
+        *chord = k / (8 * n * n);
+    return (unsigned)n;
+}

@@ -410,7 +410,8 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     if ((st = sk_mesh_to_soup(disk, &soup, err)) || (st = sk_bvh_build(soup, &bvh, err)))
         goto done;
     fs.seconds_param = sk_seconds() - t0;
-    fs.tolerance = o.tolerance > 0 ? o.tolerance : 1e-3 * mesh_diagonal(disk);
+    fs.tolerance = o.tolerance > 0 ? o.tolerance
+                                   : (o.tolerance_rel > 0 ? o.tolerance_rel : 1e-3) * mesh_diagonal(disk);
     size_t spans = o.initial_spans ? o.initial_spans : 4;
     unsigned rounds = o.max_rounds ? o.max_rounds : 12;
     st = sk_bspline_create(deg, deg, spans + (size_t)deg, spans + (size_t)deg, &s, err);

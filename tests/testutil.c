@@ -87,3 +87,28 @@ sk_mesh *skt_planar_disk(int n, unsigned seed)
     free(off);
     return m;
 }
+
+/* The old CAD formatter: the shortest "%.<p>G" from one digit, with a point always. */
+void skt_cad_real_ref(char out[32], double x)
+{
+    if (x == 0.0) {
+        strcpy(out, "0.");
+        return;
+    }
+    for (int p = 1; p <= 17; ++p) {
+        snprintf(out, 32, "%.*G", p, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    if (!strchr(out, '.')) {
+        char *e = strchr(out, 'E');
+        size_t n = strlen(out);
+        if (e) {
+            memmove(e + 1, e, n - (size_t)(e - out) + 1);
+            *e = '.';
+        } else {
+            out[n] = '.';
+            out[n + 1] = '\0';
+        }
+    }
+}

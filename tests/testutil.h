@@ -29,4 +29,8 @@ sk_mesh *skt_planar_disk(int n, unsigned seed);
 /* Reads a whole file into memory (fails the test if it cannot). */
 void *skt_read_file(const char *path, size_t *size);
 
+/* The reference CAD real (the old formatter): the shortest "%.<p>G", p = 1..17, that reads back,
+ * with a decimal point always; "0." for either zero. */
+void skt_cad_real_ref(char out[32], double x);
+
 #endif

@@ -398,27 +398,6 @@ static void given_patches_when_obj_freeform_written_then_one_surf_per_tensor_pat
     sk_patch_set_free(&p);
 }
 
-/* The reference: the shortest of "%.1G" .. "%.17G" that reads back, with a decimal point. */
-static void shortest_by_scan(char out[32], double x)
-{
-    for (int p = 1; p <= 17; ++p) {
-        snprintf(out, 32, "%.*G", p, x);
-        if (strtod(out, NULL) == x)
-            break;
-    }
-    if (!strchr(out, '.')) {
-        char *e = strchr(out, 'E');
-        size_t n = strlen(out);
-        if (e) {
-            memmove(e + 1, e, n - (size_t)(e - out) + 1);
-            *e = '.';
-        } else {
-            out[n] = '.';
-            out[n + 1] = '\0';
-        }
-    }
-}
-
 static void given_reals_when_formatted_then_shortest_exact_with_a_point(void **state)
 {
     (void)state;
@@ -441,7 +420,7 @@ static void given_reals_when_formatted_then_shortest_exact_with_a_point(void **s
             x = (double)(r % 100000) / pow(10.0, (double)(r % 13));
         else /* full-precision values over a wide range of exponents */
             x = ldexp((double)r / 4294967296.0 * 3.0 - 1.5, (int)(r % 400) - 200);
-        shortest_by_scan(b, x);
+        skt_cad_real_ref(b, x);
         sk__fmt_real(a, x);
         if (strcmp(a, b))
             fail_msg("%.17g: %s, shortest is %s", x, a, b);

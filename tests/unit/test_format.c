@@ -60,31 +60,6 @@ static void digits_ref(double x, int min_prec, sk__digits *o)
     }
 }
 
-/* The old CAD formatter: the shortest "%.<p>G" from one digit, with a point always. */
-static void cad_ref(char out[32], double x)
-{
-    if (x == 0.0) {
-        strcpy(out, "0.");
-        return;
-    }
-    for (int p = 1; p <= 17; ++p) {
-        snprintf(out, 32, "%.*G", p, x);
-        if (strtod(out, NULL) == x)
-            break;
-    }
-    if (!strchr(out, '.')) {
-        char *e = strchr(out, 'E');
-        size_t n = strlen(out);
-        if (e) {
-            memmove(e + 1, e, n - (size_t)(e - out) + 1);
-            *e = '.';
-        } else {
-            out[n] = '.';
-            out[n + 1] = '\0';
-        }
-    }
-}
-
 static uint64_t next(uint64_t *s)
 {
     *s += 0x9E3779B97F4A7C15ULL; /* splitmix64 */
@@ -166,7 +141,7 @@ static void given_doubles_of_all_kinds_when_digits_found_then_printf_shortest(vo
         }
         fast_range += fabs(x) > 1e-11 && fabs(x) < 1e15;
         if (i % 8 < 2 || i % 16 == 3) { /* the CAD scan costs up to 17 conversions: a part */
-            cad_ref(b, x);
+            skt_cad_real_ref(b, x);
             sk__fmt_cad(a, x);
             if (strcmp(a, b))
                 fail_msg("cad %a: %s, before %s", x, a, b);

@@ -114,6 +114,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "angle_violations", s->stats.angle_violations);
     json_kuint(&j, "singular_before_repair", s->stats.singular_before_repair);
     json_kuint(&j, "repaired_vertices", s->stats.repaired_vertices);
+    json_kuint(&j, "fair_steps", s->stats.fair_steps);
     json_kuint(&j, "failed_vertices", s->stats.failed_vertices);
     json_key(&j, "problem_vertices");
     json_arr_open(&j);
@@ -131,6 +132,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_knum(&j, "normals", s->stats.seconds_normals);
     json_knum(&j, "edge_deletion", s->stats.seconds_deletion);
     json_knum(&j, "vertex_systems", s->stats.seconds_systems);
+    json_knum(&j, "fair_points", s->stats.seconds_fair);
     json_knum(&j, "patches", s->stats.seconds_patches);
     json_knum(&j, "repair", s->stats.seconds_repair);
     json_knum(&j, "report", c->report_seconds);
@@ -298,6 +300,10 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_FLAG("--keep-triangulation", a->so.keep_triangulation,
                  "vc1: keep the input's edges (default: flip edges to remove slivers and\n"
                  "near-folds where the new edge bends under 10 degrees; same vertices)"),
+        OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
+                   "vc1: free tangent control points by least squares to the wire frame\n"
+                   "moved to lower the patches' bending energy (fair, default), or the\n"
+                   "least-squares fit alone (lsq); both exactly VC1"),
         OPT_DOUBLE("--crease-angle", a->so.crease_angle_deg, 0, 180, CLI_LO_OPEN, "DEG",
                    "sharp edges (dihedral angle >= DEG, default 40) are detected and counted\n"
                    "(crease_edges in the report); the surface stays G1 across them"),

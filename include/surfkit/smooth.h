@@ -85,6 +85,12 @@ SK_API sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts 
 
 typedef enum { SK_SMOOTH_VC1 = 0, SK_SMOOTH_PN = 1 } sk_smooth_scheme;
 
+/* The free control points of the VC1 vertex systems (8): FAIR (default) fits them to the wire
+ * frame targets and then moves each vertex's tangents by the linear map of its tangent plane that
+ * lowers the bending energy of the patches around it (Miao et al.; src/smooth/fair_points.c);
+ * LSQ keeps the least-squares fit to the targets. Both are exactly VC1. */
+typedef enum { SK_FREE_POINTS_FAIR = 0, SK_FREE_POINTS_LSQ = 1 } sk_free_points;
+
 typedef struct sk_smooth_opts {
     sk_smooth_scheme scheme;   /* 0 = VC1 */
     sk_normal_method normals;  /* estimation method when the mesh has no normals (0 = angle) */
@@ -98,6 +104,7 @@ typedef struct sk_smooth_opts {
                                   extreme); 0 = 16, negative = unbounded */
     bool keep_triangulation;   /* VC1: keep the input's triangulation; by default edges are first
                                   flipped (same vertices) to remove slivers and near-folds */
+    sk_free_points free_points; /* VC1: how the free tangent control points are chosen */
     sk_progress_fn progress;
     void *progress_user;
     double crease_angle_deg;   /* crease detection (sk_mesh_crease_edges): 0 = 40 degrees,
@@ -121,6 +128,8 @@ typedef struct sk_smooth_stats {
     size_t repaired_vertices;  /* ... vertex systems were re-solved with varied targets to make
                                   their patches regular (the VC1 property is kept exactly) */
     double seconds_repair;
+    size_t fair_steps;         /* vertex steps of the fair free points (all sweeps) */
+    double seconds_fair;
 } sk_smooth_stats;
 
 typedef struct sk_smooth {

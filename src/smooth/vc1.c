@@ -44,7 +44,150 @@ static sk_status add_patches(sk_smooth *s, sk_error *err)
     return st;
 }
 
-static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *err)
+/* Step 1: the wire frame targets, the ratios r_m of eq. (7) (bounded by max_nu) and nu per
+ * half-edge (upper patch = face(h)). */
+static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double *r,
+                                        double max_nu, sk_error *err)
+{
+    const sk_mesh *m = W->m;
+    size_t nh = m->num_halfedges;
+    sk_status st = sk__wireframe_targets(m, W->normals, target, err);
+    if (st != SK_OK)
+        return st;
+    sk__patch_ratios(m, target, r);
+    for (size_t h = 0; h < nh; ++h) {
+        uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
+        if (f != SK_INVALID && g != SK_INVALID && !(r[f] > 0.0 && r[g] > 0.0))
+            return sk__fail(err, SK_ERR_NUMERIC,
+                            "edge (%u, %u): a neighbouring patch has zero target area (r_m = 0 in "
+                            "eq. 7), the wire frame targets are collinear",
+                            sk_from(m, (uint32_t)h), sk_to(m, (uint32_t)h));
+    }
+    if (max_nu > 0.0)
+        sk__bound_ratios(m, r, max_nu);
+    for (size_t h = 0; h < nh; ++h) {
+        uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
+        W->nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
+    }
+    return SK_OK;
+}
+
+/* Step 2: the vertex systems (8), least squares to the targets; status[v] gets the code of
+ * sk__vc1_solve_vertex; the solver figures go to s->stats. */
+static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *status, sk_error *err)
+{
+    const sk_mesh *m = W->m;
+    size_t nv = m->num_vertices;
+    double max_res = 0.0, dev_sum = 0.0;
+    size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
+    long nvl = (long)nv;
+    int too_many = -1;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
+    reduction(+ : dev_sum, dev_n, fallback, relaxed) reduction(max : max_it)
+#endif
+    for (long i = 0; i < nvl; ++i) {
+        uint32_t v = (uint32_t)i;
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+            continue;
+        sk__vsys sys;
+        int code = sk__vc1_solve_vertex(W, v, &sys, 0.0, 1.0);
+        status[v] = (uint8_t)code;
+        relaxed += (size_t)sys.relaxed;
+        if (code == 3) {
+#ifdef SK_HAVE_OPENMP
+#pragma omp critical(sk_vc1_too_many)
+#endif
+            too_many = (int)v;
+            continue;
+        }
+        max_res = fmax(max_res, sys.residual);
+        max_it = (size_t)sys.iterations > max_it ? (size_t)sys.iterations : max_it;
+        fallback += (size_t)sys.used_fallback;
+        for (int k = 0; k < sys.n_edges; ++k) {
+            double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
+            if (len > 0.0) {
+                dev_sum += hypot(sys.p[2 * k] - sys.pstar[2 * k],
+                                 sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
+                dev_n++;
+            }
+        }
+    }
+    if (too_many >= 0)
+        return sk__fail(err, SK_ERR_TOPOLOGY, "vertex %d has more than %d edges", too_many,
+                        SK_VSYS_MAX);
+    s->stats.vertex_systems = nv;
+    s->stats.max_iterations = max_it;
+    s->stats.fallback_solves = fallback;
+    s->stats.relaxed_vertices = relaxed;
+    s->stats.max_residual = max_res;
+    s->stats.mean_target_deviation = dev_n ? dev_sum / (double)dev_n : 0.0;
+    return SK_OK;
+}
+
+/* Step 3: the interior points (4) around every vertex. */
+static void vc1_interior_points(sk__vc1_work *W)
+{
+    const sk_mesh *m = W->m;
+    long nvl = (long)m->num_vertices;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+    for (long i = 0; i < nvl; ++i)
+        if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
+            sk__vc1_interior_points(W, (uint32_t)i);
+}
+
+/* Step 4: the patch of every face of s->config (added by add_patches) from the cubic boundary
+ * curves and the interior points. */
+static void vc1_assemble(sk_smooth *s, const sk__vc1_work *W)
+{
+    long nfl = (long)W->m->num_faces;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+    for (long f = 0; f < nfl; ++f)
+        sk__vc1_assemble_patch(W, (uint32_t)f, sk_patch_cp(&s->surface, (size_t)f));
+}
+
+/* Step 6: exactness or a named failure (eq. (8) holds to rounding at every vertex, else no
+ * surface), then the list of problem vertices (failed or angle-violating) in s->problems. */
+static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *status, sk_error *err)
+{
+    size_t nv = W->m->num_vertices, nprob = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        s->stats.angle_violations += status[v] == 1;
+        s->stats.failed_vertices += status[v] == 2;
+        nprob += status[v] != 0;
+    }
+    for (size_t v = 0; v < nv && s->stats.failed_vertices; ++v)
+        if (status[v] == 2) {
+            sk__vsys sys;
+            sk__vc1_solve_vertex(W, (uint32_t)v, &sys, 0.0, 1.0);
+            return sk__fail(err, SK_ERR_NUMERIC,
+                            "vertex %zu: its vertex system (eq. 8) did not converge (residual "
+                            "%.3g of its scale), so the surface would not be VC1 there (%zu such "
+                            "vertices)",
+                            v, sys.residual, s->stats.failed_vertices);
+        }
+    if (!nprob)
+        return SK_OK;
+    s->problems = sk__malloc_array(nprob, sizeof(uint32_t));
+    if (!s->problems)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t v = 0; v < nv; ++v)
+        if (status[v])
+            s->problems[s->num_problems++] = (uint32_t)v;
+    return SK_OK;
+}
+
+/* Sweeps of the fair free points (fair_points.c; measured: more gained little) */
+#define VC1_FAIR_SWEEPS 10
+
+/* The construction on s->config: targets and ratios, vertex systems, interior points, fair free
+ * points (unless LSQ), patches, regularity repair, exactness check. */
+static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_points free_points,
+                           sk_error *err)
 {
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
@@ -67,125 +210,29 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *
     W.r = r;
     W.alpha = alpha;
     double t0 = sk_seconds();
-    if ((st = sk__wireframe_targets(m, s->normals, target, err)) != SK_OK)
+    if ((st = vc1_targets_and_ratios(&W, target, r, max_nu, err)) != SK_OK ||
+        (st = vc1_vertex_systems(s, &W, status, err)) != SK_OK)
         goto done;
-    sk__patch_ratios(m, target, r);
-    for (size_t h = 0; h < nh; ++h) {
-        uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
-        W.nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
-        if (f != SK_INVALID && g != SK_INVALID && !(r[f] > 0.0 && r[g] > 0.0)) {
-            st = sk__fail(err, SK_ERR_NUMERIC,
-                          "edge (%u, %u): a neighbouring patch has zero target area (r_m = 0 in "
-                          "eq. 7), the wire frame targets are collinear",
-                          sk_from(m, (uint32_t)h), sk_to(m, (uint32_t)h));
-            goto done;
-        }
-    }
-    if (max_nu > 0.0) {
-        sk__bound_ratios(m, r, max_nu);
-        for (size_t h = 0; h < nh; ++h) {
-            uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
-            W.nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
-        }
-    }
-    /* the vertex systems (8) */
-    double max_res = 0.0, dev_sum = 0.0;
-    size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
-    long nvl = (long)nv;
-    int too_many = -1;
-#ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
-    reduction(+ : dev_sum, dev_n, fallback, relaxed) reduction(max : max_it)
-#endif
-    for (long i = 0; i < nvl; ++i) {
-        uint32_t v = (uint32_t)i;
-        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
-            continue;
-        sk__vsys sys;
-        int code = sk__vc1_solve_vertex(&W, v, &sys, 0.0, 1.0);
-        status[v] = (uint8_t)code;
-        relaxed += (size_t)sys.relaxed;
-        if (code == 3) {
-#ifdef SK_HAVE_OPENMP
-#pragma omp critical(sk_vc1_too_many)
-#endif
-            too_many = (int)v;
-            continue;
-        }
-        max_res = fmax(max_res, sys.residual);
-        max_it = (size_t)sys.iterations > max_it ? (size_t)sys.iterations : max_it;
-        fallback += (size_t)sys.used_fallback;
-        for (int k = 0; k < sys.n_edges; ++k) {
-            double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
-            if (len > 0.0) {
-                dev_sum += hypot(sys.p[2 * k] - sys.pstar[2 * k],
-                                 sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
-                dev_n++;
-            }
-        }
-    }
-    if (too_many >= 0) {
-        st = sk__fail(err, SK_ERR_TOPOLOGY, "vertex %d has more than %d edges", too_many,
-                      SK_VSYS_MAX);
-        goto done;
-    }
-    s->stats.vertex_systems = nv;
-    s->stats.max_iterations = max_it;
-    s->stats.fallback_solves = fallback;
-    s->stats.relaxed_vertices = relaxed;
-    s->stats.max_residual = max_res;
-    s->stats.mean_target_deviation = dev_n ? dev_sum / (double)dev_n : 0.0;
-#ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
-#endif
-    for (long i = 0; i < nvl; ++i)
-        if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
-            sk__vc1_interior_points(&W, (uint32_t)i);
+    vc1_interior_points(&W);
     double t1 = sk_seconds();
     s->stats.seconds_systems = t1 - t0;
-    /* patches */
     if ((st = add_patches(s, err)) != SK_OK)
         goto done;
-    long nfl = (long)nf;
-#ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
-#endif
-    for (long f = 0; f < nfl; ++f)
-        sk__vc1_assemble_patch(&W, (uint32_t)f, sk_patch_cp(&s->surface, (size_t)f));
-    s->stats.seconds_patches = sk_seconds() - t1;
-    /* regularity repair (it re-solves vertex systems, so it counts as vertex-system time) */
+    vc1_assemble(s, &W);
     double t2 = sk_seconds();
+    if (free_points == SK_FREE_POINTS_FAIR) {
+        if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, &s->stats.fair_steps,
+                                      err)) != SK_OK)
+            goto done;
+        vc1_assemble(s, &W);
+    }
+    s->stats.seconds_fair = sk_seconds() - t2;
+    double t3 = sk_seconds();
+    s->stats.seconds_patches = t2 - t1;
     if ((st = sk__vc1_repair_regularity(s, &W, status, err)) != SK_OK)
         goto done;
-    s->stats.seconds_repair = sk_seconds() - t2;
-    size_t nprob = 0;
-    for (size_t v = 0; v < nv; ++v) {
-        s->stats.angle_violations += status[v] == 1;
-        s->stats.failed_vertices += status[v] == 2;
-        nprob += status[v] != 0;
-    }
-    /* exactness or a named failure: eq. (8) holds to rounding at every vertex, else no surface */
-    for (size_t v = 0; v < nv && s->stats.failed_vertices; ++v)
-        if (status[v] == 2) {
-            sk__vsys sys;
-            sk__vc1_solve_vertex(&W, (uint32_t)v, &sys, 0.0, 1.0);
-            st = sk__fail(err, SK_ERR_NUMERIC,
-                          "vertex %zu: its vertex system (eq. 8) did not converge (residual %.3g "
-                          "of its scale), so the surface would not be VC1 there (%zu such "
-                          "vertices)",
-                          v, sys.residual, s->stats.failed_vertices);
-            goto done;
-        }
-    if (nprob) {
-        s->problems = sk__malloc_array(nprob, sizeof(uint32_t));
-        if (!s->problems) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
-        }
-        for (size_t v = 0; v < nv; ++v)
-            if (status[v])
-                s->problems[s->num_problems++] = (uint32_t)v;
-    }
+    s->stats.seconds_repair = sk_seconds() - t3;
+    st = vc1_problems(s, &W, status, err);
 done:
     sk__free(target);
     sk__free(r);
@@ -330,7 +377,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     normals = NULL;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
         goto fail;
-    if ((st = vc1_build(s, alpha, max_nu, err)) != SK_OK)
+    if ((st = vc1_build(s, alpha, max_nu, opts.free_points, err)) != SK_OK)
         goto fail;
     sk_mesh_destroy(&work);
     *out = s;

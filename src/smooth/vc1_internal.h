@@ -58,4 +58,19 @@ void sk__vc1_assemble_patch(const sk__vc1_work *W, uint32_t f, double *b);
 sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
                                     sk_error *err);
 
+/* Fair free points (fair_points.c): up to `sweeps` block Gauss-Seidel sweeps, starting from the
+ * vertices around the patches of s->surface (assembled from W) that are singular or stray far
+ * from their faces, over the vertices with status < 2; they move each vertex's tangents W->P by the linear map of its tangent plane
+ * minimising the bending energy of the patches it moves plus the distance to the targets; keeps
+ * (8) and the angle bounds and leaves W->C consistent (system (4)). *moved counts the steps. */
+sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
+                              int sweeps, size_t *moved, sk_error *err);
+
+/* The bending-energy matrices of Miao et al. (integral of |b_ss|^2 + 2 |b_st|^2 + |b_tt|^2 over
+ * the parameter domain) of the quartic triangle (15 x 15, in sk_tri_index order, the mean over
+ * the three choices of the eliminated barycentric) and the bicubic (16 x 16, sk_tensor_index), and
+ * the energy of one control net with them (corners 3 or 4). */
+void sk__fair_energy_matrices(double qt[15 * 15], double qq[16 * 16]);
+double sk__fair_patch_energy(const double *qt, const double *qq, int corners, const double *b);
+
 #endif

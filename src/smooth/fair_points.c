@@ -1,0 +1,575 @@
+/* Fair free points of the VC1 construction: the tangent control points chosen by minimal bending
+ * energy of the patches (Miao et al., "Bezier Surfaces of Minimal Internal Energy", Mathematics of
+ * Surfaces XI) subject to the VC1 equations, instead of by least squares to the wire frame
+ * targets alone.
+ *
+ * Once the weights w_1 and the ratios nu of the vertex systems (8) are set, (8) is linear and
+ * homogeneous in the tangent vectors p_m = P_m - V of a vertex (scalar coefficients, both tangent
+ * coordinates obey the same recurrence), so every solution stays a solution under a linear map
+ * p_m -> (I + D) p_m of the tangent plane (D a 2x2 matrix: four free parameters per vertex). The
+ * interior points of system (4) are affine in the P (of the vertex and of its neighbours), and so
+ * are the patches: the whole network is an affine function of the D of all vertices, and
+ *
+ *     E(D) = sum over patches of E_bend(patch) + FAIR_TARGET_WEIGHT * sum |P_m - P*_m|^2
+ *
+ * (E_bend = integral of |b_ss|^2 + 2 |b_st|^2 + |b_tt|^2 over the parameter domain, Miao et al.
+ * section 2; P* the wire frame targets in the tangent plane) is a convex quadratic in them. It is
+ * lowered by block Gauss-Seidel sweeps, one vertex (four unknowns) at a time: the patches around
+ * the vertex and its neighbours are the ones it moves, their control points are affine in D and
+ * the 4 x 4 normal equations give the best D with the neighbours fixed. The sweeps are local:
+ * they start at the corners of the patches that are singular or whose control net strays far from
+ * their face (and their neighbours), stay within one ring around those, and visit again only the
+ * vertices that moved (or whose neighbours moved) noticeably in the sweep before; elsewhere the
+ * least-squares fit stands. (Sweeping every vertex changed the singular counts and the overshoot
+ * on the shared meshes by nothing measurable and cost 5 to 10 times more.) A step that would
+ * break the angle bounds alpha < angle / pi < 1 - alpha between consecutive tangents (the linear
+ * map keeps the winding only while det(I + D) > 0) is halved until it keeps them, else skipped.
+ * The VC1 property holds exactly after every step: (8) and (4) are met by construction.
+ *
+ * The energy matrices are built from Bernstein integrals by Gauss quadrature (exact: the
+ * integrands are polynomials of degree 4 on the triangle, 2 x 6 on the square), not from the
+ * printed formulas (which divide by zero at n = 4, see the papers' errata). For the triangle the
+ * parametric energy depends on which barycentric coordinate is eliminated; the mean over the
+ * three choices is used, so that no corner is preferred. */
+#include "smooth/vc1_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <string.h>
+
+/* weight of the distance to the wire frame targets against the bending energy (both are squared
+ * lengths of control points; measured on the shared meshes, see bench/smooth.sh) */
+#define FAIR_TARGET_WEIGHT 1.0
+/* the largest |D| (Frobenius) of one step: the sweeps converge anyway; large single steps only
+ * risk the angle bounds */
+#define FAIR_MAX_STEP 0.5
+/* a vertex whose step |D| exceeded this is visited again in the next sweep, with its neighbours */
+#define FAIR_ACTIVE_STEP 1e-2
+/* patches whose control net leaves their face's plane by more than this (relative to the
+ * longest side) seed the sweeps, with the singular ones */
+#define FAIR_SEED_OVERSHOOT 0.3
+/* the sweeps stay within this many rings around the seeds */
+#define FAIR_REGION_RINGS 1
+#define FAIR_LOCAL_FACES 1024
+#define FAIR_LOCAL_VERTS (SK_VSYS_MAX + 1)
+
+/* 5-point Gauss-Legendre on [0, 1] */
+static const double gl_x[5] = {0.04691007703066800, 0.23076534494715845, 0.5, 0.76923465505284155,
+                               0.95308992296933200};
+static const double gl_w[5] = {0.11846344252809454, 0.23931433524968324, 0.28444444444444444,
+                               0.23931433524968324, 0.11846344252809454};
+
+static double falling(int a, int d)
+{
+    double r = 1.0;
+    for (int i = 0; i < d; ++i)
+        r *= a - i;
+    return r;
+}
+
+static double ipow(double x, int e) { return e < 0 ? 0.0 : e == 0 ? 1.0 : x * ipow(x, e - 1); }
+
+/* d^(a+b+c) / du^a dv^b dw^c of u^i v^j w^k at (u, v, w), the variables independent */
+static double mono_d(const int e[3], const int d[3], const double x[3])
+{
+    double r = 1.0;
+    for (int q = 0; q < 3; ++q) {
+        if (d[q] > e[q])
+            return 0.0;
+        r *= falling(e[q], d[q]) * ipow(x[q], e[q] - d[q]);
+    }
+    return r;
+}
+
+/* second derivatives (ss, st, tt) of the monomial with barycentric `el` eliminated and the other
+ * two (in cyclic order) as the coordinates s, t: D_s = d_s - d_el, D_t = d_t - d_el */
+static void tri_second(const int e[3], int el, const double x[3], double out[3])
+{
+    int s = (el + 1) % 3, t = (el + 2) % 3;
+    /* D_a D_b = d_ab - d_a,el - d_b,el + d_el,el */
+    int pairs[3][2] = {{s, s}, {s, t}, {t, t}};
+    for (int q = 0; q < 3; ++q) {
+        int a = pairs[q][0], b = pairs[q][1];
+        int terms[4][2] = {{a, b}, {a, el}, {b, el}, {el, el}};
+        double sgn[4] = {1, -1, -1, 1}, v = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            int d[3] = {0, 0, 0};
+            d[terms[k][0]]++;
+            d[terms[k][1]]++;
+            v += sgn[k] * mono_d(e, d, x);
+        }
+        out[q] = v;
+    }
+}
+
+void sk__fair_energy_matrices(double qt[15 * 15], double qq[16 * 16])
+{
+    /* quartic triangle: b_{ijk} at sk_tri_index(4, j, k), barycentrics (u, v, w) */
+    memset(qt, 0, 15 * 15 * sizeof(double));
+    int ex[15][3];
+    double coef[15];
+    for (int k = 0; k <= 4; ++k)
+        for (int j = 0; j + k <= 4; ++j) {
+            unsigned id = sk_tri_index(4, (unsigned)j, (unsigned)k);
+            ex[id][0] = 4 - j - k, ex[id][1] = j, ex[id][2] = k;
+            coef[id] = 24.0 / (falling(4 - j - k, 4 - j - k) * falling(j, j) * falling(k, k));
+        }
+    for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b) {
+            /* Duffy map of the square onto the triangle s >= 0, t >= 0, s + t <= 1 */
+            double s = gl_x[a], t = gl_x[b] * (1.0 - gl_x[a]), wq = gl_w[a] * gl_w[b] * (1.0 - s);
+            for (int el = 0; el < 3; ++el) {
+                double x[3];
+                x[el] = 1.0 - s - t, x[(el + 1) % 3] = s, x[(el + 2) % 3] = t;
+                double d2[15][3];
+                for (int i = 0; i < 15; ++i) {
+                    tri_second(ex[i], el, x, d2[i]);
+                    for (int q = 0; q < 3; ++q)
+                        d2[i][q] *= coef[i];
+                }
+                for (int i = 0; i < 15; ++i)
+                    for (int j = 0; j < 15; ++j)
+                        qt[15 * i + j] += wq / 3.0 *
+                                          (d2[i][0] * d2[j][0] + 2.0 * d2[i][1] * d2[j][1] +
+                                           d2[i][2] * d2[j][2]);
+            }
+        }
+    /* bicubic: b_{ij} at sk_tensor_index(3, i, j) */
+    memset(qq, 0, 16 * 16 * sizeof(double));
+    for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b) {
+            double s = gl_x[a], t = gl_x[b], wq = gl_w[a] * gl_w[b];
+            double B[2][4][3]; /* B[dir][i][derivative order] of the cubic Bernstein basis */
+            for (int dir = 0; dir < 2; ++dir) {
+                double x = dir ? t : s, y = 1.0 - x;
+                double c[4] = {1, 3, 3, 1};
+                for (int i = 0; i < 4; ++i) {
+                    int e[3] = {i, 3 - i, 0};
+                    double xx[3] = {x, y, 0.0};
+                    for (int d = 0; d <= 2; ++d) {
+                        /* d/dx of x^i (1-x)^(3-i): sum over splitting d between the factors */
+                        double v = 0.0;
+                        for (int p = 0; p <= d; ++p) {
+                            int dd[3] = {p, d - p, 0};
+                            double bin = d == 2 && p == 1 ? 2.0 : 1.0;
+                            v += bin * ((d - p) & 1 ? -1.0 : 1.0) * mono_d(e, dd, xx);
+                        }
+                        B[dir][i][d] = c[i] * v;
+                    }
+                }
+            }
+            double d2[16][3];
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) {
+                    unsigned id = sk_tensor_index(3, (unsigned)i, (unsigned)j);
+                    d2[id][0] = B[0][i][2] * B[1][j][0];
+                    d2[id][1] = B[0][i][1] * B[1][j][1];
+                    d2[id][2] = B[0][i][0] * B[1][j][2];
+                }
+            for (int i = 0; i < 16; ++i)
+                for (int j = 0; j < 16; ++j)
+                    qq[16 * i + j] += wq * (d2[i][0] * d2[j][0] + 2.0 * d2[i][1] * d2[j][1] +
+                                            d2[i][2] * d2[j][2]);
+        }
+}
+
+double sk__fair_patch_energy(const double *qt, const double *qq, int corners, const double *b)
+{
+    int n = corners == 3 ? 15 : 16;
+    const double *Q = corners == 3 ? qt : qq;
+    double e = 0.0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            e += Q[n * i + j] * sk__dot3(b + 3 * i, b + 3 * j);
+    return e;
+}
+
+typedef struct fair_scratch {
+    uint32_t verts[FAIR_LOCAL_VERTS];
+    size_t nverts;
+    uint32_t faces[FAIR_LOCAL_FACES];
+    int corners[FAIR_LOCAL_FACES];
+    size_t nfaces;
+    double base[FAIR_LOCAL_FACES * 48];
+    double dir[4][FAIR_LOCAL_FACES * 48];
+    double savedC[FAIR_LOCAL_VERTS][3 * SK_VSYS_MAX];
+} fair_scratch;
+
+static bool has_face(const fair_scratch *S, uint32_t f)
+{
+    for (size_t i = 0; i < S->nfaces; ++i)
+        if (S->faces[i] == f)
+            return true;
+    return false;
+}
+
+/* v, its neighbours and the faces around them; false when they do not fit */
+static bool gather(const sk_mesh *m, uint32_t v, fair_scratch *S)
+{
+    S->nverts = 0;
+    S->nfaces = 0;
+    S->verts[S->nverts++] = v;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    do {
+        if (S->nverts == FAIR_LOCAL_VERTS)
+            return false;
+        S->verts[S->nverts++] = sk_to(m, h);
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    for (size_t i = 0; i < S->nverts; ++i) {
+        uint32_t g0 = m->v_halfedge[S->verts[i]], g = g0;
+        int deg = 0;
+        do {
+            uint32_t f = m->h_face[g];
+            if (++deg > SK_VSYS_MAX)
+                return false;
+            if (f != SK_INVALID && !has_face(S, f)) {
+                if (S->nfaces == FAIR_LOCAL_FACES)
+                    return false;
+                S->corners[S->nfaces] = (int)sk_mesh_face_size(m, f);
+                S->faces[S->nfaces++] = f;
+            }
+            g = sk_cw_out(m, g);
+        } while (g != g0);
+    }
+    return true;
+}
+
+/* saves (dir < 0) or restores the interior points of the local vertices */
+static void save_restore_C(sk__vc1_work *W, fair_scratch *S, bool restore)
+{
+    for (size_t i = 0; i < S->nverts; ++i) {
+        uint32_t E[SK_VSYS_MAX];
+        int closed, n = sk__vc1_ordered_edges(W->m, S->verts[i], E, &closed);
+        for (int k = 0; k < n; ++k) {
+            double *C = W->C + 3 * (size_t)E[k];
+            if (restore)
+                memcpy(C, S->savedC[i] + 3 * k, 3 * sizeof(double));
+            else
+                memcpy(S->savedC[i] + 3 * k, C, 3 * sizeof(double));
+        }
+    }
+}
+
+static void assemble_local(sk__vc1_work *W, const fair_scratch *S, double *out)
+{
+    for (size_t i = 0; i < S->nverts; ++i)
+        sk__vc1_interior_points(W, S->verts[i]);
+    for (size_t i = 0; i < S->nfaces; ++i)
+        sk__vc1_assemble_patch(W, S->faces[i], out + 48 * i);
+}
+
+/* 4 x 4 symmetric positive definite solve by Cholesky; false when not positive definite */
+static bool solve4(double A[4][4], double b[4], double x[4])
+{
+    double L[4][4] = {{0}};
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j <= i; ++j) {
+            double s = A[i][j];
+            for (int k = 0; k < j; ++k)
+                s -= L[i][k] * L[j][k];
+            if (i == j) {
+                if (!(s > 1e-14 * (fabs(A[0][0]) + fabs(A[3][3]))))
+                    return false;
+                L[i][i] = sqrt(s);
+            } else {
+                L[i][j] = s / L[j][j];
+            }
+        }
+    double y[4];
+    for (int i = 0; i < 4; ++i) {
+        double s = b[i];
+        for (int k = 0; k < i; ++k)
+            s -= L[i][k] * y[k];
+        y[i] = s / L[i][i];
+    }
+    for (int i = 3; i >= 0; --i) {
+        double s = y[i];
+        for (int k = i + 1; k < 4; ++k)
+            s -= L[k][i] * x[k];
+        x[i] = s / L[i][i];
+    }
+    return true;
+}
+
+/* consecutive tangents (2D, counter-clockwise) keep alpha < angle / pi < 1 - alpha */
+static bool angles_ok(const double *q, int n, int closed, double alpha)
+{
+    int pairs = closed ? n : n - 1;
+    for (int k = 0; k < pairs; ++k) {
+        const double *a = q + 2 * k, *b = q + 2 * ((k + 1) % n);
+        double ang = atan2(sk__cross2(a, b), sk__dot2(a, b));
+        if (!(ang > alpha * M_PI && ang < M_PI * (1.0 - alpha)))
+            return false;
+    }
+    return true;
+}
+
+/* One block step at v; returns true when its tangents moved. */
+static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uint32_t v,
+                        fair_scratch *S, double *step)
+{
+    const sk_mesh *m = W->m;
+    uint32_t E[SK_VSYS_MAX];
+    int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
+    if (n < 2 || !gather(m, v, S))
+        return false;
+    const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
+    double e[2][3], a0[3] = {1, 0, 0};
+    if (fabs(nv[0]) > 0.6)
+        a0[0] = 0, a0[1] = 1;
+    sk__cross3(e[0], a0, nv);
+    sk__normalize3(e[0]);
+    sk__cross3(e[1], nv, e[0]);
+    double p[2 * SK_VSYS_MAX], t[2 * SK_VSYS_MAX], off[3 * SK_VSYS_MAX];
+    for (int k = 0; k < n; ++k) {
+        double d[3];
+        sk__sub3(d, W->P + 3 * (size_t)E[k], V);
+        p[2 * k] = sk__dot3(d, e[0]);
+        p[2 * k + 1] = sk__dot3(d, e[1]);
+        /* what of P lies off the tangent plane (rounding), kept as it is */
+        for (int x = 0; x < 3; ++x)
+            off[3 * k + x] = d[x] - p[2 * k] * e[0][x] - p[2 * k + 1] * e[1][x];
+        sk__sub3(d, W->target + 3 * (size_t)E[k], V);
+        t[2 * k] = sk__dot3(d, e[0]);
+        t[2 * k + 1] = sk__dot3(d, e[1]);
+    }
+    save_restore_C(W, S, false);
+    assemble_local(W, S, S->base);
+    /* direction d = (ra, cb): delta p = e_ra (p . e_cb) */
+    static const int dirs[4][2] = {{0, 0}, {0, 1}, {1, 0}, {1, 1}};
+    for (int d = 0; d < 4; ++d) {
+        for (int k = 0; k < n; ++k) {
+            double *P = W->P + 3 * (size_t)E[k], s = p[2 * k + dirs[d][1]];
+            for (int x = 0; x < 3; ++x)
+                P[x] += s * e[dirs[d][0]][x];
+        }
+        assemble_local(W, S, S->dir[d]);
+        for (int k = 0; k < n; ++k) {
+            double *P = W->P + 3 * (size_t)E[k], s = p[2 * k + dirs[d][1]];
+            for (int x = 0; x < 3; ++x)
+                P[x] -= s * e[dirs[d][0]][x];
+        }
+        for (size_t i = 0; i < 48 * S->nfaces; ++i)
+            S->dir[d][i] -= S->base[i];
+    }
+    save_restore_C(W, S, true);
+    /* normal equations H x = -g; the directions move only a few control points of each patch
+     * (exact zeros elsewhere), so the products with Q run over those rows and columns */
+    double H[4][4] = {{0}}, g[4] = {0}, x[4];
+    for (size_t i = 0; i < S->nfaces; ++i) {
+        int nc = S->corners[i] == 3 ? 15 : 16, idx[16], ni = 0;
+        const double *Q = nc == 15 ? qt : qq, *b0 = S->base + 48 * i;
+        for (int c = 0; c < nc; ++c) {
+            bool nz = false;
+            for (int a = 0; a < 4 && !nz; ++a) {
+                const double *J = S->dir[a] + 48 * i + 3 * c;
+                nz = J[0] != 0.0 || J[1] != 0.0 || J[2] != 0.0;
+            }
+            if (nz)
+                idx[ni++] = c;
+        }
+        for (int ri = 0; ri < ni; ++ri) {
+            int row = idx[ri];
+            const double *Qr = Q + nc * row;
+            double qb[3] = {0, 0, 0}, qj[4][3] = {{0}};
+            for (int c = 0; c < nc; ++c)
+                sk__axpy3(qb, qb, Qr[c], b0 + 3 * c);
+            for (int ci = 0; ci < ni; ++ci)
+                for (int a = 0; a < 4; ++a)
+                    sk__axpy3(qj[a], qj[a], Qr[idx[ci]], S->dir[a] + 48 * i + 3 * idx[ci]);
+            for (int a = 0; a < 4; ++a) {
+                const double *Ja = S->dir[a] + 48 * i + 3 * row;
+                g[a] += sk__dot3(Ja, qb);
+                for (int b = 0; b <= a; ++b)
+                    H[a][b] += sk__dot3(Ja, qj[b]);
+            }
+        }
+    }
+    for (int k = 0; k < n; ++k) {
+        double dp[4][2];
+        for (int a = 0; a < 4; ++a) {
+            dp[a][0] = dp[a][1] = 0.0;
+            dp[a][dirs[a][0]] = p[2 * k + dirs[a][1]];
+        }
+        double r[2] = {p[2 * k] - t[2 * k], p[2 * k + 1] - t[2 * k + 1]};
+        for (int a = 0; a < 4; ++a) {
+            g[a] += FAIR_TARGET_WEIGHT * sk__dot2(dp[a], r);
+            for (int b = 0; b <= a; ++b)
+                H[a][b] += FAIR_TARGET_WEIGHT * sk__dot2(dp[a], dp[b]);
+        }
+    }
+    for (int a = 0; a < 4; ++a) {
+        for (int b = a + 1; b < 4; ++b)
+            H[a][b] = H[b][a];
+        g[a] = -g[a];
+    }
+    if (!solve4(H, g, x))
+        return false;
+    double len = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3]);
+    if (!(len > 1e-9))
+        return false;
+    if (len > FAIR_MAX_STEP)
+        for (int a = 0; a < 4; ++a)
+            x[a] *= FAIR_MAX_STEP / len;
+    double q[2 * SK_VSYS_MAX];
+    for (int tries = 0; tries < 4; ++tries) {
+        for (int k = 0; k < n; ++k) {
+            q[2 * k] = (1.0 + x[0]) * p[2 * k] + x[1] * p[2 * k + 1];
+            q[2 * k + 1] = x[2] * p[2 * k] + (1.0 + x[3]) * p[2 * k + 1];
+        }
+        if (angles_ok(q, n, closed, W->alpha)) {
+            *step = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3]);
+            for (int k = 0; k < n; ++k) {
+                double *P = W->P + 3 * (size_t)E[k];
+                for (int c = 0; c < 3; ++c)
+                    P[c] = V[c] + q[2 * k] * e[0][c] + q[2 * k + 1] * e[1][c] + off[3 * k + c];
+            }
+            for (size_t i = 0; i < S->nverts; ++i)
+                sk__vc1_interior_points(W, S->verts[i]);
+            return true;
+        }
+        for (int a = 0; a < 4; ++a)
+            x[a] *= 0.5;
+    }
+    return false;
+}
+
+/* Largest distance of a control point of patch p from the plane of its corners (Newell normal),
+ * relative to its longest side: a cheap bound-like proxy of the overshoot. */
+static double net_overshoot(const sk_smooth *s, size_t p)
+{
+    const sk_patch *pa = &s->surface.patches[p];
+    unsigned nc = sk_patch_num_corners(pa), np = sk_patch_num_points(pa);
+    const double *X[4];
+    double n[3] = {0, 0, 0}, c[3] = {0, 0, 0}, longest = 0.0;
+    for (unsigned i = 0; i < nc; ++i)
+        X[i] = s->config->positions + 3 * (size_t)pa->corner_ids[i];
+    for (unsigned i = 0; i < nc; ++i) {
+        const double *a = X[i], *b = X[(i + 1) % nc];
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        sk__axpy3(c, c, 1.0 / nc, a);
+        longest = fmax(longest, sk__dist3(a, b));
+    }
+    if (sk__normalize3(n) == 0.0 || !(longest > 0.0))
+        return 0.0;
+    const double *cp = sk_patch_cp(&s->surface, p);
+    double worst = 0.0;
+    for (unsigned i = 0; i < np; ++i) {
+        double d[3];
+        sk__sub3(d, cp + 3 * i, c);
+        worst = fmax(worst, fabs(sk__dot3(d, n)));
+    }
+    return worst / longest;
+}
+
+/* The vertices to start from: the corners of the patches (assembled in s->surface) that are
+ * singular or whose control net strays from their face by more than FAIR_SEED_OVERSHOOT of the
+ * longest side, and the neighbours of those corners. */
+static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *active,
+                            uint8_t *bad)
+{
+    const sk_mesh *m = s->config;
+    long np = (long)s->surface.count;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+    for (long p = 0; p < np; ++p)
+        bad[p] = net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT ||
+                 sk__patch_singular(s, (size_t)p, NULL);
+    memset(active, 0, m->num_vertices);
+    for (long p = 0; p < np; ++p) {
+        if (!bad[p])
+            continue;
+        const sk_patch *pa = &s->surface.patches[p];
+        for (unsigned i = 0; i < sk_patch_num_corners(pa); ++i) {
+            uint32_t v = pa->corner_ids[i], h0 = m->v_halfedge[v], h = h0;
+            active[v] = 1;
+            do {
+                active[sk_to(m, h)] = 1;
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+    }
+    size_t n = 0;
+    for (uint32_t v = 0; v < m->num_vertices; ++v) {
+        active[v] = active[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
+                    status[v] < 2;
+        n += active[v];
+    }
+    return n;
+}
+
+sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
+                              int sweeps, size_t *moved, sk_error *err)
+{
+    const sk_mesh *m = W->m;
+    fair_scratch *S = sk__malloc_array(1, sizeof *S);
+    double *qt = sk__malloc_array(15 * 15 + 16 * 16, sizeof(double));
+    uint8_t *active = sk__malloc_array(2 * m->num_vertices + s->surface.count + 1, 1);
+    uint8_t *next = active + m->num_vertices, *bad = next + m->num_vertices;
+    if (!S || !qt || !active) {
+        sk__free(S);
+        sk__free(qt);
+        sk__free(active);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory choosing the fair free points");
+    }
+    double *qq = qt + 15 * 15;
+    sk__fair_energy_matrices(qt, qq);
+    /* later sweeps visit the vertices that moved by more than FAIR_ACTIVE_STEP in the sweep
+     * before, and their neighbours */
+    size_t count = 0, nv = m->num_vertices;
+    size_t seeds = seed_vertices(s, status, active, bad);
+    /* the region: the seeds grown by FAIR_REGION_RINGS rings (in `region`, reusing bad) */
+    uint8_t *region = sk__malloc_array(nv + 1, 1);
+    if (!region) {
+        sk__free(S);
+        sk__free(qt);
+        sk__free(active);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory choosing the fair free points");
+    }
+    memcpy(region, active, nv);
+    for (int ring = 0; ring < FAIR_REGION_RINGS; ++ring) {
+        memcpy(next, region, nv);
+        for (uint32_t v = 0; v < nv; ++v)
+            if (next[v]) {
+                uint32_t h0 = m->v_halfedge[v], h = h0;
+                do {
+                    region[sk_to(m, h)] = 1;
+                    h = sk_cw_out(m, h);
+                } while (h != h0);
+            }
+    }
+    for (uint32_t v = 0; v < nv; ++v)
+        region[v] = region[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && status[v] < 2;
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        memset(next, 0, nv);
+        size_t visited = 0;
+        for (uint32_t v = 0; v < nv; ++v) {
+            if (!active[v])
+                continue;
+            double step = 0.0;
+            ++visited;
+            count += fair_vertex(W, qt, qq, v, S, &step);
+            if (step > FAIR_ACTIVE_STEP) {
+                uint32_t h0 = m->v_halfedge[v], h = h0;
+                next[v] = 1;
+                do {
+                    next[sk_to(m, h)] = 1;
+                    h = sk_cw_out(m, h);
+                } while (h != h0);
+            }
+        }
+        for (uint32_t v = 0; v < nv; ++v)
+            active[v] = next[v] && region[v];
+        }
+    if (moved)
+        *moved = count;
+    sk__free(S);
+    sk__free(qt);
+    sk__free(active);
+    sk__free(region);
+    return SK_OK;
+}

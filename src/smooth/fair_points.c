@@ -521,7 +521,7 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     /* later sweeps visit the vertices that moved by more than FAIR_ACTIVE_STEP in the sweep
      * before, and their neighbours */
     size_t count = 0, nv = m->num_vertices;
-    size_t seeds = seed_vertices(s, status, active, bad);
+    seed_vertices(s, status, active, bad);
     /* the region: the seeds grown by FAIR_REGION_RINGS rings (in `region`, reusing bad) */
     uint8_t *region = sk__malloc_array(nv + 1, 1);
     if (!region) {

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Smooth surfaces on the shared meshes, VC1 and the PN-triangle baseline: singular patches, shape
+# Smooth surfaces on the shared meshes, VC1 with the least-squares free points (vc1-lsq, before),
+# VC1 with the fair free points (vc1, the default) and the PN-triangle baseline: singular patches,
+# singular patches before the regularity repair, shape
 # (max_overshoot with its patch, patches over 0.5, fairness worst / mean), deleted edges against
 # the lower bound (#even interior vertices / 2, counted here from the input file and by the
 # library), max normal jump, seconds per stage. Then the VC1 surface of a ~1M-triangle closed
@@ -12,18 +14,20 @@ build=${1:-build}
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target surfkit bench_smooth >/dev/null
 scratch="$build/bench-smooth"; mkdir -p "$scratch"
-meshes=${SK_BENCH_MESHES:-"cow armadillo lion-head pig mushroom three_peaks bunny00 fandisk nefertiti knot1"}
+meshes=${SK_BENCH_MESHES:-"cow armadillo lion-head pig mushroom three_peaks bunny00 fandisk nefertiti knot1 eight"}
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "surfkit $("$build/surfkit" --version 2>/dev/null | head -1), $(git rev-parse --short HEAD 2>/dev/null)"
 echo
 for name in $meshes; do
   in=../shared/data/meshes/$name.off
-  for scheme in vc1 pn; do
-    out="$scratch/$name-$scheme.json" note=""
+  # vc1-lsq: the free points by least squares to the wire frame alone (before the fair points)
+  for scheme in vc1-lsq vc1 pn; do
+    out="$scratch/$name-$scheme.json" note="" args="--scheme ${scheme%-lsq}"
+    [ "$scheme" = vc1-lsq ] && args="$args --free-points lsq"
     # exit 1: an odd closed component (no edge deletion exists): split an edge as the CLI offers
-    if ! "$build/surfkit" smooth "$in" --scheme $scheme --json --allow-fail -q > "$out" 2> "$out.err"; then
+    if ! "$build/surfkit" smooth "$in" $args --json --allow-fail -q > "$out" 2> "$out.err"; then
       note=split
-      "$build/surfkit" smooth "$in" --scheme $scheme --json --allow-fail --allow-split -q \
+      "$build/surfkit" smooth "$in" $args --json --allow-fail --allow-split -q \
         > "$out" 2> "$out.err" || note="failed: $(head -1 "$out.err")"
     fi
     echo "$name $scheme $in $out $note"

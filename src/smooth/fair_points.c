@@ -193,18 +193,20 @@ typedef struct fair_scratch {
     double base[FAIR_LOCAL_FACES * 48];
     double dir[4][FAIR_LOCAL_FACES * 48];
     double savedC[FAIR_LOCAL_VERTS][3 * SK_VSYS_MAX];
+    uint8_t *mark; /* per face of the mesh, zero between calls */
 } fair_scratch;
 
-static bool has_face(const fair_scratch *S, uint32_t f)
+/* v, its neighbours and the faces around them; false when they do not fit */
+static bool gather_marked(const sk_mesh *m, uint32_t v, fair_scratch *S);
+static bool gather(const sk_mesh *m, uint32_t v, fair_scratch *S)
 {
+    bool ok = gather_marked(m, v, S);
     for (size_t i = 0; i < S->nfaces; ++i)
-        if (S->faces[i] == f)
-            return true;
-    return false;
+        S->mark[S->faces[i]] = 0;
+    return ok;
 }
 
-/* v, its neighbours and the faces around them; false when they do not fit */
-static bool gather(const sk_mesh *m, uint32_t v, fair_scratch *S)
+static bool gather_marked(const sk_mesh *m, uint32_t v, fair_scratch *S)
 {
     S->nverts = 0;
     S->nfaces = 0;
@@ -223,9 +225,10 @@ static bool gather(const sk_mesh *m, uint32_t v, fair_scratch *S)
             uint32_t f = m->h_face[g];
             if (++deg > SK_VSYS_MAX)
                 return false;
-            if (f != SK_INVALID && !has_face(S, f)) {
+            if (f != SK_INVALID && !S->mark[f]) {
                 if (S->nfaces == FAIR_LOCAL_FACES)
                     return false;
+                S->mark[f] = 1;
                 S->corners[S->nfaces] = (int)sk_mesh_face_size(m, f);
                 S->faces[S->nfaces++] = f;
             }
@@ -502,74 +505,70 @@ static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *
     return n;
 }
 
+/* r gets the vertices within `rings` rings of those set in r (tmp: scratch of the same size) */
+static void grow(const sk_mesh *m, uint8_t *r, uint8_t *tmp, int rings)
+{
+    size_t nv = m->num_vertices;
+    for (int ring = 0; ring < rings; ++ring) {
+        memcpy(tmp, r, nv);
+        for (uint32_t v = 0; v < nv; ++v)
+            if (tmp[v]) {
+                uint32_t h0 = m->v_halfedge[v], h = h0;
+                do {
+                    r[sk_to(m, h)] = 1;
+                    h = sk_cw_out(m, h);
+                } while (h != h0);
+            }
+    }
+}
+
 sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
                               int sweeps, size_t *moved, sk_error *err)
 {
     const sk_mesh *m = W->m;
-    fair_scratch *S = sk__malloc_array(1, sizeof *S);
+    size_t nv = m->num_vertices, count = 0;
+    sk_status st = SK_OK;
+    fair_scratch *S = sk__calloc_array(1, sizeof *S);
     double *qt = sk__malloc_array(15 * 15 + 16 * 16, sizeof(double));
-    uint8_t *active = sk__malloc_array(2 * m->num_vertices + s->surface.count + 1, 1);
-    uint8_t *next = active + m->num_vertices, *bad = next + m->num_vertices;
-    if (!S || !qt || !active) {
-        sk__free(S);
-        sk__free(qt);
-        sk__free(active);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory choosing the fair free points");
+    /* active, next (per vertex), bad (per patch), region (per vertex) */
+    uint8_t *active = sk__malloc_array(3 * nv + s->surface.count + 1, 1);
+    uint8_t *next = active + nv, *region = next + nv, *bad = region + nv;
+    if (S)
+        S->mark = sk__calloc_array(m->num_faces + 1, 1);
+    if (!S || !qt || !active || !S->mark) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory choosing the fair free points");
+        goto done;
     }
     double *qq = qt + 15 * 15;
     sk__fair_energy_matrices(qt, qq);
-    /* later sweeps visit the vertices that moved by more than FAIR_ACTIVE_STEP in the sweep
-     * before, and their neighbours */
-    size_t count = 0, nv = m->num_vertices;
     seed_vertices(s, status, active, bad);
-    /* the region: the seeds grown by FAIR_REGION_RINGS rings (in `region`, reusing bad) */
-    uint8_t *region = sk__malloc_array(nv + 1, 1);
-    if (!region) {
-        sk__free(S);
-        sk__free(qt);
-        sk__free(active);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory choosing the fair free points");
-    }
     memcpy(region, active, nv);
-    for (int ring = 0; ring < FAIR_REGION_RINGS; ++ring) {
-        memcpy(next, region, nv);
-        for (uint32_t v = 0; v < nv; ++v)
-            if (next[v]) {
-                uint32_t h0 = m->v_halfedge[v], h = h0;
-                do {
-                    region[sk_to(m, h)] = 1;
-                    h = sk_cw_out(m, h);
-                } while (h != h0);
-            }
-    }
+    grow(m, region, next, FAIR_REGION_RINGS);
     for (uint32_t v = 0; v < nv; ++v)
-        region[v] = region[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && status[v] < 2;
+        region[v] = region[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
+                    status[v] < 2;
+    /* later sweeps visit the vertices that moved by more than FAIR_ACTIVE_STEP in the sweep
+     * before, and their neighbours, within the region */
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         memset(next, 0, nv);
-        size_t visited = 0;
         for (uint32_t v = 0; v < nv; ++v) {
             if (!active[v])
                 continue;
             double step = 0.0;
-            ++visited;
             count += fair_vertex(W, qt, qq, v, S, &step);
-            if (step > FAIR_ACTIVE_STEP) {
-                uint32_t h0 = m->v_halfedge[v], h = h0;
-                next[v] = 1;
-                do {
-                    next[sk_to(m, h)] = 1;
-                    h = sk_cw_out(m, h);
-                } while (h != h0);
-            }
+            next[v] = step > FAIR_ACTIVE_STEP;
         }
+        grow(m, next, active, 1);
         for (uint32_t v = 0; v < nv; ++v)
             active[v] = next[v] && region[v];
-        }
+    }
     if (moved)
         *moved = count;
+done:
+    if (S)
+        sk__free(S->mark);
     sk__free(S);
     sk__free(qt);
     sk__free(active);
-    sk__free(region);
-    return SK_OK;
+    return st;
 }

@@ -337,6 +337,9 @@ static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uin
         t[2 * k] = sk__dot3(d, e[0]);
         t[2 * k + 1] = sk__dot3(d, e[1]);
     }
+    double P0[3 * SK_VSYS_MAX];
+    for (int k = 0; k < n; ++k)
+        memcpy(P0 + 3 * k, W->P + 3 * (size_t)E[k], 3 * sizeof(double));
     save_restore_C(W, S, false);
     assemble_local(W, S, S->base);
     /* direction d = (ra, cb): delta p = e_ra (p . e_cb) */
@@ -348,11 +351,8 @@ static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uin
                 P[x] += s * e[dirs[d][0]][x];
         }
         assemble_local(W, S, S->dir[d]);
-        for (int k = 0; k < n; ++k) {
-            double *P = W->P + 3 * (size_t)E[k], s = p[2 * k + dirs[d][1]];
-            for (int x = 0; x < 3; ++x)
-                P[x] -= s * e[dirs[d][0]][x];
-        }
+        for (int k = 0; k < n; ++k) /* restored exactly */
+            memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
         for (size_t i = 0; i < 48 * S->nfaces; ++i)
             S->dir[d][i] -= S->base[i];
     }
@@ -472,16 +472,17 @@ static double net_overshoot(const sk_smooth *s, size_t p)
  * singular or whose control net strays from their face by more than FAIR_SEED_OVERSHOOT of the
  * longest side, and the neighbours of those corners. */
 static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *active,
-                            uint8_t *bad)
+                            uint8_t *bad, uint8_t *sing)
 {
     const sk_mesh *m = s->config;
     long np = (long)s->surface.count;
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel for schedule(dynamic, 256)
 #endif
-    for (long p = 0; p < np; ++p)
-        bad[p] = net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT ||
-                 sk__patch_singular(s, (size_t)p, NULL);
+    for (long p = 0; p < np; ++p) {
+        sing[p] = sk__patch_singular(s, (size_t)p, NULL);
+        bad[p] = sing[p] || net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT;
+    }
     memset(active, 0, m->num_vertices);
     for (long p = 0; p < np; ++p) {
         if (!bad[p])
@@ -523,7 +524,7 @@ static void grow(const sk_mesh *m, uint8_t *r, uint8_t *tmp, int rings)
 }
 
 sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
-                              int sweeps, size_t *moved, sk_error *err)
+                              int sweeps, uint8_t *sing, size_t *moved, sk_error *err)
 {
     const sk_mesh *m = W->m;
     size_t nv = m->num_vertices, count = 0;
@@ -541,7 +542,7 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     }
     double *qq = qt + 15 * 15;
     sk__fair_energy_matrices(qt, qq);
-    seed_vertices(s, status, active, bad);
+    seed_vertices(s, status, active, bad, sing);
     memcpy(region, active, nv);
     grow(m, region, next, FAIR_REGION_RINGS);
     for (uint32_t v = 0; v < nv; ++v)
@@ -555,7 +556,11 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
             if (!active[v])
                 continue;
             double step = 0.0;
-            count += fair_vertex(W, qt, qq, v, S, &step);
+            if (fair_vertex(W, qt, qq, v, S, &step)) {
+                ++count;
+                for (size_t i = 0; i < S->nfaces; ++i)
+                    sing[S->faces[i]] = SK_SING_UNKNOWN; /* its patch moved */
+            }
             next[v] = step > FAIR_ACTIVE_STEP;
         }
         grow(m, next, active, 1);

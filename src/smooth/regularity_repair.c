@@ -71,7 +71,7 @@ static size_t rebuild_local(sk_smooth *s, sk__vc1_work *W, const uint32_t *verts
 #define LOCAL_FACES 4096
 
 sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
-                                    sk_error *err)
+                                    const uint8_t *known, sk_error *err)
 {
     const sk_mesh *m = W->m;
     size_t np = s->surface.count, nv = m->num_vertices;
@@ -90,7 +90,8 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : nsing)
 #endif
     for (long p = 0; p < npl; ++p) {
-        sing[p] = sk__patch_singular(s, (size_t)p, NULL);
+        sing[p] = known && known[p] != SK_SING_UNKNOWN ? known[p]
+                                                       : sk__patch_singular(s, (size_t)p, NULL);
         nsing += sing[p];
     }
     s->stats.singular_before_repair = nsing;

@@ -199,7 +199,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     W.w1 = sk__malloc_array(nh, sizeof(double));
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
-    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1);
+    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL;
     if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
@@ -221,15 +221,19 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     vc1_assemble(s, &W);
     double t2 = sk_seconds();
     if (free_points == SK_FREE_POINTS_FAIR) {
-        if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, &s->stats.fair_steps,
-                                      err)) != SK_OK)
+        if (!(sing = sk__malloc_array(nf + 1, 1))) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+            goto done;
+        }
+        if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, sing,
+                                      &s->stats.fair_steps, err)) != SK_OK)
             goto done;
         vc1_assemble(s, &W);
     }
     s->stats.seconds_fair = sk_seconds() - t2;
     double t3 = sk_seconds();
     s->stats.seconds_patches = t2 - t1;
-    if ((st = sk__vc1_repair_regularity(s, &W, status, err)) != SK_OK)
+    if ((st = sk__vc1_repair_regularity(s, &W, status, sing, err)) != SK_OK)
         goto done;
     s->stats.seconds_repair = sk_seconds() - t3;
     st = vc1_problems(s, &W, status, err);
@@ -241,6 +245,7 @@ done:
     sk__free(W.nu);
     sk__free(W.C);
     sk__free(status);
+    sk__free(sing);
     return st;
 }
 

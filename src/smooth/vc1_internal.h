@@ -54,17 +54,21 @@ void sk__vc1_assemble_patch(const sk__vc1_work *W, uint32_t f, double *b);
 
 /* The regularity repair: re-solves the vertex systems at the corners of singular patches with
  * varied targets and keeps a variant that leaves fewer singular patches; updates status (the
- * codes of sk__vc1_solve_vertex) and s->stats. */
+ * codes of sk__vc1_solve_vertex) and s->stats. known (may be NULL): the regularity test of each
+ * patch as it stands (0 or 1), SK_SING_UNKNOWN where it has to be done. */
+#define SK_SING_UNKNOWN 2
 sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
-                                    sk_error *err);
+                                    const uint8_t *known, sk_error *err);
 
 /* Fair free points (fair_points.c): up to `sweeps` block Gauss-Seidel sweeps, starting from the
  * vertices around the patches of s->surface (assembled from W) that are singular or stray far
  * from their faces, over the vertices with status < 2; they move each vertex's tangents W->P by the linear map of its tangent plane
  * minimising the bending energy of the patches it moves plus the distance to the targets; keeps
- * (8) and the angle bounds and leaves W->C consistent (system (4)). *moved counts the steps. */
+ * (8) and the angle bounds and leaves W->C consistent (system (4)). *moved counts the steps.
+ * sing (one per patch) gets the regularity test of every patch before the sweeps, and
+ * SK_SING_UNKNOWN for the patches the sweeps moved (for sk__vc1_repair_regularity). */
 sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
-                              int sweeps, size_t *moved, sk_error *err);
+                              int sweeps, uint8_t *sing, size_t *moved, sk_error *err);
 
 /* The bending-energy matrices of Miao et al. (integral of |b_ss|^2 + 2 |b_st|^2 + |b_tt|^2 over
  * the parameter domain) of the quartic triangle (15 x 15, in sk_tri_index order, the mean over

@@ -36,9 +36,10 @@ int main(int argc, char **argv)
            m->num_vertices, m->num_faces, t1 - t0);
     printf("| stage          | seconds |\n|----------------|---------|\n");
     printf("| normals        | %7.3f |\n| edge flips     | %7.3f |\n| edge deletion  | %7.3f |\n"
-           "| vertex systems | %7.3f |\n| patches        | %7.3f |\n| repair         | %7.3f |\n"
+           "| vertex systems | %7.3f |\n| fair points    | %7.3f |\n| patches        | %7.3f |\n"
+           "| repair         | %7.3f |\n"
            "| report         | %7.3f |\n",
-           st->seconds_normals, st->seconds_flips, st->seconds_deletion, st->seconds_systems, st->seconds_patches, st->seconds_repair,
+           st->seconds_normals, st->seconds_flips, st->seconds_deletion, st->seconds_systems, st->seconds_fair, st->seconds_patches, st->seconds_repair,
            t3 - t2);
     printf("| total build    | %7.3f |\n| build + report | %7.3f |\n\n", t2 - t1, t3 - t1);
     printf("| even vertices | lower bound | deleted edges | ratio | triangles | quads | forced |\n");

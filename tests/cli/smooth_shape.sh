@@ -27,9 +27,10 @@ assert 0 < r["max_fairness_deg"] < 5 and r["mean_fairness_deg"] <= r["max_fairne
 assert r["overshoot_patches"] == 0 and r["overshoot_patch_examples"] == [], r
 assert not any(q["singular"] for q in p)
 PY
-# a rough scan: spikes over 0.5 are listed worst first and flagged in --patches
-"$bin" smooth "$m/cow.off" --json --allow-fail --patches "$tmp/cp.json" -q > "$tmp/cow.json" ||
-  fail "cow exit $?"
+# a rough scan with the least-squares free points (the fair ones leave no spike on the cow, see
+# below): spikes over 0.5 are listed worst first and flagged in --patches
+"$bin" smooth "$m/cow.off" --json --allow-fail --free-points lsq --patches "$tmp/cp.json" -q \
+  > "$tmp/cow.json" || fail "cow exit $?"
 python3 - "$tmp/cow.json" "$tmp/cp.json" <<'PY' || fail "cow shape values"
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -40,6 +41,16 @@ assert ex and ex[0] == r["max_overshoot_patch"], r
 assert all(p[i]["overshoot"] > 0.5 for i in ex)
 assert all(p[a]["overshoot"] >= p[b]["overshoot"] for a, b in zip(ex, ex[1:]))
 assert r["singular_patches"] == sum(q["singular"] for q in p), r
+PY
+# the default fair free points: no spike left, fewer singular patches
+"$bin" smooth "$m/cow.off" --json --allow-fail -q > "$tmp/cowf.json" || fail "cow fair exit $?"
+python3 - "$tmp/cow.json" "$tmp/cowf.json" <<'PY' || fail "cow fair shape values"
+import json, sys
+lsq, fair = (json.load(open(f)) for f in sys.argv[1:3])
+assert fair["overshoot_patches"] == 0 and fair["overshoot_patch_examples"] == [], fair
+assert fair["max_overshoot"] <= 0.5 < lsq["max_overshoot"], (fair, lsq)
+assert fair["singular_patches"] < lsq["singular_patches"], (fair, lsq)
+assert fair["fair_steps"] > 0 and lsq["fair_steps"] == 0, (fair, lsq)
 PY
 "$bin" smooth "$m/sphere.off" --zebra 2>/dev/null; [ $? -eq 2 ] || fail "--zebra without a file"
 echo ok

@@ -53,7 +53,9 @@ static void write_json(FILE *fp, const void *ctx)
     json_kuint(&j, "overlap", s->splits_overlap);
     json_kuint(&j, "distortion", s->splits_distortion);
     json_kuint(&j, "failed", s->splits_failed);
+    json_kuint(&j, "predicted", s->splits_predicted);
     json_obj_close(&j);
+    json_kuint(&j, "lscm_charts", s->lscm_charts);
     const struct {
         const char *key;
         double seconds;

@@ -33,6 +33,10 @@ typedef struct sk_atlas_opts {
     double max_stretch;
     unsigned resolution;  /* texels per unit of the square; 0 = 1024 */
     double padding;       /* gutter between charts in texels; 0 = 2; negative = none */
+    /* false (default): a chart keeps its LSCM layout when that is flip-free, overlap-free and
+     * within both bounds, else it gets the hierarchical MIPS; true: hierarchical MIPS on every
+     * chart. */
+    bool mips_only;
     uint64_t seed;
     sk_progress_fn progress;
     void *progress_user;
@@ -62,6 +66,8 @@ typedef struct sk_atlas_stats {
     double utilization;      /* uv area of all charts / area of [0,1]^2 */
     double scale;            /* uv units per 3D unit (the same for every chart) */
     size_t splits_topology, splits_overlap, splits_distortion, splits_failed;
+    size_t splits_predicted; /* of splits_distortion: decided by the LSCM predictor, no MIPS run */
+    size_t lscm_charts;      /* charts laid out by LSCM (the others by hierarchical MIPS) */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;
 } sk_atlas_stats;
 

@@ -4,8 +4,11 @@
  *
  * Charts (src/atlas/charts.c): start from the edge-connected components; a chart that is not a
  * disk (closed, holed, with handles), whose parametrization overlaps itself, or whose distortion
- * exceeds a bound is bisected: two seeds far apart in the dual graph (two sweeps of a Dijkstra
- * over face centroids), every face goes to the nearer seed, so both halves stay edge-connected.
+ * exceeds a bound, or whose normals spread too far, is bisected: two seeds far apart (the face
+ * farthest in space from an arbitrary one, then the farthest from that by a Dijkstra over face
+ * centroids), every face goes to the nearer seed, so both halves stay edge-connected. Each disk
+ * chart is laid out by LSCM, kept when flip-free, overlap-free and within both bounds, else by
+ * the hierarchical MIPS; the disks of one round are parametrized in parallel.
  * A vertex where a chart's faces form several fans gets one uv per fan (wedges). Recursion ends at
  * the latest with single triangles, which are disks and never overlap.
  *

@@ -447,6 +447,18 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
                 s.charts_seconds += sk_seconds() - tc;
                 continue;
             }
+            if (n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
+                /* far from flat (whatever its topology: the halves are looked at again): the
+                 * distortion bound would split it after a costly solve; no chart mesh needed */
+                size_t n0 = 0;
+                if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
+                    goto done;
+                stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
+                stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
+                s.splits_distortion++;
+                s.charts_seconds += sk_seconds() - tc;
+                continue;
+            }
             if ((st = sk__chart_extract(m, cf, n, stamp, &w, &chart, &vert_h, err)))
                 goto done;
             bool disk = false, sphere = false;
@@ -466,11 +478,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
                     split = false;
                 }
             }
-            if (disk && n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
-                /* far from flat: the distortion bound would split it after a costly solve */
-                split = true;
-                s.splits_distortion++;
-            } else if (disk) {
+            if (disk) {
                 pending *p = wave + nb++;
                 memset(p, 0, sizeof *p);
                 p->r = r;

@@ -185,6 +185,8 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                 "atlas: texels across, for --padding (default 1024)"),
         OPT_DOUBLE("--padding", a->ao.padding, 0, 64, 0, "P",
                    "atlas: gutter of P texels between charts (default 2)"),
+        OPT_INT("--charts", a->ao.max_charts, 1, 0, "N",
+                "atlas: at most N charts where the bounds allow (neighbours merged)"),
         OPT_FLAG("--mips-charts", a->ao.mips_only,
                  "atlas: hierarchical MIPS on every chart (default: a chart keeps its\n"
                  "LSCM layout when that is flip-free, overlap-free and within the bounds)"),
@@ -229,7 +231,7 @@ static int parse_args(int argc, char **argv, param_args *a)
     /* the atlas: asked for by its options, else taken when the input is not one disk */
     static const char *const atlas_only[] = {"--max-distortion", "--max-stretch",
                                              "--resolution", "--padding", "--split-seams",
-                                             "--mips-charts"};
+                                             "--mips-charts", "--charts"};
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
         a->atlas |= cli_given(&args, atlas_only[k]);
     static const char *const disk_only[] = {"--flat", "--hierarchical", "--boundary",

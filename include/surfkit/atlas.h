@@ -40,6 +40,11 @@ typedef struct sk_atlas_opts {
      * within both bounds, else it gets the hierarchical MIPS; true: hierarchical MIPS on every
      * chart. */
     bool mips_only;
+    /* At most this many charts where the bounds allow: after the splitting, the cheapest
+     * neighbouring charts (fewest triangles together) are merged while the union is a disk whose
+     * layout is flip-free, overlap-free and within both bounds; stats.charts says whether the
+     * target was met. 0 = no target. */
+    unsigned max_charts;
     uint64_t seed;
     sk_progress_fn progress;
     void *progress_user;
@@ -71,6 +76,7 @@ typedef struct sk_atlas_stats {
     size_t splits_topology, splits_overlap, splits_distortion, splits_failed;
     size_t splits_predicted; /* of splits_distortion: decided by the LSCM predictor, no MIPS run */
     size_t lscm_charts;      /* charts laid out by LSCM (the others by hierarchical MIPS) */
+    size_t merges;           /* pairs of charts merged for max_charts */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;
 } sk_atlas_stats;
 

@@ -427,6 +427,47 @@ static void test_predictor_needs_bounds(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* max_charts: on cow the merges bring the count down (not to 10: the bounds stop them), every
+ * chart stays a disk within the bounds, flip-free and overlap-free; on the sphere a target of 3
+ * is met. */
+static void test_max_charts(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("cow.off"));
+    sk_atlas *a = NULL;
+    sk_atlas_stats free_st, st;
+    sk_atlas_opts o = {0};
+    assert_int_equal(sk_atlas_build(m, &o, &a, &free_st, NULL), SK_OK);
+    sk_atlas_destroy(&a);
+    assert_int_equal(free_st.merges, 0);
+    o.max_charts = 10;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
+    assert_true(st.merges > 0);
+    assert_int_equal(st.charts, a->num_charts);
+    assert_int_equal(st.charts + st.merges, free_st.charts);
+    assert_true(st.charts > 10 && st.charts < free_st.charts / 2);
+    assert_true(st.seam_length_rel < free_st.seam_length_rel);
+    assert_int_equal(st.flipped + st.overlaps, 0);
+    check_chart_bounds("cow --charts 10", m, a, 1.25, 1.25);
+    check_charts_are_disks(m, a, "cow --charts 10");
+    size_t nf = 0;
+    for (size_t c = 0; c < a->num_charts; ++c)
+        nf += a->chart_faces[c];
+    assert_int_equal(nf, m->num_faces);
+    for (size_t i = 0; i < a->num_uvs; ++i)
+        assert_true(a->uv_chart[i] < a->num_charts);
+    sk_atlas_destroy(&a);
+    sk_mesh_destroy(&m);
+    m = skt_read_mesh(skt_shared_mesh("sphere.off"));
+    o.max_charts = 3;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
+    assert_int_equal(st.charts, 3);
+    assert_int_equal(st.flipped + st.overlaps, 0);
+    check_charts_are_disks(m, a, "sphere --charts 3");
+    sk_atlas_destroy(&a);
+    sk_mesh_destroy(&m);
+}
+
 /* The library's overlap count on small cases, each decided by hand. */
 static void test_uv_overlaps_cases(void **state)
 {
@@ -476,6 +517,7 @@ int main(void)
         cmocka_unit_test(test_bounds_trade_charts_for_distortion),
         cmocka_unit_test(test_lscm_first_and_mips_only),
         cmocka_unit_test(test_predictor_needs_bounds),
+        cmocka_unit_test(test_max_charts),
         cmocka_unit_test(test_shared_meshes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -568,7 +568,8 @@ static sk_status merge_charts(const sk_mesh *m, sk__chart_work *w, accepted *acc
             pending_clear(p);
         }
         nb = 0;
-        qsort(g->failed, g->nfailed, sizeof(uint64_t), cmp_u64);
+        if (g->nfailed > 1)
+            qsort(g->failed, g->nfailed, sizeof(uint64_t), cmp_u64);
     }
 done:
     for (size_t i = 0; i < nb; ++i)

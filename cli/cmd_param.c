@@ -134,7 +134,8 @@ static const char atlas_about[] =
     "--resolution, --padding, --split-seams; --method mips only):\n"
     "  charts that are topological disks (components; holes and handles cut along where a grown\n"
     "  disk meets itself; closed pieces and charts above the distortion bounds bisected), each\n"
-    "  parametrized by hierarchical MIPS with a free boundary, checked for flips and overlaps\n"
+    "  laid out by LSCM when that is flip-free and within the bounds, else by hierarchical\n"
+    "  MIPS with a free boundary (--mips-charts: MIPS always), checked for flips and overlaps\n"
     "  (a chart that overlaps itself is split), packed into [0,1]^2 with one scale.\n"
     "  --png/--svg draw the atlas coloured by conformal distortion, chart borders in black;\n"
     "  --checker the checkerboard on the 3D mesh; --report adds charts, seams, overlaps,\n"
@@ -184,6 +185,11 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                 "atlas: texels across, for --padding (default 1024)"),
         OPT_DOUBLE("--padding", a->ao.padding, 0, 64, 0, "P",
                    "atlas: gutter of P texels between charts (default 2)"),
+        OPT_INT("--charts", a->ao.max_charts, 1, 0, "N",
+                "atlas: at most N charts where the bounds allow (neighbours merged)"),
+        OPT_FLAG("--mips-charts", a->ao.mips_only,
+                 "atlas: hierarchical MIPS on every chart (default: a chart keeps its\n"
+                 "LSCM layout when that is flip-free, overlap-free and within the bounds)"),
         OPT_FLAG("--split-seams", a->split_seams,
                  "atlas: one vertex per uv (per-vertex s t: what Blender's PLY reader\n"
                  "takes); default: per-corner uvs (OBJ f v/vt with vt shared inside a\n"
@@ -224,7 +230,8 @@ static int parse_args(int argc, char **argv, param_args *a)
                          sk_format_name(ofmt), a->out);
     /* the atlas: asked for by its options, else taken when the input is not one disk */
     static const char *const atlas_only[] = {"--max-distortion", "--max-stretch",
-                                             "--resolution", "--padding", "--split-seams"};
+                                             "--resolution", "--padding", "--split-seams",
+                                             "--mips-charts", "--charts"};
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
         a->atlas |= cli_given(&args, atlas_only[k]);
     static const char *const disk_only[] = {"--flat", "--hierarchical", "--boundary",

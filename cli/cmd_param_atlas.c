@@ -13,6 +13,7 @@ typedef struct atlas_run {
     const sk_atlas *atlas;
     sk_atlas_stats st;
     size_t faces;
+    unsigned charts_target; /* --charts N, 0 = none */
     double read_seconds, write_seconds;
 } atlas_run;
 
@@ -53,7 +54,14 @@ static void write_json(FILE *fp, const void *ctx)
     json_kuint(&j, "overlap", s->splits_overlap);
     json_kuint(&j, "distortion", s->splits_distortion);
     json_kuint(&j, "failed", s->splits_failed);
+    json_kuint(&j, "predicted", s->splits_predicted);
     json_obj_close(&j);
+    json_kuint(&j, "lscm_charts", s->lscm_charts);
+    json_kuint(&j, "merges", s->merges);
+    if (r->charts_target) {
+        json_kuint(&j, "charts_target", r->charts_target);
+        json_kbool(&j, "charts_target_met", s->charts <= r->charts_target);
+    }
     const struct {
         const char *key;
         double seconds;
@@ -79,6 +87,9 @@ static void print_summary(const void *ctx)
            r->in, r->faces, r->st.charts, r->st.flipped, r->st.overlaps, r->st.mips_mean,
            r->st.conformal_mean, r->st.area_log_mean, r->st.seam_edges, r->st.seam_length_rel,
            r->st.utilization, r->st.total_seconds);
+    if (r->charts_target && r->st.charts > r->charts_target)
+        printf("%s: --charts %u cannot be met within the bounds: %zu charts after %zu merges\n",
+               r->in, r->charts_target, r->st.charts, r->st.merges);
 }
 
 /* The output: one vertex per uv (--split-seams, the seams mesh), else per-corner uvs on mesh. */
@@ -103,6 +114,7 @@ int param_run_atlas(const param_args *a, sk_mesh *mesh, double read_seconds)
     r.in = a->in;
     r.tri = a->tri;
     r.faces = mesh->num_faces;
+    r.charts_target = ao.max_charts;
     r.read_seconds = read_seconds;
     sk_error err = {0};
     sk_atlas *atlas = NULL;

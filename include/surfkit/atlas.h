@@ -4,8 +4,11 @@
  *
  * Charts (src/atlas/charts.c): start from the edge-connected components; a chart that is not a
  * disk (closed, holed, with handles), whose parametrization overlaps itself, or whose distortion
- * exceeds a bound is bisected: two seeds far apart in the dual graph (two sweeps of a Dijkstra
- * over face centroids), every face goes to the nearer seed, so both halves stay edge-connected.
+ * exceeds a bound, or whose normals spread too far, is bisected: two seeds far apart (the face
+ * farthest in space from an arbitrary one, then the farthest from that by a Dijkstra over face
+ * centroids), every face goes to the nearer seed, so both halves stay edge-connected. Each disk
+ * chart is laid out by LSCM, kept when flip-free, overlap-free and within both bounds, else by
+ * the hierarchical MIPS; the disks of one round are parametrized in parallel.
  * A vertex where a chart's faces form several fans gets one uv per fan (wedges). Recursion ends at
  * the latest with single triangles, which are disks and never overlap.
  *
@@ -33,6 +36,15 @@ typedef struct sk_atlas_opts {
     double max_stretch;
     unsigned resolution;  /* texels per unit of the square; 0 = 1024 */
     double padding;       /* gutter between charts in texels; 0 = 2; negative = none */
+    /* false (default): a chart keeps its LSCM layout when that is flip-free, overlap-free and
+     * within both bounds, else it gets the hierarchical MIPS; true: hierarchical MIPS on every
+     * chart. */
+    bool mips_only;
+    /* At most this many charts where the bounds allow: after the splitting, the cheapest
+     * neighbouring charts (fewest triangles together) are merged while the union is a disk whose
+     * layout is flip-free, overlap-free and within both bounds; stats.charts says whether the
+     * target was met. 0 = no target. */
+    unsigned max_charts;
     uint64_t seed;
     sk_progress_fn progress;
     void *progress_user;
@@ -62,6 +74,9 @@ typedef struct sk_atlas_stats {
     double utilization;      /* uv area of all charts / area of [0,1]^2 */
     double scale;            /* uv units per 3D unit (the same for every chart) */
     size_t splits_topology, splits_overlap, splits_distortion, splits_failed;
+    size_t splits_predicted; /* of splits_distortion: decided by the LSCM predictor, no MIPS run */
+    size_t lscm_charts;      /* charts laid out by LSCM (the others by hierarchical MIPS) */
+    size_t merges;           /* pairs of charts merged for max_charts */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;
 } sk_atlas_stats;
 

@@ -99,11 +99,12 @@ typedef struct accepted {
     uint32_t *chart;
     size_t charts, ccap;
     uint32_t *off;     /* charts + 1 */
+    uint8_t *lscm;     /* charts: laid out by LSCM */
     double area3;
 } accepted;
 
 static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *faces, size_t nf,
-                              const sk_mesh *c, const double *uv, sk__chart_work *w,
+                              const sk_mesh *c, const double *uv, bool lscm, sk__chart_work *w,
                               sk_atlas *out, sk_error *err)
 {
     size_t nv = c->num_vertices;
@@ -122,9 +123,13 @@ static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *fac
     if (a->charts + 2 > a->ccap) {
         size_t cap = 2 * (a->charts + 2);
         uint32_t *o = sk__realloc_array(a->off, cap, sizeof(uint32_t));
-        if (!o)
+        if (o)
+            a->off = o;
+        uint8_t *l = sk__realloc_array(a->lscm, cap, 1);
+        if (l)
+            a->lscm = l;
+        if (!o || !l)
             return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        a->off = o;
         a->ccap = cap;
     }
     if (a->n + nv >= UINT32_MAX)
@@ -140,6 +145,7 @@ static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *fac
             out->corner_uv[h] = base + w->local[sk__wedge_find(w, h)];
     }
     a->off[a->charts] = base;
+    a->lscm[a->charts] = lscm;
     a->n += nv;
     a->charts++;
     a->off[a->charts] = (uint32_t)a->n;
@@ -233,6 +239,15 @@ static sk_status seed_components(const sk_mesh *m, uint32_t *comp, uint32_t *fac
     return SK_OK;
 }
 
+/* Charts of at least this many triangles are first laid out by LSCM (one linear solve, about a
+ * seventh of the hierarchical MIPS); when LSCM already exceeds a bound by PREDICT_MARGIN (on
+ * log(max_stretch) and on max_distortion - 1) the chart is split without the MIPS solve. On
+ * bunny00, cow, armadillo, lion-head, knot1 and eight (traces of both maps on every chart the atlas
+ * solves) no chart of 500 triangles or more that MIPS accepted is predicted to fail at this
+ * margin, while MIPS's own area distortion is mostly above LSCM's. */
+#define PREDICT_MIN_FACES 500
+#define PREDICT_MARGIN 1.5
+
 /* pairs of uv triangles of the chart whose interiors overlap (exact tests) */
 static sk_status chart_overlaps(const sk_mesh *chart, const double *cuv, size_t *ov,
                                 sk_error *err)
@@ -256,16 +271,45 @@ static sk_status chart_overlaps(const sk_mesh *chart, const double *cuv, size_t 
 
 /* Parametrizes the disk chart into *cuv (reallocated) and decides whether it must be split: it
  * failed or flipped, its layout overlaps itself, or it exceeds a distortion bound (counted in
- * s). Errors are out of memory, cancellation, or a single triangle that cannot be laid out. */
+ * s). With lscm_first, LSCM's layout is kept when it is flip-free, overlap-free and within the
+ * bounds (on bunny00 it is, for charts where MIPS's free boundary lets the area scale drift past
+ * the stretch bound: 58 charts instead of 148, area-log mean 0.120 instead of 0.163, seams 15
+ * instead of 28 x sqrt(area), at 40% of the CPU time); else the chart gets the hierarchical MIPS.
+ * Errors are out of memory, cancellation, or a single triangle that cannot be laid out. */
 static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf,
-                            double max_stretch, double **cuv, sk__chart_quality *q, bool *split,
-                            sk_atlas_stats *s, sk_error *err)
+                            double max_stretch, bool lscm_first, double **cuv,
+                            sk__chart_quality *q, bool *split, sk_atlas_stats *s, sk_error *err)
 {
     size_t n = chart->num_faces;
     sk__free(*cuv);
     *cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
     if (!*cuv)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if (n >= 2 && (lscm_first || n >= PREDICT_MIN_FACES)) {
+        bool ok = false;
+        sk_status st = sk__chart_predict(chart, *cuv, q, &ok, err);
+        if (st)
+            return st;
+        if (ok && n >= PREDICT_MIN_FACES &&
+            ((max_conf > 0 && q->conformal_mean - 1.0 > PREDICT_MARGIN * (max_conf - 1.0)) ||
+             (max_stretch > 0 && q->area_log_dev > PREDICT_MARGIN * log(max_stretch)))) {
+            *split = true;
+            s->splits_distortion++;
+            s->splits_predicted++;
+            return SK_OK;
+        }
+        /* within the bounds (also for the small charts the bounds never split: else MIPS) */
+        if (ok && lscm_first && (max_conf <= 0 || q->conformal_mean <= max_conf) &&
+            (max_stretch <= 0 || q->area_log_dev <= log(max_stretch))) {
+            size_t ov = 0;
+            if ((st = chart_overlaps(chart, *cuv, &ov, err)))
+                return st;
+            if (ov == 0) {
+                s->lscm_charts++;
+                return SK_OK;
+            }
+        }
+    }
     sk_error perr = {0};
     sk_status ps = sk__chart_param(chart, seed, *cuv, q, &perr);
     if (ps == SK_ERR_NOMEM || ps == SK_ERR_CANCELLED || ((ps != SK_OK || q->flipped) && n < 2)) {
@@ -296,6 +340,288 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
     return SK_OK;
 }
 
+/* A disk chart waiting for its parametrization: the charts of one wave are independent (disjoint
+ * faces, disjoint wedge state in the chart work) and are parametrized in parallel. */
+typedef struct pending {
+    range r;
+    uint32_t stamp;
+    sk_mesh *chart;
+    uint32_t *vert_h;
+    double *cuv;
+    sk__chart_quality q;
+    bool split;
+    sk_status st;
+    sk_error err;
+    sk_atlas_stats s; /* the split counters of this chart */
+    uint32_t pair[2]; /* merge pass: the two charts united */
+} pending;
+
+static void pending_clear(pending *p)
+{
+    sk_mesh_destroy(&p->chart);
+    sk__free(p->vert_h);
+    sk__free(p->cuv);
+    p->vert_h = NULL;
+    p->cuv = NULL;
+}
+
+/* Charts per wave at most (bounds the chart meshes held at once to about one mesh's size). */
+#define WAVE_MAX 4096
+
+/* Parametrizes the wave's charts, in parallel over charts (each solve then runs on one thread:
+ * tiny parallel regions inside every chart's solver cost more than they give). */
+static void param_wave(pending *b, size_t nb, double max_conf, double max_stretch, bool lscm_first,
+                       uint64_t seed)
+{
+    int blas = sk__blas_serial_begin();
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (nb > 1)
+#endif
+    for (long i = 0; i < (long)nb; ++i) {
+        pending *p = b + i;
+        p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, &p->cuv,
+                           &p->q, &p->split, &p->s, &p->err);
+    }
+    sk__blas_serial_end(blas);
+}
+
+static int cmp_u64(const void *x, const void *y)
+{
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return (a > b) - (a < b);
+}
+
+/* Neighbouring charts (c0 < c1) and the cost of merging them: their triangles together. */
+typedef struct chart_pair {
+    uint32_t c0, c1;
+    size_t faces;
+} chart_pair;
+
+static int cmp_pair(const void *x, const void *y)
+{
+    const chart_pair *a = x, *b = y;
+    if (a->faces != b->faces)
+        return a->faces < b->faces ? -1 : 1;
+    if (a->c0 != b->c0)
+        return a->c0 < b->c0 ? -1 : 1;
+    return (a->c1 > b->c1) - (a->c1 < b->c1);
+}
+
+/* The state of the merge pass (--charts N). */
+typedef struct merger {
+    uint8_t *alive;     /* per chart id of acc */
+    size_t cap;
+    uint64_t *failed;   /* sorted keys c0 << 32 | c1 of pairs that did not merge */
+    size_t nfailed, fcap;
+    uint32_t *start;    /* per chart id + 1: faces of each chart in order (counting sort) */
+    uint32_t *byc;      /* nf */
+    chart_pair *pairs;  /* 3 nf / 2 at most: one per interior edge */
+} merger;
+
+static bool pair_failed(const merger *g, uint32_t c0, uint32_t c1)
+{
+    uint64_t key = (uint64_t)c0 << 32 | c1;
+    return g->nfailed && bsearch(&key, g->failed, g->nfailed, sizeof key, cmp_u64);
+}
+
+/* Merges the cheapest neighbouring charts (fewest triangles together) while there are more than
+ * target charts: the union must be a disk whose layout (LSCM, else MIPS) is flip-free,
+ * overlap-free and within both bounds, else the pair stays apart. Rounds of disjoint pairs,
+ * parametrized in parallel like the waves of the main loop. Merged charts are appended to acc;
+ * alive says which ids remain; *live counts them. */
+static sk_status merge_charts(const sk_mesh *m, sk__chart_work *w, accepted *acc, sk_atlas *a,
+                              size_t target, double max_conf, double max_stretch, bool lscm_first,
+                              uint64_t seed, uint32_t *stamp, uint32_t *pf, pending *wave,
+                              size_t wave_cap, merger *g, size_t *live, sk_atlas_stats *s,
+                              sk_error *err)
+{
+    sk_status st = SK_OK;
+    size_t nf = m->num_faces, nb = 0;
+    sk_mesh *chart = NULL;
+    uint32_t *vert_h = NULL;
+    while (*live > target) {
+        size_t nc = acc->charts;
+        /* faces by chart */
+        uint32_t *start = sk__realloc_array(g->start, nc + 1, sizeof(uint32_t));
+        if (!start) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        g->start = start;
+        memset(start, 0, (nc + 1) * sizeof(uint32_t));
+        for (size_t f = 0; f < nf; ++f)
+            start[a->face_chart[f] + 1]++;
+        for (size_t c = 0; c < nc; ++c)
+            start[c + 1] += start[c];
+        for (size_t f = 0; f < nf; ++f)
+            g->byc[start[a->face_chart[f]]++] = (uint32_t)f;
+        for (size_t c = nc; c > 0; --c)
+            start[c] = start[c - 1];
+        start[0] = 0;
+        /* neighbouring pairs, cheapest first */
+        size_t np = 0;
+        for (size_t e = 0; e < sk_num_edges(m); ++e) {
+            uint32_t f0 = m->h_face[2 * e], f1 = m->h_face[2 * e + 1];
+            if (f0 == SK_INVALID || f1 == SK_INVALID)
+                continue;
+            uint32_t c0 = a->face_chart[f0], c1 = a->face_chart[f1];
+            if (c0 == c1)
+                continue;
+            if (c0 > c1) {
+                uint32_t t = c0;
+                c0 = c1;
+                c1 = t;
+            }
+            g->pairs[np++] = (chart_pair){c0, c1, (size_t)(start[c0 + 1] - start[c0]) +
+                                                      (start[c1 + 1] - start[c1])};
+        }
+        qsort(g->pairs, np, sizeof *g->pairs, cmp_pair);
+        /* disjoint untried pairs, as many as are needed */
+        size_t used = 0;
+        nb = 0;
+        for (size_t i = 0; i < np && nb < wave_cap && nb < *live - target; ++i) {
+            chart_pair q = g->pairs[i];
+            if (i > 0 && q.c0 == g->pairs[i - 1].c0 && q.c1 == g->pairs[i - 1].c1)
+                continue;
+            if (g->alive[q.c0] != 1 || g->alive[q.c1] != 1 || pair_failed(g, q.c0, q.c1))
+                continue;
+            g->alive[q.c0] = g->alive[q.c1] = 2; /* taken this round */
+            uint32_t *cf = pf + used;
+            size_t n = 0;
+            for (uint32_t k = start[q.c0]; k < start[q.c0 + 1]; ++k)
+                cf[n++] = g->byc[k];
+            for (uint32_t k = start[q.c1]; k < start[q.c1 + 1]; ++k)
+                cf[n++] = g->byc[k];
+            ++*stamp;
+            for (size_t k = 0; k < n; ++k)
+                w->label[cf[k]] = *stamp;
+            if ((st = sk__chart_extract(m, cf, n, *stamp, w, &chart, &vert_h, err)))
+                goto done;
+            bool disk = false, sphere = false;
+            if ((st = is_disk(chart, &disk, &sphere, err)))
+                goto done;
+            pending *p = wave + nb++;
+            memset(p, 0, sizeof *p);
+            p->r = (range){(uint32_t)used, (uint32_t)(used + n)};
+            p->stamp = *stamp;
+            p->chart = chart;
+            p->vert_h = vert_h;
+            p->split = !disk; /* not a disk: not tried (see below) */
+            p->pair[0] = q.c0;
+            p->pair[1] = q.c1;
+            chart = NULL;
+            vert_h = NULL;
+            used += n;
+        }
+        if (nb == 0)
+            break; /* no pair left to try: the target cannot be met within the bounds */
+        /* parametrize the disks of this round; a non-disk keeps split = true */
+        size_t nd = 0;
+        for (size_t i = 0; i < nb; ++i)
+            if (!wave[i].split) {
+                pending t = wave[nd];
+                wave[nd++] = wave[i];
+                wave[i] = t;
+            }
+        param_wave(wave, nd, max_conf, max_stretch, lscm_first, seed);
+        for (size_t i = 0; i < nb; ++i) {
+            pending *p = wave + i;
+            if (p->st) {
+                st = p->st;
+                if (err)
+                    *err = p->err;
+                goto done;
+            }
+            uint32_t c0 = p->pair[0], c1 = p->pair[1];
+            if (!p->split) {
+                if (acc->charts + 1 > g->cap) {
+                    size_t cap = 2 * (acc->charts + 1);
+                    uint8_t *al = sk__realloc_array(g->alive, cap, 1);
+                    if (!al) {
+                        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                        goto done;
+                    }
+                    g->alive = al;
+                    g->cap = cap;
+                }
+                if ((st = accept_chart(acc, m, pf + p->r.lo, p->r.hi - p->r.lo, p->chart, p->cuv,
+                                       p->s.lscm_charts > 0, w, a, err)))
+                    goto done;
+                g->alive[acc->charts - 1] = 1;
+                g->alive[c0] = g->alive[c1] = 0;
+                s->merges++;
+                --*live;
+            } else {
+                g->alive[c0] = g->alive[c1] = 1;
+                if (g->nfailed + 1 > g->fcap) {
+                    size_t cap = 2 * (g->nfailed + 1);
+                    uint64_t *fl = sk__realloc_array(g->failed, cap, sizeof(uint64_t));
+                    if (!fl) {
+                        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                        goto done;
+                    }
+                    g->failed = fl;
+                    g->fcap = cap;
+                }
+                g->failed[g->nfailed++] = (uint64_t)c0 << 32 | c1;
+            }
+            pending_clear(p);
+        }
+        nb = 0;
+        if (g->nfailed > 1)
+            qsort(g->failed, g->nfailed, sizeof(uint64_t), cmp_u64);
+    }
+done:
+    for (size_t i = 0; i < nb; ++i)
+        pending_clear(wave + i);
+    sk_mesh_destroy(&chart);
+    sk__free(vert_h);
+    return st;
+}
+
+/* Drops the charts merged away: the live charts renumbered in order, their uv moved together,
+ * face_chart and corner_uv rewritten. */
+static sk_status compact_charts(const sk_mesh *m, accepted *acc, const uint8_t *alive,
+                                sk_atlas *a, sk_error *err)
+{
+    size_t nc = acc->charts, nuv = 0, live = 0;
+    uint32_t *map = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+    uint32_t *noff = sk__malloc_array(nc + 1, sizeof(uint32_t));
+    if (!map || !noff) {
+        sk__free(map);
+        sk__free(noff);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    for (size_t c = 0; c < nc; ++c) {
+        map[c] = SK_INVALID;
+        if (!alive[c])
+            continue;
+        map[c] = (uint32_t)live;
+        noff[live] = (uint32_t)nuv;
+        uint32_t lo = acc->off[c], hi = acc->off[c + 1];
+        memmove(acc->uv + 2 * nuv, acc->uv + 2 * (size_t)lo,
+                2 * (size_t)(hi - lo) * sizeof(double));
+        acc->lscm[live] = acc->lscm[c];
+        for (uint32_t i = lo; i < hi; ++i)
+            acc->chart[nuv + (i - lo)] = (uint32_t)live;
+        nuv += hi - lo;
+        live++;
+    }
+    noff[live] = (uint32_t)nuv;
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        uint32_t c = a->face_chart[f], nc2 = map[c], h = m->f_halfedge[f];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            a->corner_uv[h] = noff[nc2] + (a->corner_uv[h] - acc->off[c]);
+        a->face_chart[f] = nc2;
+    }
+    memcpy(acc->off, noff, (live + 1) * sizeof(uint32_t));
+    acc->charts = live;
+    acc->n = nuv;
+    sk__free(map);
+    sk__free(noff);
+    return SK_OK;
+}
+
 sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas **out,
                          sk_atlas_stats *stats, sk_error *err)
 {
@@ -321,15 +647,16 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
         return st;
     accepted acc;
     memset(&acc, 0, sizeof acc);
+    size_t nb = 0, wave_cap = nf < WAVE_MAX ? nf : WAVE_MAX;
     sk_atlas *a = sk__calloc_array(1, sizeof *a);
     uint32_t *faces = sk__malloc_array(nf, sizeof(uint32_t));
     uint32_t *comp = sk__malloc_array(nf, sizeof(uint32_t));
     range *stack = sk__malloc_array(nf + 1, sizeof *stack);
     uint32_t *sizes = sk__malloc_array(nf, sizeof(uint32_t));
+    pending *wave = sk__calloc_array(wave_cap, sizeof *wave);
     sk_mesh *chart = NULL;
     uint32_t *vert_h = NULL;
-    double *cuv = NULL;
-    if (!a || !faces || !comp || !stack || !sizes) {
+    if (!a || !faces || !comp || !stack || !sizes || !wave) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
@@ -347,74 +674,148 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     uint32_t stamp = 0;
     s.charts_seconds = 0;
     while (top > 0) {
-        range r = stack[--top];
-        uint32_t *cf = faces + r.lo;
-        size_t n = r.hi - r.lo;
-        ++stamp;
-        for (size_t i = 0; i < n; ++i)
-            w.label[cf[i]] = stamp;
-        double tc = sk_seconds();
-        size_t ncc = sk__chart_components(m, cf, n, stamp, &w, sizes);
-        if (ncc > 1) { /* what a cut left may fall apart: each piece is a chart */
-            for (size_t c = 0, at = r.lo; c < ncc; at += sizes[c++])
-                stack[top++] = (range){(uint32_t)at, (uint32_t)(at + sizes[c])};
-            s.charts_seconds += sk_seconds() - tc;
-            continue;
-        }
-        if ((st = sk__chart_extract(m, cf, n, stamp, &w, &chart, &vert_h, err)))
-            goto done;
-        bool disk = false, sphere = false;
-        if ((st = is_disk(chart, &disk, &sphere, err)))
-            goto done;
-        bool split = !disk;
-        if (!disk) {
-            s.splits_topology++;
-            if (!sphere) {
-                /* holes or handles: one disk grown as far as it stays a disk; the rest is cut
-                 * along where the growth front met itself */
+        /* the serial part: pop charts, split what is not a disk or far from flat, and gather the
+         * disks to parametrize into one wave */
+        while (top > 0 && nb < wave_cap) {
+            range r = stack[--top];
+            uint32_t *cf = faces + r.lo;
+            size_t n = r.hi - r.lo;
+            ++stamp;
+            for (size_t i = 0; i < n; ++i)
+                w.label[cf[i]] = stamp;
+            double tc = sk_seconds();
+            size_t ncc = sk__chart_components(m, cf, n, stamp, &w, sizes);
+            if (ncc > 1) { /* what a cut left may fall apart: each piece is a chart */
+                for (size_t c = 0, at = r.lo; c < ncc; at += sizes[c++])
+                    stack[top++] = (range){(uint32_t)at, (uint32_t)(at + sizes[c])};
+                s.charts_seconds += sk_seconds() - tc;
+                continue;
+            }
+            if (n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
+                /* far from flat (whatever its topology: the halves are looked at again): the
+                 * distortion bound would split it after a costly solve; no chart mesh needed */
                 size_t n0 = 0;
-                if ((st = sk__chart_grow_disk(m, cf, n, stamp, &w, &n0, err)))
+                if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
                     goto done;
                 stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
                 stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
-                split = false;
+                s.splits_distortion++;
+                s.charts_seconds += sk_seconds() - tc;
+                continue;
             }
-        }
-        s.charts_seconds += sk_seconds() - tc;
-        if (disk && n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
-            /* far from flat: the distortion bound would split it after a costly solve */
-            split = true;
-            s.splits_distortion++;
-        } else if (disk) {
-            double tq = sk_seconds();
-            sk__chart_quality q;
-            if ((st = judge_disk(chart, o.seed + stamp, max_conf, max_stretch, &cuv, &q, &split,
-                                 &s, err)))
+            if ((st = sk__chart_extract(m, cf, n, stamp, &w, &chart, &vert_h, err)))
                 goto done;
-            tp += sk_seconds() - tq;
-            if (!split) {
-                if ((st = accept_chart(&acc, m, cf, n, chart, cuv, &w, a, err)))
-                    goto done;
-                acc.area3 += q.area3;
-                done_faces += n;
-                if ((st = sk__progress(o.progress, o.progress_user,
-                                       0.9 * (double)done_faces / (double)nf, err)))
-                    goto done;
+            bool disk = false, sphere = false;
+            if ((st = is_disk(chart, &disk, &sphere, err)))
+                goto done;
+            bool split = !disk;
+            if (!disk) {
+                s.splits_topology++;
+                if (!sphere) {
+                    /* holes or handles: one disk grown as far as it stays a disk; the rest is
+                     * cut along where the growth front met itself */
+                    size_t n0 = 0;
+                    if ((st = sk__chart_grow_disk(m, cf, n, stamp, &w, &n0, err)))
+                        goto done;
+                    stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
+                    stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
+                    split = false;
+                }
             }
-        }
-        sk_mesh_destroy(&chart);
-        sk__free(vert_h);
-        vert_h = NULL;
-        if (split) {
-            tc = sk_seconds();
-            size_t n0 = 0;
-            if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
-                goto done;
-            stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
-            stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
+            if (disk) {
+                pending *p = wave + nb++;
+                memset(p, 0, sizeof *p);
+                p->r = r;
+                p->stamp = stamp;
+                p->chart = chart;
+                p->vert_h = vert_h;
+                chart = NULL;
+                vert_h = NULL;
+            }
+            sk_mesh_destroy(&chart);
+            sk__free(vert_h);
+            vert_h = NULL;
+            if (split) {
+                size_t n0 = 0;
+                if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
+                    goto done;
+                stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
+                stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
+            }
             s.charts_seconds += sk_seconds() - tc;
         }
+        if (nb == 0)
+            continue;
+        double tq = sk_seconds();
+        param_wave(wave, nb, max_conf, max_stretch, !o.mips_only, o.seed);
+        tp += sk_seconds() - tq;
+        /* the serial part again, in wave order: accept, or bisect and push the halves */
+        for (size_t i = 0; i < nb; ++i) {
+            pending *p = wave + i;
+            if (p->st) {
+                st = p->st;
+                if (err)
+                    *err = p->err;
+                goto done;
+            }
+            s.splits_failed += p->s.splits_failed;
+            s.splits_overlap += p->s.splits_overlap;
+            s.splits_distortion += p->s.splits_distortion;
+            s.splits_predicted += p->s.splits_predicted;
+            uint32_t *cf = faces + p->r.lo;
+            size_t n = p->r.hi - p->r.lo;
+            if (!p->split) {
+                if ((st = accept_chart(&acc, m, cf, n, p->chart, p->cuv, p->s.lscm_charts > 0, &w,
+                                       a, err)))
+                    goto done;
+                acc.area3 += p->q.area3;
+                done_faces += n;
+            } else {
+                double tc = sk_seconds();
+                size_t n0 = 0;
+                if ((st = sk__chart_bisect(m, cf, n, p->stamp, &w, &n0, err)))
+                    goto done;
+                stack[top++] = (range){p->r.lo + (uint32_t)n0, p->r.hi};
+                stack[top++] = (range){p->r.lo, p->r.lo + (uint32_t)n0};
+                s.charts_seconds += sk_seconds() - tc;
+            }
+            pending_clear(p);
+        }
+        nb = 0;
+        if ((st = sk__progress(o.progress, o.progress_user, 0.9 * (double)done_faces / (double)nf,
+                               err)))
+            goto done;
     }
+    if (o.max_charts && acc.charts > o.max_charts) {
+        /* --charts N: merge neighbours while the bounds hold (faces[] is free again) */
+        double tg = sk_seconds();
+        merger g;
+        memset(&g, 0, sizeof g);
+        size_t live = acc.charts;
+        g.cap = 2 * acc.charts;
+        g.alive = sk__malloc_array(g.cap, 1);
+        g.byc = sk__malloc_array(nf, sizeof(uint32_t));
+        g.pairs = sk__malloc_array(sk_num_edges(m) + 1, sizeof *g.pairs);
+        if (!g.alive || !g.byc || !g.pairs)
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        else {
+            memset(g.alive, 1, acc.charts);
+            st = merge_charts(m, &w, &acc, a, o.max_charts, max_conf, max_stretch, !o.mips_only,
+                              o.seed, &stamp, faces, wave, wave_cap, &g, &live, &s, err);
+        }
+        if (!st)
+            st = compact_charts(m, &acc, g.alive, a, err);
+        sk__free(g.alive);
+        sk__free(g.failed);
+        sk__free(g.start);
+        sk__free(g.byc);
+        sk__free(g.pairs);
+        tp += sk_seconds() - tg;
+        if (st)
+            goto done;
+    }
+    for (size_t c = 0; c < acc.charts; ++c)
+        s.lscm_charts += acc.lscm[c];
     s.param_seconds = tp;
     double tk = sk_seconds();
     if ((st = sk__pack_charts(acc.charts, acc.off, acc.uv, pad / res, &s.scale, err)))
@@ -439,12 +840,16 @@ done:
     *out = a;
     if (stats)
         *stats = s;
+    if (wave)
+        for (size_t i = 0; i < nb; ++i)
+            pending_clear(wave + i);
+    sk__free(wave);
     sk_mesh_destroy(&chart);
     sk__free(vert_h);
-    sk__free(cuv);
     sk__free(acc.uv);
     sk__free(acc.chart);
     sk__free(acc.off);
+    sk__free(acc.lscm);
     sk__free(faces);
     sk__free(comp);
     sk__free(stack);

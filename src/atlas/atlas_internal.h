@@ -68,6 +68,12 @@ typedef struct sk__chart_quality {
 sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__chart_quality *q,
                           sk_error *err);
 
+/* The cheap prediction of sk__chart_param's quality: LSCM (one linear solve) into uv, scaled and
+ * measured into q. *ok is false when LSCM failed or flipped (no prediction). Errors are out of
+ * memory and cancellation only. */
+sk_status sk__chart_predict(const sk_mesh *chart, double *uv, sk__chart_quality *q, bool *ok,
+                            sk_error *err);
+
 /* Per triangle: 3D area, signed uv area, MIPS value and sigma1/sigma2 of the map p -> q. */
 void sk__tri_distortion(const double *p0, const double *p1, const double *p2, const double *q0,
                         const double *q1, const double *q2, double *area3, double *area_uv,

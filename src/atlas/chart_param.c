@@ -45,6 +45,20 @@ static sk_status parametrize(const sk_mesh *chart, uint64_t seed, double *uv, sk
     return st;
 }
 
+/* LSCM: one linear solve, the predictor of the distortion MIPS will reach (both maps are close
+ * to conformal; their area distortions are close, see sk__chart_predict). */
+static sk_status lscm(const sk_mesh *chart, double *uv, sk_error *err)
+{
+    sk_parametrize_opts o = {0};
+    o.method = SK_PARAM_LSCM;
+    o.boundary.shape = SK_BOUNDARY_FREE;
+    o.raw = true;
+    sk_parametrize_stats ps;
+    sk_status st = sk_parametrize(chart, &o, uv, &ps, err);
+    sk_parametrize_stats_release(&ps);
+    return st;
+}
+
 /* A single triangle laid out isometrically, counter-clockwise. */
 static void lay_triangle(const sk_mesh *c, double *uv)
 {
@@ -90,15 +104,11 @@ static void measure(const sk_mesh *c, const double *uv, sk__chart_quality *q, do
     q->conformal_mean = conf / q->area3;
 }
 
-sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__chart_quality *q,
-                          sk_error *err)
+/* Scales uv to the chart's 3D area and measures it (area_log_dev included). */
+static sk_status scale_measure(const sk_mesh *chart, double *uv, sk__chart_quality *q,
+                               sk_error *err)
 {
     double *ls = NULL;
-    sk_status st = SK_OK;
-    if (chart->num_faces == 1)
-        lay_triangle(chart, uv);
-    else if ((st = parametrize(chart, seed, uv, err)))
-        return st;
     /* MIPS is scale invariant: give the chart its 3D area so that one scale fits all charts */
     ls = sk__malloc_array(chart->num_faces, sizeof(double));
     if (!ls)
@@ -117,5 +127,35 @@ sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__c
         dev += sk_mesh_face_area(chart, (uint32_t)f) * fabs(ls[f] - mean);
     q->area_log_dev = dev / q->area3;
     sk__free(ls);
-    return st;
+    return SK_OK;
+}
+
+sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__chart_quality *q,
+                          sk_error *err)
+{
+    sk_status st = SK_OK;
+    if (chart->num_faces == 1)
+        lay_triangle(chart, uv);
+    else if ((st = parametrize(chart, seed, uv, err)))
+        return st;
+    return scale_measure(chart, uv, q, err);
+}
+
+sk_status sk__chart_predict(const sk_mesh *chart, double *uv, sk__chart_quality *q, bool *ok,
+                            sk_error *err)
+{
+    *ok = false;
+    sk_error lerr = {0};
+    sk_status st = lscm(chart, uv, &lerr);
+    if (st == SK_ERR_NOMEM || st == SK_ERR_CANCELLED) {
+        if (err)
+            *err = lerr;
+        return st;
+    }
+    if (st != SK_OK)
+        return SK_OK; /* flipped or failed: no prediction */
+    if ((st = scale_measure(chart, uv, q, err)))
+        return st;
+    *ok = isfinite(q->area_log_dev) && isfinite(q->conformal_mean) && q->flipped == 0;
+    return SK_OK;
 }

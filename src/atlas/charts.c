@@ -293,9 +293,18 @@ sk_status sk__chart_bisect(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_
         return sk__fail(err, SK_ERR_ARG, "cannot split a chart of %zu faces", nf);
     for (size_t i = 0; i < nf; ++i)
         w->flocal[faces[i]] = (uint32_t)i;
-    uint32_t seeds[2];
-    seeds[0] = 0;
-    seeds[0] = dijkstra(m, faces, nf, stamp, w, seeds, 1);
+    /* the first seed: the face farthest (in space) from the first face, a cheap stand-in for the
+     * first sweep of a double sweep; the second: the farthest from it along the dual graph */
+    uint32_t seeds[2] = {0, 0};
+    const double *c0 = w->centroid + 3 * (size_t)faces[0];
+    double far = -1;
+    for (size_t i = 0; i < nf; ++i) {
+        double d = sk__dist3(c0, w->centroid + 3 * (size_t)faces[i]);
+        if (d > far) {
+            far = d;
+            seeds[0] = (uint32_t)i;
+        }
+    }
     seeds[1] = dijkstra(m, faces, nf, stamp, w, seeds, 1);
     if (seeds[1] == seeds[0])
         return sk__fail(err, SK_ERR_ARG, "chart of %zu faces is not edge-connected", nf);

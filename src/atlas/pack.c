@@ -1,8 +1,9 @@
 /* Packing: each chart is rotated to its smallest-area bounding box (one of its convex hull's edge
- * directions, Freeman & Shapira), laid flat (width >= height), and the boxes, tallest first, go
+ * directions, Freeman & Shapira), laid flat (width >= height), and the boxes, largest first, go
  * onto a skyline at the lowest place they fit, upright or flat (bottom-left rule); above 2000
- * charts, shelves (rows) instead, which cost linear time. The largest common scale that fits
- * [0,1]^2 with the gutter is found by bisection. */
+ * charts, shelves (rows, tallest first) instead, which cost linear time. The largest common
+ * scale that fits [0,1]^2 with the gutter is found by bisection, for four orders of the boxes
+ * (by height, area, longer side, perimeter): the order with the largest scale is kept. */
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
 
@@ -13,6 +14,7 @@
 typedef struct rect {
     uint32_t chart;
     double w, h; /* at scale 1 */
+    double key;  /* the sort key of the order being tried */
 } rect;
 
 static int cmp_pt(const void *x, const void *y)
@@ -103,12 +105,36 @@ static void orient_chart(double *uv, size_t n, double *scratch, double *hull, do
     *h = turn ? hi[0] - lo[0] : hi[1] - lo[1];
 }
 
+/* Box orders tried (largest first by each key); the one that packs at the largest scale wins. */
+enum { ORDER_HEIGHT, ORDER_AREA, ORDER_WIDTH, ORDER_PERIMETER, ORDERS };
+
+static double rect_key(const rect *r, int order)
+{
+    switch (order) {
+    case ORDER_AREA:
+        return r->w * r->h;
+    case ORDER_WIDTH:
+        return r->w; /* laid flat: w >= h, so this is the longer side */
+    case ORDER_PERIMETER:
+        return r->w + r->h;
+    default:
+        return r->h;
+    }
+}
+
 static int cmp_rect(const void *x, const void *y)
 {
     const rect *a = x, *b = y;
-    if (a->h != b->h)
-        return a->h > b->h ? -1 : 1;
+    if (a->key != b->key)
+        return a->key > b->key ? -1 : 1;
     return (a->chart > b->chart) - (a->chart < b->chart);
+}
+
+static void sort_rects(rect *r, size_t n, int order)
+{
+    for (size_t i = 0; i < n; ++i)
+        r[i].key = rect_key(r + i, order);
+    qsort(r, n, sizeof *r, cmp_rect);
 }
 
 /* Shelf placement at scale s; writes positions when pos is not NULL. Returns true when it fits. */
@@ -255,7 +281,6 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
                      &r[c].h);
         area += r[c].w * r[c].h;
     }
-    qsort(r, nc, sizeof *r, cmp_rect);
     if (!(gutter >= 0) || gutter >= 0.5 || !(area > 0)) {
         st = sk__fail(err, SK_ERR_ARG, "cannot pack: gutter %g, chart box area %g", gutter, area);
         goto done;
@@ -272,20 +297,30 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    double lo = 0, hi = 1.0 / sqrt(area);
-    for (int it = 0; it < 50; ++it) {
-        double mid = 0.5 * (lo + hi);
-        bool fits = sky ? skyline_pack(r, nc, mid, gutter, NULL, NULL, &k, &nomem)
-                        : shelves(r, nc, mid, gutter, NULL);
-        if (nomem) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
+    double lo = 0;
+    int best_order = ORDER_HEIGHT;
+    for (int order = 0; order < (sky ? ORDERS : 1); ++order) {
+        sort_rects(r, nc, order);
+        double l = 0, hi = 1.0 / sqrt(area);
+        for (int it = 0; it < 50; ++it) {
+            double mid = 0.5 * (l + hi);
+            bool fits = sky ? skyline_pack(r, nc, mid, gutter, NULL, NULL, &k, &nomem)
+                            : shelves(r, nc, mid, gutter, NULL);
+            if (nomem) {
+                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                goto done;
+            }
+            if (fits)
+                l = mid;
+            else
+                hi = mid;
         }
-        if (fits)
-            lo = mid;
-        else
-            hi = mid;
+        if (l > lo) {
+            lo = l;
+            best_order = order;
+        }
     }
+    sort_rects(r, nc, best_order);
     bool ok = lo > 0 && (sky ? skyline_pack(r, nc, lo, gutter, pos, rot, &k, &nomem)
                              : shelves(r, nc, lo, gutter, pos));
     if (!ok) {

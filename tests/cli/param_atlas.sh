@@ -47,6 +47,21 @@ grep -c '^vt ' "$TMP/e2.obj" | grep -q "^$(grep -c '^f ' "$TMP/e2.obj" | awk '{p
 head -c 8 "$TMP/c.png" | od -c | grep -q 'P   N   G' || fail "atlas PNG"
 head -c 8 "$TMP/cc.png" | od -c | grep -q 'P   N   G' || fail "checker PNG"
 [ "$(val overlaps "$TMP/c.json")" = 0 ] || fail "cow overlaps"
+# --charts N: met on the sphere (4 charts -> 3 by one merge), not met on cow within the default
+# bounds (said in the summary and the report); --mips-charts keeps no LSCM layout
+"$BIN" param "$M/sphere.off" -o "$TMP/s3.obj" --charts 3 --report "$TMP/s3.json" -q || fail "--charts 3"
+[ "$(val charts "$TMP/s3.json")" = 3 ] || fail "sphere --charts 3: $(val charts "$TMP/s3.json") charts"
+[ "$(val charts_target_met "$TMP/s3.json")" = true ] || fail "sphere --charts 3 not met"
+[ "$(val overlaps "$TMP/s3.json")" = 0 ] && [ "$(val flipped "$TMP/s3.json")" = 0 ] || fail "s3 flips"
+"$BIN" param "$M/cow.off" -o "$TMP/c10.obj" --charts 10 --report "$TMP/c10.json" > "$TMP/c10.txt" \
+    || fail "--charts 10"
+[ "$(val charts_target_met "$TMP/c10.json")" = false ] || fail "cow --charts 10 said met"
+[ "$(val merges "$TMP/c10.json")" -gt 0 ] || fail "cow --charts 10 merged nothing"
+grep -q -- '--charts 10 cannot be met within the bounds' "$TMP/c10.txt" || fail "no note on --charts"
+"$BIN" param "$M/sphere.off" -o "$TMP/sm.obj" --mips-charts --report "$TMP/sm.json" -q || fail "mips"
+[ "$(val lscm_charts "$TMP/sm.json")" = 0 ] || fail "--mips-charts kept an LSCM layout"
+[ "$(val lscm_charts "$TMP/s3.json")" -gt 0 ] || fail "no LSCM layout by default"
+"$BIN" param "$M/cow.off" -o "$TMP/x.obj" --charts 0 2>/dev/null; [ $? = 2 ] || fail "--charts 0"
 # usage errors and refusals
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --atlas --method floater 2>/dev/null; [ $? = 2 ] || fail "--atlas with floater"
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --max-stretch 0.5 2>/dev/null; [ $? = 2 ] || fail "bad --max-stretch"

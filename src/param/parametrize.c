@@ -78,9 +78,11 @@ static size_t count_flipped(const sk_mesh *m, const double *uv)
 static sk_status square_step(const sk_mesh *mesh, sk_boundary_opts *bo, sk_parametrize_stats *s,
                              sk_error *err)
 {
-    if (sk_param_check_disk(mesh, NULL) != SK_OK)
+    sk_status st = sk_param_check_disk(mesh, err);
+    if (st == SK_ERR_TOPOLOGY)
         return SK_OK;
-    sk_status st = SK_OK;
+    if (st)
+        return st;
     if (!bo->has_corners && (st = sk_param_square_corners(mesh, bo->corners, err)))
         return st;
     bo->has_corners = true;

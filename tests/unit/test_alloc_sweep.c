@@ -195,6 +195,37 @@ static sk_status p_lscm(const char *o, size_t n, double *r, size_t *k) { return 
 static sk_status p_mips_hier(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 100); }
 static sk_status p_mips_flat(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 101); }
 
+/* the parametrize pipeline with the square boundary: the corners found (at the grid's corners:
+ * nothing to split), or given with the grid corner 5 inside a side (its triangle's inner edge
+ * is split) */
+static sk_status parametrize_square(const char *off, size_t size, double *res, size_t *nres,
+                                    bool given)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    double *uv = calloc(2 * m->num_vertices, sizeof(double)); /* the caller's */
+    assert_non_null(uv);
+    sk_parametrize_opts o = {.boundary = {.shape = SK_BOUNDARY_SQUARE, .has_corners = given,
+                                          .corners = {1, 17, 35, 30}}};
+    sk_parametrize_stats ps;
+    st = sk_parametrize(m, &o, uv, &ps, &g_err);
+    assert_true(st < 0 || ps.split_edges == (given ? 1 : 0));
+    if (st == SK_OK || st == SK_WARN_FLIPS)
+        copy_uv(ps.split_mesh ? ps.split_mesh : m, ps.split_mesh ? ps.split_mesh->uvs : uv, res,
+                nres);
+    sk_parametrize_stats_release(&ps);
+    free(uv);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
+static sk_status p_square(const char *o, size_t n, double *r, size_t *k) { return parametrize_square(o, n, r, k, false); }
+static sk_status p_square_split(const char *o, size_t n, double *r, size_t *k) { return parametrize_square(o, n, r, k, true); }
+
 /* the multilevel Krylov solve of the linear methods (issue 15): 16 unknowns, levels down to 2 */
 static sk_status p_floater_hier(const char *off, size_t size, double *res, size_t *nres)
 {
@@ -339,7 +370,8 @@ static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **
         {"harmonic", p_harmonic},           {"lscm", p_lscm},
         {"mips-hierarchical", p_mips_hier}, {"mips-flat", p_mips_flat},
         {"smooth+export", p_smooth_export}, {"floater-hierarchical", p_floater_hier},
-        {"fit", p_fit},
+        {"fit", p_fit},                     {"square", p_square},
+        {"square-split", p_square_split},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
         sweep(&cases[i], off, size);

@@ -250,8 +250,6 @@ static int parse_args(int argc, char **argv, param_args *a)
         return cli_usage("param", "--flat and --hierarchical exclude each other");
     if (hier && a->po.method != SK_PARAM_MIPS)
         return cli_usage("param", "--hierarchical goes with --method mips");
-    if (a->po.linear && a->po.method == SK_PARAM_MIPS)
-        return cli_usage("param", "--solver goes with the linear methods");
     sk_error err;
     if (sk_parametrize_check(&a->po, &err))
         return cli_usage("param", "%s", err.message);
@@ -302,31 +300,8 @@ static void print_summary(const void *ctx)
 }
 
 /* The disk path: one sk_parametrize call, metrics, output, pictures. */
-/* --boundary square without --corners: corners at the four sharpest boundary turns, and the
- * interior edges with both ends on one side split at their midpoints (else their triangles
- * flatten onto the side); *split is the new mesh when it differs from mesh */
-static sk_status square_corners(param_args *a, const sk_mesh *mesh, sk_mesh **split, sk_error *err)
-{
-    *split = NULL;
-    if (a->po.boundary.shape != SK_BOUNDARY_SQUARE || a->po.boundary.has_corners ||
-        sk_param_check_disk(mesh, NULL) != SK_OK)
-        return SK_OK;
-    size_t splits = 0;
-    sk_status st = sk_param_square_corners(mesh, a->po.boundary.corners, err);
-    if (st == SK_OK)
-        st = sk_param_split_side_edges(mesh, a->po.boundary.corners, split, &splits, err);
-    if (st != SK_OK)
-        return st;
-    a->po.boundary.has_corners = true;
-    if (splits && !a->quiet)
-        fprintf(stderr, "surfkit param: %s: split %zu interior edges with both ends on one side "
-                "of the square (%zu vertices added)\n", a->in, splits, splits);
-    return SK_OK;
-}
-
 static int run_disk(param_args *a, sk_mesh *input)
 {
-    sk_mesh *split = NULL, *mesh = input;
     cli_progress bar;
     cli_progress_init(&bar, "param", a->quiet);
     a->po.progress = cli_progress_cb;
@@ -336,35 +311,35 @@ static int run_disk(param_args *a, sk_mesh *input)
     memset(&r, 0, sizeof r);
     r.in = a->in;
     r.tri = a->tri;
-    sk_status st = square_corners(a, input, &split, &err);
-    if (split)
-        mesh = split;
-    double *uv = st ? NULL : calloc(2 * mesh->num_vertices + 1, sizeof *uv);
-    if (!st && !uv)
-        st = SK_ERR_NOMEM, snprintf(err.message, sizeof err.message, "out of memory");
-    if (st == SK_OK)
-        st = sk_parametrize(mesh, &a->po, uv, &r.ps, &err);
+    double *uv = calloc(2 * input->num_vertices + 1, sizeof *uv);
+    sk_status st = uv ? sk_parametrize(input, &a->po, uv, &r.ps, &err) : SK_ERR_NOMEM;
+    if (!uv)
+        snprintf(err.message, sizeof err.message, "out of memory");
     cli_progress_done(&bar);
+    /* a square boundary splits the dividing edges: the output is the split mesh */
+    sk_mesh *mesh = r.ps.split_mesh ? r.ps.split_mesh : input;
+    if (r.ps.split_edges && !a->quiet)
+        fprintf(stderr, "surfkit param: %s: split %zu interior edges with both ends on one side "
+                "of the square (%zu vertices added)\n", a->in, r.ps.split_edges, r.ps.split_edges);
     cli_name_input(a->in, st, &err);
     if (st == SK_WARN_FLIPS) { /* the result is complete: write it and say so */
         fprintf(stderr, "surfkit param: warning: %s: %s\n", a->in, err.message);
         st = SK_OK;
     }
-    if (st == SK_OK)
-        st = sk_param_metrics_compute(mesh, uv, &r.pm, &err);
-    if (st == SK_OK && !(st = sk_mesh_add_uvs(mesh, &err))) {
+    if (st == SK_OK && !r.ps.split_mesh && !(st = sk_mesh_add_uvs(mesh, &err)))
         memcpy(mesh->uvs, uv, 2 * mesh->num_vertices * sizeof *uv);
+    if (st == SK_OK)
+        st = sk_param_metrics_compute(mesh, mesh->uvs, &r.pm, &err);
+    if (st == SK_OK)
         st = sk_mesh_write(a->out, mesh, &a->wo, &err);
-    }
     char title[256];
     if (st == SK_OK) {
         snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", a->in,
                  r.ps.name, sk_boundary_shape_name(r.ps.boundary), r.pm.mips_mean, r.pm.flipped);
-        st = param_pictures(a, mesh, uv, title, 0, &err);
+        st = param_pictures(a, mesh, mesh->uvs, title, 0, &err);
     }
     int rc = param_finish(a, st, &err, write_json, print_summary, &r);
     sk_parametrize_stats_release(&r.ps);
-    sk_mesh_destroy(&split);
     free(uv);
     return rc;
 }

@@ -168,8 +168,10 @@ def parametrize(mesh, method="floater", boundary=None, seed=1, steps=0, metrics=
     """Parametrization of a triangulated disk: (V, 2) float64 uv.
 
     method: tutte, floater (default), mvc, harmonic, lscm, mips (hierarchical MIPS) or
-    mips-flat; boundary: circle, square or free (default: free for lscm and mips, else circle);
-    seed, steps: as the CLI's --seed and --steps (mips). The uv is normalized into the unit
+    mips-flat; boundary: circle, square or free (default: free for lscm and mips, else circle;
+    square: corners at the four sharpest boundary turns, computed with the edges whose ends lie
+    on one side split as the CLI does, but only the input vertices' uv come back, so a triangle
+    of such an edge lies flat on that side); seed, steps: as the CLI's --seed and --steps (mips). The uv is normalized into the unit
     square (one scale and translation), as the CLI writes it. With metrics=True returns (uv, dict)
     with flips, MIPS energy and distortion (as `surfkit param --report`)."""
     m = _mesh(mesh)

@@ -335,19 +335,31 @@ typedef struct ply_reader {
     sk_error *err;
 } ply_reader;
 
-static sk_status grow_tc(ply_reader *r, uint64_t n)
+/* Room for n values in one of the reader's lists (a face's indices or texcoords); the room
+ * doubles from 16. */
+static sk_status grow_list(ply_reader *r, void **list, size_t *cap, uint64_t n, size_t size)
 {
-    if (n <= r->tc_cap)
+    if (n <= *cap)
         return SK_OK;
-    size_t cap = r->tc_cap ? r->tc_cap : 16;
-    while (cap < n)
-        cap *= 2;
-    double *a = sk__realloc_array(r->tc, cap, sizeof *a);
+    size_t c = *cap ? *cap : 16;
+    while (c < n)
+        c *= 2;
+    void *a = sk__realloc_array(*list, c, size);
     if (!a)
         return sk__fail(r->err, SK_ERR_NOMEM, "%s: out of memory", r->name);
-    r->tc = a;
-    r->tc_cap = cap;
+    *list = a;
+    *cap = c;
     return SK_OK;
+}
+
+static sk_status grow_tc(ply_reader *r, uint64_t n)
+{
+    return grow_list(r, (void **)&r->tc, &r->tc_cap, n, sizeof *r->tc);
+}
+
+static sk_status grow_idx(ply_reader *r, uint64_t n)
+{
+    return grow_list(r, (void **)&r->idx, &r->idx_cap, n, sizeof *r->idx);
 }
 
 /* Keeps the texcoord list of a face just pushed: one wedge per corner (2 values each), or none
@@ -391,21 +403,6 @@ static sk_status store_texcoord(ply_reader *r, uint64_t i, uint64_t n, size_t wh
         r->cuv[2 * c] = r->ntc ? r->tc[2 * (c - base)] : 0;
         r->cuv[2 * c + 1] = r->ntc ? r->tc[2 * (c - base) + 1] : 0;
     }
-    return SK_OK;
-}
-
-static sk_status grow_idx(ply_reader *r, uint64_t n)
-{
-    if (n <= r->idx_cap)
-        return SK_OK;
-    size_t cap = r->idx_cap ? r->idx_cap : 16;
-    while (cap < n)
-        cap *= 2;
-    uint32_t *a = sk__realloc_array(r->idx, cap, sizeof *a);
-    if (!a)
-        return sk__fail(r->err, SK_ERR_NOMEM, "%s: out of memory", r->name);
-    r->idx = a;
-    r->idx_cap = cap;
     return SK_OK;
 }
 

@@ -186,14 +186,10 @@ sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
     if (st)
         return st;
     sk_mesh *m = *out;
-    if ((s->normals && sk_mesh_add_normals(m, err)) || (s->uvs && sk_mesh_add_uvs(m, err))) {
+    if (sk__mesh_set_attributes(m, s->normals, s->uvs, err)) {
         sk_mesh_destroy(out);
         return SK_ERR_NOMEM;
     }
-    if (s->normals)
-        memcpy(m->normals, s->normals, s->num_vertices * 3 * sizeof(double));
-    if (s->uvs)
-        memcpy(m->uvs, s->uvs, s->num_vertices * 2 * sizeof(double));
     if (s->corner_uv) {
         /* soup corner c of face f is the half-edge leaving face_indices[c] (build order) */
         uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));

@@ -3,56 +3,90 @@
 #include "core/internal.h"
 #include "mesh/mesh_internal.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-static sk_status grow(void **p, size_t n, size_t size)
+/* The arrays of a mesh sized by its capacities, one row each: sk_mesh_reserve grows them,
+ * sk_mesh_copy copies the required ones, sk_mesh_destroy frees them all. An optional array
+ * (normals, uvs, corner wedges) is grown only when the mesh has it. */
+typedef enum { PER_VERTEX, PER_HALFEDGE, PER_EDGE, PER_FACE } per_element;
+
+typedef struct mesh_array {
+    size_t offset; /* of the array's pointer in sk_mesh */
+    size_t size;   /* bytes per element */
+    per_element per;
+    bool optional;
+} mesh_array;
+
+#define ARRAY(field, size, per, optional) {offsetof(sk_mesh, field), size, per, optional}
+static const mesh_array mesh_arrays[] = {
+    ARRAY(positions, 3 * sizeof(double), PER_VERTEX, false),
+    ARRAY(normals, 3 * sizeof(double), PER_VERTEX, true),
+    ARRAY(uvs, 2 * sizeof(double), PER_VERTEX, true),
+    ARRAY(v_halfedge, sizeof(uint32_t), PER_VERTEX, false),
+    ARRAY(v_deleted, 1, PER_VERTEX, false),
+    ARRAY(h_vertex, sizeof(uint32_t), PER_HALFEDGE, false),
+    ARRAY(h_next, sizeof(uint32_t), PER_HALFEDGE, false),
+    ARRAY(h_prev, sizeof(uint32_t), PER_HALFEDGE, false),
+    ARRAY(h_face, sizeof(uint32_t), PER_HALFEDGE, false),
+    ARRAY(h_wedge_uv, sizeof(uint32_t), PER_HALFEDGE, true),
+    ARRAY(e_deleted, 1, PER_EDGE, false),
+    ARRAY(f_halfedge, sizeof(uint32_t), PER_FACE, false),
+    ARRAY(f_deleted, 1, PER_FACE, false),
+};
+#undef ARRAY
+#define NUM_MESH_ARRAYS (sizeof mesh_arrays / sizeof mesh_arrays[0])
+
+static void **array_ptr(sk_mesh *m, const mesh_array *a)
 {
-    void *q = sk__realloc_array(*p, n, size);
-    if (!q)
-        return SK_ERR_NOMEM;
-    *p = q;
-    return SK_OK;
+    return (void **)((char *)m + a->offset);
+}
+
+static const void *array_of(const sk_mesh *m, const mesh_array *a)
+{
+    const void *p;
+    memcpy(&p, (const char *)m + a->offset, sizeof p);
+    return p;
+}
+
+/* Elements of an array of this kind for these vertex, half-edge and face counts. */
+static size_t array_len(per_element per, size_t nv, size_t nh, size_t nf)
+{
+    return per == PER_VERTEX ? nv : per == PER_FACE ? nf : per == PER_EDGE ? nh / 2 : nh;
 }
 
 sk_status sk_mesh_reserve(sk_mesh *m, size_t nv, size_t nh, size_t nf, sk_error *err)
 {
-    sk_status st = SK_OK;
     nh += nh & 1u;
     if (nv > UINT32_MAX - 1 || nh > UINT32_MAX - 1 || nf > UINT32_MAX - 1)
         return sk__fail(err, SK_ERR_ARG, "mesh too large for 32-bit indices");
-    if (nv > m->cap_vertices) {
-        size_t cap = m->cap_vertices * 3 / 2 > nv ? m->cap_vertices * 3 / 2 : nv;
-        if ((st = grow((void **)&m->positions, cap, 3 * sizeof(double))) ||
-            (m->normals && (st = grow((void **)&m->normals, cap, 3 * sizeof(double)))) ||
-            (m->uvs && (st = grow((void **)&m->uvs, cap, 2 * sizeof(double)))) ||
-            (st = grow((void **)&m->v_halfedge, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->v_deleted, cap, 1)))
-            goto fail;
-        m->cap_vertices = cap;
+    /* each capacity that is too small grows by half, or to what is needed */
+    size_t cv = m->cap_vertices, ch = m->cap_halfedges, cf = m->cap_faces;
+    if (nv > cv)
+        cv = cv * 3 / 2 > nv ? cv * 3 / 2 : nv;
+    if (nh > ch) {
+        ch = ch * 3 / 2 > nh ? ch * 3 / 2 : nh;
+        ch += ch & 1u;
     }
-    if (nh > m->cap_halfedges) {
-        size_t cap = m->cap_halfedges * 3 / 2 > nh ? m->cap_halfedges * 3 / 2 : nh;
-        cap += cap & 1u;
-        if ((st = grow((void **)&m->h_vertex, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->h_next, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->h_prev, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->h_face, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->e_deleted, cap / 2, 1)) ||
-            (m->h_wedge_uv && (st = grow((void **)&m->h_wedge_uv, cap, sizeof(uint32_t)))))
-            goto fail;
-        m->cap_halfedges = cap;
+    if (nf > cf)
+        cf = cf * 3 / 2 > nf ? cf * 3 / 2 : nf;
+    for (size_t k = 0; k < NUM_MESH_ARRAYS; ++k) {
+        const mesh_array *a = &mesh_arrays[k];
+        void **p = array_ptr(m, a);
+        size_t len = array_len(a->per, cv, ch, cf);
+        if ((a->optional && !*p) ||
+            len == array_len(a->per, m->cap_vertices, m->cap_halfedges, m->cap_faces))
+            continue;
+        void *q = sk__realloc_array(*p, len, a->size);
+        if (!q) /* the arrays grown so far keep their room; the capacities stay */
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory growing the mesh");
+        *p = q;
     }
-    if (nf > m->cap_faces) {
-        size_t cap = m->cap_faces * 3 / 2 > nf ? m->cap_faces * 3 / 2 : nf;
-        if ((st = grow((void **)&m->f_halfedge, cap, sizeof(uint32_t))) ||
-            (st = grow((void **)&m->f_deleted, cap, 1)))
-            goto fail;
-        m->cap_faces = cap;
-    }
+    m->cap_vertices = cv;
+    m->cap_halfedges = ch;
+    m->cap_faces = cf;
     return SK_OK;
-fail:
-    return sk__fail(err, st, "out of memory growing the mesh");
 }
 
 sk_mesh *sk__mesh_alloc(size_t nv, size_t nh, size_t nf, sk_error *err)
@@ -74,20 +108,9 @@ void sk_mesh_destroy(sk_mesh **mesh)
     if (!mesh || !*mesh)
         return;
     sk_mesh *m = *mesh;
-    sk__free(m->positions);
-    sk__free(m->normals);
-    sk__free(m->uvs);
-    sk__free(m->v_halfedge);
-    sk__free(m->h_vertex);
-    sk__free(m->h_next);
-    sk__free(m->h_prev);
-    sk__free(m->h_face);
-    sk__free(m->f_halfedge);
-    sk__free(m->v_deleted);
-    sk__free(m->e_deleted);
-    sk__free(m->f_deleted);
+    for (size_t k = 0; k < NUM_MESH_ARRAYS; ++k)
+        sk__free(*array_ptr(m, &mesh_arrays[k]));
     sk__free(m->wedge_uvs);
-    sk__free(m->h_wedge_uv);
     sk__free(m);
     *mesh = NULL;
 }
@@ -106,6 +129,19 @@ sk_status sk_mesh_add_uvs(sk_mesh *m, sk_error *err)
         return SK_OK;
     m->uvs = sk__calloc_array(m->cap_vertices, 2 * sizeof(double));
     return m->uvs ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+}
+
+sk_status sk__mesh_set_attributes(sk_mesh *m, const double *normals, const double *uvs,
+                                  sk_error *err)
+{
+    sk_status st = SK_OK;
+    if ((normals && (st = sk_mesh_add_normals(m, err))) || (uvs && (st = sk_mesh_add_uvs(m, err))))
+        return st;
+    if (normals)
+        memcpy(m->normals, normals, m->num_vertices * 3 * sizeof(double));
+    if (uvs)
+        memcpy(m->uvs, uvs, m->num_vertices * 2 * sizeof(double));
+    return SK_OK;
 }
 
 uint32_t sk_mesh_new_vertex(sk_mesh *m, const double pos[3])
@@ -154,28 +190,19 @@ sk_status sk_mesh_copy(const sk_mesh *src, sk_mesh **out, sk_error *err)
     sk_mesh *m = sk__mesh_alloc(src->num_vertices, src->num_halfedges, src->num_faces, err);
     if (!m)
         return SK_ERR_NOMEM;
-    if ((src->normals && sk_mesh_add_normals(m, err)) || (src->uvs && sk_mesh_add_uvs(m, err))) {
-        sk_mesh_destroy(&m);
-        return SK_ERR_NOMEM;
-    }
     size_t nv = src->num_vertices, nh = src->num_halfedges, nf = src->num_faces;
     m->num_vertices = nv;
     m->num_halfedges = nh;
     m->num_faces = nf;
-    memcpy(m->positions, src->positions, nv * 3 * sizeof(double));
-    if (src->normals)
-        memcpy(m->normals, src->normals, nv * 3 * sizeof(double));
-    if (src->uvs)
-        memcpy(m->uvs, src->uvs, nv * 2 * sizeof(double));
-    memcpy(m->v_halfedge, src->v_halfedge, nv * sizeof(uint32_t));
-    memcpy(m->v_deleted, src->v_deleted, nv);
-    memcpy(m->h_vertex, src->h_vertex, nh * sizeof(uint32_t));
-    memcpy(m->h_next, src->h_next, nh * sizeof(uint32_t));
-    memcpy(m->h_prev, src->h_prev, nh * sizeof(uint32_t));
-    memcpy(m->h_face, src->h_face, nh * sizeof(uint32_t));
-    memcpy(m->e_deleted, src->e_deleted, nh / 2);
-    memcpy(m->f_halfedge, src->f_halfedge, nf * sizeof(uint32_t));
-    memcpy(m->f_deleted, src->f_deleted, nf);
+    if (sk__mesh_set_attributes(m, src->normals, src->uvs, err)) {
+        sk_mesh_destroy(&m);
+        return SK_ERR_NOMEM;
+    }
+    for (size_t k = 0; k < NUM_MESH_ARRAYS; ++k) {
+        const mesh_array *a = &mesh_arrays[k];
+        if (!a->optional)
+            memcpy(*array_ptr(m, a), array_of(src, a), array_len(a->per, nv, nh, nf) * a->size);
+    }
     m->num_deleted_vertices = src->num_deleted_vertices;
     m->num_deleted_edges = src->num_deleted_edges;
     m->num_deleted_faces = src->num_deleted_faces;

@@ -32,18 +32,16 @@ static sk_status subdivide_once(const sk_mesh *m, bool loop, sk_mesh **out, sk_e
                             sk_mesh_face_size(m, (uint32_t)f));
     if (nv + ne >= UINT32_MAX || 4 * nf >= UINT32_MAX / 3)
         return sk__fail(err, SK_ERR_ARG, "subdivided mesh too large for 32-bit indices");
+    /* the refined faces as a soup: old vertices, then one per edge; four triangles per face */
     size_t nv2 = nv + ne;
-    double *pos = sk__malloc_array(nv2, 3 * sizeof(double));
-    double *nrm = m->normals ? sk__malloc_array(nv2, 3 * sizeof(double)) : NULL;
-    double *uv = m->uvs ? sk__malloc_array(nv2, 2 * sizeof(double)) : NULL;
-    uint32_t *off = sk__malloc_array(4 * nf + 1, sizeof(uint32_t));
-    uint32_t *idx = sk__malloc_array(12 * nf, sizeof(uint32_t));
-    sk_status st = SK_OK;
+    sk_soup *soup = NULL;
     sk_mesh *r = NULL;
-    if (!pos || !off || !idx || (m->normals && !nrm) || (m->uvs && !uv)) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory subdividing");
+    sk_status st = sk_soup_create(nv2, 4 * nf, 12 * nf, m->normals != NULL, m->uvs != NULL,
+                                  &soup, err);
+    if (st)
         goto done;
-    }
+    double *pos = soup->positions, *nrm = soup->normals, *uv = soup->uvs;
+    uint32_t *off = soup->face_offsets, *idx = soup->face_indices;
     /* even (old) vertices */
     for (size_t v = 0; v < nv; ++v) {
         const double *p = m->positions + 3 * v;
@@ -117,7 +115,9 @@ static sk_status subdivide_once(const sk_mesh *m, bool loop, sk_mesh **out, sk_e
         nf2 += 4;
     }
     off[nf2] = (uint32_t)k;
-    if ((st = sk_mesh_from_faces(nv2, pos, nf2, off, idx, &r, err)))
+    soup->num_vertices = nv2;
+    soup->num_faces = nf2;
+    if ((st = sk_mesh_from_soup(soup, &r, err)))
         goto done;
     /* carry deletion of vertices and edges that were already deleted */
     for (size_t v = 0; v < nv; ++v)
@@ -126,20 +126,10 @@ static sk_status subdivide_once(const sk_mesh *m, bool loop, sk_mesh **out, sk_e
     for (size_t e = 0; e < ne; ++e)
         if (m->e_deleted[e])
             r->v_deleted[nv + e] = 1, r->num_deleted_vertices++;
-    if ((nrm && (st = sk_mesh_add_normals(r, err))) || (uv && (st = sk_mesh_add_uvs(r, err))))
-        goto done;
-    if (nrm)
-        memcpy(r->normals, nrm, nv2 * 3 * sizeof(double));
-    if (uv)
-        memcpy(r->uvs, uv, nv2 * 2 * sizeof(double));
-    if (r->num_deleted_vertices && (st = sk_mesh_compact(r, NULL, NULL, err)))
-        goto done;
+    if (r->num_deleted_vertices)
+        st = sk_mesh_compact(r, NULL, NULL, err);
 done:
-    sk__free(pos);
-    sk__free(nrm);
-    sk__free(uv);
-    sk__free(off);
-    sk__free(idx);
+    sk_soup_destroy(&soup);
     if (st)
         sk_mesh_destroy(&r);
     *out = r;

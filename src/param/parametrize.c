@@ -1,5 +1,6 @@
-/* The parametrize pipeline: options resolved and checked per method, one of the three drivers
- * (linear / LSCM, hierarchical MIPS, flat MIPS), the unit-square normalization, the flip count. */
+/* The parametrize pipeline: options resolved and checked per method, the square boundary's
+ * corners and edge splits, one of the three drivers (linear / LSCM, hierarchical MIPS, flat
+ * MIPS), the unit-square normalization, the flip count. */
 #include "surfkit/parametrize.h"
 #include "core/internal.h"
 
@@ -35,6 +36,12 @@ static sk_status resolve(const sk_parametrize_opts *o, sk_param_method *method,
     if (m == SK_PARAM_MIPS && b == SK_BOUNDARY_GIVEN)
         return sk__fail(err, SK_ERR_ARG, "mips maps the boundary itself: circle, square or free, "
                         "not given");
+    if (m == SK_PARAM_MIPS && o->linear)
+        return sk__fail(err, SK_ERR_ARG, "the linear solver options go with the linear methods, "
+                        "not mips");
+    if (m != SK_PARAM_MIPS && o->hierarchical)
+        return sk__fail(err, SK_ERR_ARG, "the hierarchical MIPS options go with the MIPS method, "
+                        "not %s", sk_param_method_name(m));
     *method = m;
     *shape = b;
     return SK_OK;
@@ -63,6 +70,32 @@ static size_t count_flipped(const sk_mesh *m, const double *uv)
             flipped++;
     }
     return flipped;
+}
+
+/* The square boundary: the corners (given, or at the four sharpest boundary turns) and the
+ * dividing edges split; a split mesh goes to s->split_mesh, its uv zeroed. A mesh that is not a
+ * disk is left to the method, which says what it is. */
+static sk_status square_step(const sk_mesh *mesh, sk_boundary_opts *bo, sk_parametrize_stats *s,
+                             sk_error *err)
+{
+    sk_status st = sk_param_check_disk(mesh, err);
+    if (st == SK_ERR_TOPOLOGY)
+        return SK_OK;
+    if (st)
+        return st;
+    if (!bo->has_corners && (st = sk_param_square_corners(mesh, bo->corners, err)))
+        return st;
+    bo->has_corners = true;
+    sk_mesh *split = NULL;
+    if ((st = sk_param_split_side_edges(mesh, bo->corners, &split, &s->split_edges, err)))
+        return st;
+    if (s->split_edges && (st = sk_mesh_add_uvs(split, err)) == SK_OK) {
+        memset(split->uvs, 0, 2 * split->num_vertices * sizeof *split->uvs);
+        s->split_mesh = split;
+        split = NULL;
+    }
+    sk_mesh_destroy(&split);
+    return st;
 }
 
 static sk_status run_method(const sk_mesh *mesh, const sk_parametrize_opts *o,
@@ -118,16 +151,22 @@ sk_status sk_parametrize(const sk_mesh *mesh, const sk_parametrize_opts *opts, d
     s.name = s.method != SK_PARAM_MIPS ? sk_param_method_name(s.method)
              : s.hierarchical          ? "mips-hierarchical"
                                        : "mips-flat";
-    st = run_method(mesh, &o, &bo, uv, &s, err);
+    if (bo.shape == SK_BOUNDARY_SQUARE && (st = square_step(mesh, &bo, &s, err)))
+        goto done;
+    const sk_mesh *m = s.split_mesh ? s.split_mesh : mesh; /* the mesh parametrized */
+    double *muv = s.split_mesh ? s.split_mesh->uvs : uv;
+    st = run_method(m, &o, &bo, muv, &s, err);
     if (st == SK_WARN_FLIPS)
         st = SK_OK; /* counted below, with the pipeline's message */
     if (st == SK_OK && !o.raw)
-        st = sk_param_normalize(mesh, uv, err);
+        st = sk_param_normalize(m, muv, err);
+    if (st == SK_OK && s.split_mesh)
+        memcpy(uv, muv, 2 * mesh->num_vertices * sizeof *uv); /* vertices keep their ids */
     if (st == SK_OK) {
-        s.flipped = count_flipped(mesh, uv);
+        s.flipped = count_flipped(m, muv);
         if (s.flipped)
             st = sk__fail(err, SK_WARN_FLIPS, "%zu of %zu triangles flipped (%s)", s.flipped,
-                          mesh->num_faces - mesh->num_deleted_faces, s.name);
+                          m->num_faces - m->num_deleted_faces, s.name);
     }
 done:
     s.seconds = sk_seconds() - t0;
@@ -143,5 +182,6 @@ void sk_parametrize_stats_release(sk_parametrize_stats *stats)
     if (!stats)
         return;
     sk_hparam_stats_release(&stats->hparam);
+    sk_mesh_destroy(&stats->split_mesh);
     memset(stats, 0, sizeof *stats);
 }

@@ -169,18 +169,35 @@ static sk_status param_method(const char *off, size_t size, double *res, size_t 
         return st;
     double *uv = calloc(2 * m->num_vertices, sizeof(double)); /* the caller's, not the library's */
     assert_non_null(uv);
+    const sk_mesh *out = m; /* the mesh parametrized, and its uv */
+    const double *out_uv = uv;
+    sk_parametrize_stats ps = {0};
     if (method <= SK_PARAM_LSCM) {
         sk_param_opts o = {.method = (sk_param_method)method};
         st = sk_param_linear(m, &o, uv, NULL, &g_err);
     } else if (method == 100) {
         sk_hparam_opts o = {0};
         st = sk_param_hierarchical(m, &o, uv, NULL, &g_err);
-    } else {
+    } else if (method == 101) {
         sk_mips_flat_opts o = {.boundary = {.shape = SK_BOUNDARY_CIRCLE}, .max_steps = 50, .seed = 1};
         st = sk_param_mips_flat(m, &o, uv, NULL, &g_err);
+    } else {
+        /* the pipeline with the square boundary: 102 the corners found (at the grid's corners:
+         * nothing to split), 103 given with the grid corner 5 inside a side (the inner edge of
+         * its triangle is split) */
+        sk_parametrize_opts o = {.boundary = {.shape = SK_BOUNDARY_SQUARE,
+                                              .has_corners = method == 103,
+                                              .corners = {1, 17, 35, 30}}};
+        st = sk_parametrize(m, &o, uv, &ps, &g_err);
+        assert_true(st < 0 || ps.split_edges == (method == 103 ? 1u : 0u));
+        if (ps.split_mesh) {
+            out = ps.split_mesh;
+            out_uv = ps.split_mesh->uvs;
+        }
     }
     if (st == SK_OK || st == SK_WARN_FLIPS)
-        copy_uv(m, uv, res, nres);
+        copy_uv(out, out_uv, res, nres);
+    sk_parametrize_stats_release(&ps);
     free(uv);
     sk_mesh_destroy(&m);
     sk_soup_destroy(&s);
@@ -194,6 +211,8 @@ static sk_status p_harmonic(const char *o, size_t n, double *r, size_t *k) { ret
 static sk_status p_lscm(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, SK_PARAM_LSCM); }
 static sk_status p_mips_hier(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 100); }
 static sk_status p_mips_flat(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 101); }
+static sk_status p_square(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 102); }
+static sk_status p_square_split(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 103); }
 
 /* the multilevel Krylov solve of the linear methods (issue 15): 16 unknowns, levels down to 2 */
 static sk_status p_floater_hier(const char *off, size_t size, double *res, size_t *nres)
@@ -339,7 +358,8 @@ static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **
         {"harmonic", p_harmonic},           {"lscm", p_lscm},
         {"mips-hierarchical", p_mips_hier}, {"mips-flat", p_mips_flat},
         {"smooth+export", p_smooth_export}, {"floater-hierarchical", p_floater_hier},
-        {"fit", p_fit},
+        {"fit", p_fit},                     {"square", p_square},
+        {"square-split", p_square_split},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
         sweep(&cases[i], off, size);

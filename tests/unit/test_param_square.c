@@ -6,6 +6,7 @@
  * sk_param_square_corners; the split keeps the surface (same area, same vertices first). */
 #include "testutil.h"
 #include "surfkit/param.h"
+#include "surfkit/parametrize.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -221,12 +222,92 @@ static void bad_corners(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* sk_parametrize with the square boundary does the corner and split steps itself: the same
+ * corners, splits and uv as the low-level calls done by hand, the split mesh in the stats, the
+ * input vertices' uv in the caller's array; no split on a clean disk; given corners kept. */
+static void pipeline_square(void **state)
+{
+    (void)state;
+    sk_mesh *bunny = skt_read_mesh(skt_shared_mesh("bunny00.off"));
+    sk_mesh *disk = cut_disk(bunny, 5000, 4000);
+    uint32_t c[4];
+    sk_mesh *split = NULL;
+    size_t splits = 0;
+    assert_int_equal(sk_param_square_corners(disk, c, NULL), SK_OK);
+    assert_int_equal(sk_param_split_side_edges(disk, c, &split, &splits, NULL), SK_OK);
+    assert_true(splits > 0);
+    /* by hand: the split mesh with the corners given */
+    sk_parametrize_opts o = {.boundary = {.shape = SK_BOUNDARY_SQUARE, .has_corners = true}};
+    memcpy(o.boundary.corners, c, sizeof c);
+    double *hand = calloc(2 * split->num_vertices, sizeof *hand);
+    sk_parametrize_stats s;
+    assert_int_equal(sk_parametrize(split, &o, hand, &s, NULL), SK_OK);
+    assert_int_equal(s.split_edges, 0); /* nothing left to split */
+    assert_null(s.split_mesh);
+    sk_parametrize_stats_release(&s);
+    /* the pipeline, corners not given */
+    o.boundary.has_corners = false;
+    double *uv = calloc(2 * disk->num_vertices, sizeof *uv);
+    assert_int_equal(sk_parametrize(disk, &o, uv, &s, NULL), SK_OK);
+    assert_int_equal(s.boundary, SK_BOUNDARY_SQUARE);
+    assert_int_equal(s.flipped, 0);
+    assert_int_equal(s.split_edges, splits);
+    assert_non_null(s.split_mesh);
+    assert_int_equal(s.split_mesh->num_vertices, disk->num_vertices + splits);
+    assert_int_equal(s.split_mesh->num_faces, split->num_faces);
+    assert_memory_equal(s.split_mesh->positions, split->positions,
+                        3 * split->num_vertices * sizeof(double));
+    assert_memory_equal(s.split_mesh->uvs, hand, 2 * split->num_vertices * sizeof(double));
+    assert_memory_equal(uv, hand, 2 * disk->num_vertices * sizeof(double));
+    sk_parametrize_stats_release(&s);
+    assert_null(s.split_mesh);
+    /* stats may be NULL: the split mesh is released inside, uv still written */
+    memset(uv, 0, 2 * disk->num_vertices * sizeof *uv);
+    assert_int_equal(sk_parametrize(disk, &o, uv, NULL, NULL), SK_OK);
+    assert_memory_equal(uv, hand, 2 * disk->num_vertices * sizeof(double));
+    /* MIPS with the square fixed splits too */
+    o.method = SK_PARAM_MIPS;
+    assert_int_equal(sk_parametrize(disk, &o, uv, &s, NULL), SK_OK);
+    assert_int_equal(s.split_edges, splits);
+    assert_int_equal(s.flipped, 0);
+    sk_parametrize_stats_release(&s);
+    free(uv);
+    free(hand);
+    sk_mesh_destroy(&split);
+    sk_mesh_destroy(&disk);
+    sk_mesh_destroy(&bunny);
+
+    /* a clean disk: the sharpest-turn corners, no split, the input parametrized */
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("patch-01.off"));
+    uv = calloc(2 * m->num_vertices, sizeof *uv);
+    o = (sk_parametrize_opts){.boundary = {.shape = SK_BOUNDARY_SQUARE}};
+    assert_int_equal(sk_parametrize(m, &o, uv, &s, NULL), SK_OK);
+    assert_int_equal(s.split_edges, 0);
+    assert_null(s.split_mesh);
+    assert_int_equal(sk_param_square_corners(m, c, NULL), SK_OK);
+    for (int k = 0; k < 4; ++k) /* normalized: the corners at the unit square's corners */
+        assert_true(fabs(uv[2 * c[k]] - (k == 1 || k == 2)) < 1e-12 &&
+                    fabs(uv[2 * c[k] + 1] - (k >= 2)) < 1e-12);
+    sk_parametrize_stats_release(&s);
+    /* corners given that are not in boundary order: refused */
+    o.boundary.has_corners = true;
+    uint32_t swapped[4] = {c[1], c[0], c[2], c[3]};
+    memcpy(o.boundary.corners, swapped, sizeof swapped);
+    sk_error err;
+    assert_int_equal(sk_parametrize(m, &o, uv, &s, &err), SK_ERR_ARG);
+    assert_null(s.split_mesh);
+    sk_parametrize_stats_release(&s);
+    free(uv);
+    sk_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ragged_scan_disk),
         cmocka_unit_test(shared_disks),
         cmocka_unit_test(bad_corners),
+        cmocka_unit_test(pipeline_square),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

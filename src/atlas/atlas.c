@@ -622,239 +622,284 @@ static sk_status compact_charts(const sk_mesh *m, accepted *acc, const uint8_t *
     return SK_OK;
 }
 
+/* The chart loop's state: a stack of face ranges still to be looked at (faces[] holds each
+ * range's faces), the wave of disks to parametrize together, and the charts accepted so far. */
+typedef struct builder {
+    const sk_mesh *m;
+    double max_conf, max_stretch;
+    sk__chart_work w;
+    accepted acc;
+    sk_atlas *a;
+    uint32_t *faces, *comp, *sizes;
+    range *stack;
+    size_t top;
+    pending *wave;
+    size_t nb, wave_cap;
+    uint32_t stamp;
+    size_t done_faces;
+    sk_atlas_stats s;
+} builder;
+
+static sk_status builder_init(builder *b, const sk_mesh *m, sk_error *err)
+{
+    size_t nf = m->num_faces;
+    b->m = m;
+    sk_status st = sk__chart_work_init(&b->w, m, err);
+    if (st)
+        return st;
+    b->wave_cap = nf < WAVE_MAX ? nf : WAVE_MAX;
+    b->a = sk__calloc_array(1, sizeof *b->a);
+    b->faces = sk__malloc_array(nf, sizeof(uint32_t));
+    b->comp = sk__malloc_array(nf, sizeof(uint32_t));
+    b->stack = sk__malloc_array(nf + 1, sizeof *b->stack);
+    b->sizes = sk__malloc_array(nf, sizeof(uint32_t));
+    b->wave = sk__calloc_array(b->wave_cap, sizeof *b->wave);
+    if (!b->a || !b->faces || !b->comp || !b->stack || !b->sizes || !b->wave)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    b->a->face_chart = sk__malloc_array(nf, sizeof(uint32_t));
+    b->a->corner_uv = sk__malloc_array(m->num_halfedges, sizeof(uint32_t));
+    if (!b->a->face_chart || !b->a->corner_uv)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t h = 0; h < m->num_halfedges; ++h)
+        b->a->corner_uv[h] = SK_INVALID;
+    return seed_components(m, b->comp, b->faces, b->stack, &b->top, err);
+}
+
+static void builder_free(builder *b)
+{
+    if (b->wave)
+        for (size_t i = 0; i < b->nb; ++i)
+            pending_clear(b->wave + i);
+    sk__free(b->wave);
+    sk__free(b->acc.uv);
+    sk__free(b->acc.chart);
+    sk__free(b->acc.off);
+    sk__free(b->acc.lscm);
+    sk__free(b->faces);
+    sk__free(b->comp);
+    sk__free(b->stack);
+    sk__free(b->sizes);
+    sk__chart_work_free(&b->w);
+}
+
+/* The two parts of r after a cut that put its first n0 faces first: both looked at again. */
+static void push_halves(builder *b, range r, size_t n0)
+{
+    b->stack[b->top++] = (range){r.lo + (uint32_t)n0, r.hi};
+    b->stack[b->top++] = (range){r.lo, r.lo + (uint32_t)n0};
+}
+
+static sk_status bisect_range(builder *b, range r, uint32_t stamp, sk_error *err)
+{
+    size_t n0 = 0;
+    sk_status st = sk__chart_bisect(b->m, b->faces + r.lo, r.hi - r.lo, stamp, &b->w, &n0, err);
+    if (!st)
+        push_halves(b, r, n0);
+    return st;
+}
+
+/* One range off the stack: pieces a cut left apart become charts of their own, a chart far from
+ * flat is bisected at once, a disk joins the wave, holes and handles are cut by growing one disk,
+ * a sphere is bisected. */
+static sk_status look_at_range(builder *b, range r, sk_error *err)
+{
+    const sk_mesh *m = b->m;
+    uint32_t *cf = b->faces + r.lo, stamp = ++b->stamp;
+    size_t n = r.hi - r.lo;
+    for (size_t i = 0; i < n; ++i)
+        b->w.label[cf[i]] = stamp;
+    size_t ncc = sk__chart_components(m, cf, n, stamp, &b->w, b->sizes);
+    if (ncc > 1) {
+        for (size_t c = 0, at = r.lo; c < ncc; at += b->sizes[c++])
+            b->stack[b->top++] = (range){(uint32_t)at, (uint32_t)(at + b->sizes[c])};
+        return SK_OK;
+    }
+    if (n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
+        /* whatever its topology (the halves are looked at again): the distortion bound would
+         * split it after a costly solve; no chart mesh needed */
+        b->s.splits_distortion++;
+        return bisect_range(b, r, stamp, err);
+    }
+    sk_mesh *chart = NULL;
+    uint32_t *vert_h = NULL;
+    bool disk = false, sphere = false;
+    sk_status st = sk__chart_extract(m, cf, n, stamp, &b->w, &chart, &vert_h, err);
+    if (!st)
+        st = is_disk(chart, &disk, &sphere, err);
+    if (!st && disk) {
+        pending *p = b->wave + b->nb++;
+        memset(p, 0, sizeof *p);
+        p->r = r;
+        p->stamp = stamp;
+        p->chart = chart;
+        p->vert_h = vert_h;
+        return SK_OK;
+    }
+    sk_mesh_destroy(&chart);
+    sk__free(vert_h);
+    if (st)
+        return st;
+    b->s.splits_topology++;
+    if (sphere)
+        return bisect_range(b, r, stamp, err);
+    /* holes or handles: one disk grown as far as it stays a disk; the rest is cut along where
+     * the growth front met itself */
+    size_t n0 = 0;
+    if ((st = sk__chart_grow_disk(m, cf, n, stamp, &b->w, &n0, err)))
+        return st;
+    push_halves(b, r, n0);
+    return SK_OK;
+}
+
+/* After the wave's solves, in wave order (so the atlas does not depend on the threads): accept
+ * each chart, or bisect it and push the halves. */
+static sk_status settle_wave(builder *b, sk_error *err)
+{
+    sk_status st = SK_OK;
+    size_t i = 0;
+    for (; i < b->nb && !st; ++i) {
+        pending *p = b->wave + i;
+        if (p->st) {
+            st = p->st;
+            if (err)
+                *err = p->err;
+            break;
+        }
+        b->s.splits_failed += p->s.splits_failed;
+        b->s.splits_overlap += p->s.splits_overlap;
+        b->s.splits_distortion += p->s.splits_distortion;
+        b->s.splits_predicted += p->s.splits_predicted;
+        size_t n = p->r.hi - p->r.lo;
+        if (!p->split) {
+            st = accept_chart(&b->acc, b->m, b->faces + p->r.lo, n, p->chart, p->cuv,
+                              p->s.lscm_charts > 0, &b->w, b->a, err);
+            b->acc.area3 += p->q.area3;
+            b->done_faces += n;
+        } else {
+            double tc = sk_seconds();
+            st = bisect_range(b, p->r, p->stamp, err);
+            b->s.charts_seconds += sk_seconds() - tc;
+        }
+        pending_clear(p);
+    }
+    for (; i < b->nb; ++i)
+        pending_clear(b->wave + i);
+    b->nb = 0;
+    return st;
+}
+
+/* --charts N: merge neighbours while the bounds hold (faces[] is free again by now). */
+static sk_status merge_to(builder *b, const sk_atlas_opts *o, sk_error *err)
+{
+    const sk_mesh *m = b->m;
+    merger g;
+    memset(&g, 0, sizeof g);
+    size_t live = b->acc.charts;
+    sk_status st = SK_OK;
+    g.cap = 2 * b->acc.charts;
+    g.alive = sk__malloc_array(g.cap, 1);
+    g.byc = sk__malloc_array(m->num_faces, sizeof(uint32_t));
+    g.pairs = sk__malloc_array(sk_num_edges(m) + 1, sizeof *g.pairs);
+    if (!g.alive || !g.byc || !g.pairs)
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    else {
+        memset(g.alive, 1, b->acc.charts);
+        st = merge_charts(m, &b->w, &b->acc, b->a, o->max_charts, b->max_conf, b->max_stretch,
+                          !o->mips_only, o->seed, &b->stamp, b->faces, b->wave, b->wave_cap, &g,
+                          &live, &b->s, err);
+    }
+    if (!st)
+        st = compact_charts(m, &b->acc, g.alive, b->a, err);
+    sk__free(g.alive);
+    sk__free(g.failed);
+    sk__free(g.start);
+    sk__free(g.byc);
+    sk__free(g.pairs);
+    return st;
+}
+
+/* Charts, then the packing and the atlas-wide measures. */
+static sk_status make_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
+{
+    sk_status st = SK_OK;
+    double tp = 0;
+    size_t nf = b->m->num_faces;
+    while (b->top > 0) {
+        double tc = sk_seconds();
+        while (b->top > 0 && b->nb < b->wave_cap && !st)
+            st = look_at_range(b, b->stack[--b->top], err);
+        b->s.charts_seconds += sk_seconds() - tc;
+        if (st)
+            return st;
+        if (b->nb == 0)
+            continue;
+        double tq = sk_seconds();
+        param_wave(b->wave, b->nb, b->max_conf, b->max_stretch, !o->mips_only, o->seed);
+        tp += sk_seconds() - tq;
+        if ((st = settle_wave(b, err)))
+            return st;
+        if ((st = sk__progress(o->progress, o->progress_user,
+                               0.9 * (double)b->done_faces / (double)nf, err)))
+            return st;
+    }
+    if (o->max_charts && b->acc.charts > o->max_charts) {
+        double tg = sk_seconds();
+        st = merge_to(b, o, err);
+        tp += sk_seconds() - tg;
+    }
+    b->s.param_seconds = tp;
+    return st;
+}
+
 sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas **out,
                          sk_atlas_stats *stats, sk_error *err)
 {
     sk_atlas_opts o = {0};
     if (opts)
         o = *opts;
-    double max_conf = o.max_distortion == 0 ? 1.25 : o.max_distortion;
-    double max_stretch = o.max_stretch == 0 ? 1.25 : o.max_stretch;
     double res = o.resolution ? (double)o.resolution : 1024.0;
     double pad = o.padding == 0 ? 2.0 : o.padding < 0 ? 0.0 : o.padding;
-    double t0 = sk_seconds(), tp = 0;
-    sk_atlas_stats s;
-    memset(&s, 0, sizeof s);
+    double t0 = sk_seconds();
     *out = NULL;
     sk_status st = check_mesh(m, err);
     if (st)
         return st;
-    size_t nf = m->num_faces;
-    if (nf >= UINT32_MAX)
+    if (m->num_faces >= UINT32_MAX)
         return sk__fail(err, SK_ERR_ARG, "mesh too large");
-    sk__chart_work w;
-    if ((st = sk__chart_work_init(&w, m, err)))
-        return st;
-    accepted acc;
-    memset(&acc, 0, sizeof acc);
-    size_t nb = 0, wave_cap = nf < WAVE_MAX ? nf : WAVE_MAX;
-    sk_atlas *a = sk__calloc_array(1, sizeof *a);
-    uint32_t *faces = sk__malloc_array(nf, sizeof(uint32_t));
-    uint32_t *comp = sk__malloc_array(nf, sizeof(uint32_t));
-    range *stack = sk__malloc_array(nf + 1, sizeof *stack);
-    uint32_t *sizes = sk__malloc_array(nf, sizeof(uint32_t));
-    pending *wave = sk__calloc_array(wave_cap, sizeof *wave);
-    sk_mesh *chart = NULL;
-    uint32_t *vert_h = NULL;
-    if (!a || !faces || !comp || !stack || !sizes || !wave) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    builder b;
+    memset(&b, 0, sizeof b);
+    b.max_conf = o.max_distortion == 0 ? 1.25 : o.max_distortion;
+    b.max_stretch = o.max_stretch == 0 ? 1.25 : o.max_stretch;
+    sk_atlas_stats *s = &b.s;
+    if ((st = builder_init(&b, m, err)) || (st = make_charts(&b, &o, err)))
         goto done;
-    }
-    a->face_chart = sk__malloc_array(nf, sizeof(uint32_t));
-    a->corner_uv = sk__malloc_array(m->num_halfedges, sizeof(uint32_t));
-    if (!a->face_chart || !a->corner_uv) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    for (size_t h = 0; h < m->num_halfedges; ++h)
-        a->corner_uv[h] = SK_INVALID;
-    size_t top = 0, done_faces = 0;
-    if ((st = seed_components(m, comp, faces, stack, &top, err)))
-        goto done;
-    uint32_t stamp = 0;
-    s.charts_seconds = 0;
-    while (top > 0) {
-        /* the serial part: pop charts, split what is not a disk or far from flat, and gather the
-         * disks to parametrize into one wave */
-        while (top > 0 && nb < wave_cap) {
-            range r = stack[--top];
-            uint32_t *cf = faces + r.lo;
-            size_t n = r.hi - r.lo;
-            ++stamp;
-            for (size_t i = 0; i < n; ++i)
-                w.label[cf[i]] = stamp;
-            double tc = sk_seconds();
-            size_t ncc = sk__chart_components(m, cf, n, stamp, &w, sizes);
-            if (ncc > 1) { /* what a cut left may fall apart: each piece is a chart */
-                for (size_t c = 0, at = r.lo; c < ncc; at += sizes[c++])
-                    stack[top++] = (range){(uint32_t)at, (uint32_t)(at + sizes[c])};
-                s.charts_seconds += sk_seconds() - tc;
-                continue;
-            }
-            if (n >= MIN_SPLIT_FACES && coherence(m, cf, n) < MIN_COHERENCE) {
-                /* far from flat (whatever its topology: the halves are looked at again): the
-                 * distortion bound would split it after a costly solve; no chart mesh needed */
-                size_t n0 = 0;
-                if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
-                    goto done;
-                stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
-                stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
-                s.splits_distortion++;
-                s.charts_seconds += sk_seconds() - tc;
-                continue;
-            }
-            if ((st = sk__chart_extract(m, cf, n, stamp, &w, &chart, &vert_h, err)))
-                goto done;
-            bool disk = false, sphere = false;
-            if ((st = is_disk(chart, &disk, &sphere, err)))
-                goto done;
-            bool split = !disk;
-            if (!disk) {
-                s.splits_topology++;
-                if (!sphere) {
-                    /* holes or handles: one disk grown as far as it stays a disk; the rest is
-                     * cut along where the growth front met itself */
-                    size_t n0 = 0;
-                    if ((st = sk__chart_grow_disk(m, cf, n, stamp, &w, &n0, err)))
-                        goto done;
-                    stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
-                    stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
-                    split = false;
-                }
-            }
-            if (disk) {
-                pending *p = wave + nb++;
-                memset(p, 0, sizeof *p);
-                p->r = r;
-                p->stamp = stamp;
-                p->chart = chart;
-                p->vert_h = vert_h;
-                chart = NULL;
-                vert_h = NULL;
-            }
-            sk_mesh_destroy(&chart);
-            sk__free(vert_h);
-            vert_h = NULL;
-            if (split) {
-                size_t n0 = 0;
-                if ((st = sk__chart_bisect(m, cf, n, stamp, &w, &n0, err)))
-                    goto done;
-                stack[top++] = (range){r.lo + (uint32_t)n0, r.hi};
-                stack[top++] = (range){r.lo, r.lo + (uint32_t)n0};
-            }
-            s.charts_seconds += sk_seconds() - tc;
-        }
-        if (nb == 0)
-            continue;
-        double tq = sk_seconds();
-        param_wave(wave, nb, max_conf, max_stretch, !o.mips_only, o.seed);
-        tp += sk_seconds() - tq;
-        /* the serial part again, in wave order: accept, or bisect and push the halves */
-        for (size_t i = 0; i < nb; ++i) {
-            pending *p = wave + i;
-            if (p->st) {
-                st = p->st;
-                if (err)
-                    *err = p->err;
-                goto done;
-            }
-            s.splits_failed += p->s.splits_failed;
-            s.splits_overlap += p->s.splits_overlap;
-            s.splits_distortion += p->s.splits_distortion;
-            s.splits_predicted += p->s.splits_predicted;
-            uint32_t *cf = faces + p->r.lo;
-            size_t n = p->r.hi - p->r.lo;
-            if (!p->split) {
-                if ((st = accept_chart(&acc, m, cf, n, p->chart, p->cuv, p->s.lscm_charts > 0, &w,
-                                       a, err)))
-                    goto done;
-                acc.area3 += p->q.area3;
-                done_faces += n;
-            } else {
-                double tc = sk_seconds();
-                size_t n0 = 0;
-                if ((st = sk__chart_bisect(m, cf, n, p->stamp, &w, &n0, err)))
-                    goto done;
-                stack[top++] = (range){p->r.lo + (uint32_t)n0, p->r.hi};
-                stack[top++] = (range){p->r.lo, p->r.lo + (uint32_t)n0};
-                s.charts_seconds += sk_seconds() - tc;
-            }
-            pending_clear(p);
-        }
-        nb = 0;
-        if ((st = sk__progress(o.progress, o.progress_user, 0.9 * (double)done_faces / (double)nf,
-                               err)))
-            goto done;
-    }
-    if (o.max_charts && acc.charts > o.max_charts) {
-        /* --charts N: merge neighbours while the bounds hold (faces[] is free again) */
-        double tg = sk_seconds();
-        merger g;
-        memset(&g, 0, sizeof g);
-        size_t live = acc.charts;
-        g.cap = 2 * acc.charts;
-        g.alive = sk__malloc_array(g.cap, 1);
-        g.byc = sk__malloc_array(nf, sizeof(uint32_t));
-        g.pairs = sk__malloc_array(sk_num_edges(m) + 1, sizeof *g.pairs);
-        if (!g.alive || !g.byc || !g.pairs)
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        else {
-            memset(g.alive, 1, acc.charts);
-            st = merge_charts(m, &w, &acc, a, o.max_charts, max_conf, max_stretch, !o.mips_only,
-                              o.seed, &stamp, faces, wave, wave_cap, &g, &live, &s, err);
-        }
-        if (!st)
-            st = compact_charts(m, &acc, g.alive, a, err);
-        sk__free(g.alive);
-        sk__free(g.failed);
-        sk__free(g.start);
-        sk__free(g.byc);
-        sk__free(g.pairs);
-        tp += sk_seconds() - tg;
-        if (st)
-            goto done;
-    }
-    for (size_t c = 0; c < acc.charts; ++c)
-        s.lscm_charts += acc.lscm[c];
-    s.param_seconds = tp;
+    for (size_t c = 0; c < b.acc.charts; ++c)
+        s->lscm_charts += b.acc.lscm[c];
     double tk = sk_seconds();
-    if ((st = sk__pack_charts(acc.charts, acc.off, acc.uv, pad / res, &s.scale, err)))
+    if ((st = sk__pack_charts(b.acc.charts, b.acc.off, b.acc.uv, pad / res, &s->scale, err)))
         goto done;
-    s.pack_seconds = sk_seconds() - tk;
-    a->num_charts = acc.charts;
-    a->num_uvs = acc.n;
-    a->uvs = acc.uv;
-    a->uv_chart = acc.chart;
-    acc.uv = NULL;
-    acc.chart = NULL;
-    s.charts = acc.charts;
+    s->pack_seconds = sk_seconds() - tk;
+    sk_atlas *a = b.a;
+    a->num_charts = b.acc.charts;
+    a->num_uvs = b.acc.n;
+    a->uvs = b.acc.uv;
+    a->uv_chart = b.acc.chart;
+    b.acc.uv = NULL;
+    b.acc.chart = NULL;
+    s->charts = b.acc.charts;
     double tm = sk_seconds();
-    if ((st = measure_atlas(m, a, &s, err)))
+    if ((st = measure_atlas(m, a, s, err)))
         goto done;
-    s.check_seconds = sk_seconds() - tm;
-    s.total_seconds = sk_seconds() - t0;
+    s->check_seconds = sk_seconds() - tm;
+    s->total_seconds = sk_seconds() - t0;
     st = sk__progress(o.progress, o.progress_user, 1.0, err);
 done:
     if (st)
-        sk_atlas_destroy(&a);
-    *out = a;
+        sk_atlas_destroy(&b.a);
+    *out = b.a;
     if (stats)
-        *stats = s;
-    if (wave)
-        for (size_t i = 0; i < nb; ++i)
-            pending_clear(wave + i);
-    sk__free(wave);
-    sk_mesh_destroy(&chart);
-    sk__free(vert_h);
-    sk__free(acc.uv);
-    sk__free(acc.chart);
-    sk__free(acc.off);
-    sk__free(acc.lscm);
-    sk__free(faces);
-    sk__free(comp);
-    sk__free(stack);
-    sk__free(sizes);
-    sk__chart_work_free(&w);
+        *stats = b.s;
+    builder_free(&b);
     return st;
 }
 

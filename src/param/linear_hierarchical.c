@@ -99,22 +99,6 @@ done:
     return st;
 }
 
-/* Direct solve of a (the reference path). */
-static sk_status solve_direct(const sk_sparse *a, bool symmetric, size_t nrhs, const double *rhs,
-                              double *x, sk_param_stats *stats, sk_error *err)
-{
-    sk_solver *solver = NULL;
-    sk_status st = sk_solver_create(a, symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU, &solver, err);
-    if (st == SK_OK)
-        st = sk_solver_factorize(solver, a, err);
-    if (st == SK_OK)
-        st = sk_solver_solve(solver, nrhs, rhs, x, err);
-    if (solver && stats)
-        sk_solver_stats(solver, &stats->solve);
-    sk_solver_destroy(&solver);
-    return st;
-}
-
 /* The method's matrix on a level mesh, rows and columns the free vertices (idx), in rows. */
 static sk_status level_operator(const sk_mesh *lm, sk_param_method method, const uint32_t *idx,
                                 size_t n, sk__csr *out, sk_error *err)
@@ -204,7 +188,7 @@ sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
         /* small (or not compacted): the hierarchy has nothing to win */
         if (stats)
             stats->levels = 1;
-        st = solve_direct(a, symmetric, nrhs, rhs, x, stats, err);
+        st = sk__param_solve_direct(m, a, symmetric, idx, dim, nrhs, rhs, x, o, stats, err);
         goto done;
     }
     sk_hierarchy_opts ho = {0};

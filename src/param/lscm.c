@@ -57,7 +57,6 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
     double *rhs = NULL, *x = NULL;
     sk_triplets t = {0};
     sk_sparse *a = NULL;
-    sk_solver *solver = NULL;
     sk_status st = sk_param_check_disk(m, err);
     if (st)
         goto done;
@@ -169,13 +168,7 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
     if (o.solver == SK_LINEAR_HIERARCHICAL) {
         st = sk__param_solve_hierarchical(m, SK_PARAM_LSCM, a, true, idx, 2, 1, rhs, x, &o, &s, err);
     } else {
-        st = sk_solver_create(a, SK_SOLVER_CHOLESKY, &solver, err);
-        if (st == SK_OK)
-            st = sk_solver_factorize(solver, a, err);
-        if (st == SK_OK)
-            st = sk_solver_solve(solver, 1, rhs, x, err);
-        if (solver)
-            sk_solver_stats(solver, &s.solve);
+        st = sk__param_solve_direct(m, a, true, idx, 2, 1, rhs, x, &o, &s, err);
     }
     s.solve_seconds = sk_seconds() - t3;
     if (st)
@@ -187,7 +180,6 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
         }
     st = sk__progress(o.progress, o.progress_user, 1.0, err);
 done:
-    sk_solver_destroy(&solver);
     sk_sparse_destroy(&a);
     sk_triplets_free(&t);
     sk__free(idx);

@@ -178,11 +178,12 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
                 seen[p] = 1;
             perm[k] = p;
         }
+        bool nomem = !perm || !seen;
         sk__free(seen);
         if (!valid) {
-            st = perm ? sk__fail(err, SK_ERR_ARG, "the given ordering is not a permutation of "
-                                 "0..%zu", a->n - 1)
-                      : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            st = nomem ? sk__fail(err, SK_ERR_NOMEM, "out of memory")
+                       : sk__fail(err, SK_ERR_ARG, "the given ordering is not a permutation of "
+                                  "0..%zu", a->n - 1);
             goto done;
         }
     }

@@ -159,6 +159,62 @@ static void test_bad_orderings(void **state)
     sk_sparse_destroy(&a);
 }
 
+/* an allocator that fails the k-th allocation (malloc and realloc count; frees pass through) */
+static long g_count, g_fail_at;
+static void *f_malloc(void *user, size_t n)
+{
+    (void)user;
+    return ++g_count == g_fail_at ? NULL : malloc(n);
+}
+static void *f_realloc(void *user, void *p, size_t n)
+{
+    (void)user;
+    return ++g_count == g_fail_at ? NULL : realloc(p, n);
+}
+static void f_free(void *user, void *p)
+{
+    (void)user;
+    free(p);
+}
+
+/* Out of memory at every allocation of each ordering and of a solver with a given permutation:
+ * SK_ERR_NOMEM, nothing leaked (the ASan build checks), then success. */
+static void test_orderings_out_of_memory(void **state)
+{
+    (void)state;
+    double *xyz = NULL;
+    sk_sparse *a = grid_matrix(12, 2, &xyz);
+    int *perm = malloc(a->n * sizeof *perm);
+    sk_ordering methods[] = {SK_ORDERING_GEOMETRIC, SK_ORDERING_METIS, SK_ORDERING_AMD};
+    sk_allocator al = {f_malloc, f_realloc, f_free, NULL};
+    for (int k = 0; k < 4; ++k) {
+        sk_status st = SK_ERR_NOMEM;
+        long fail = 1;
+        for (; st == SK_ERR_NOMEM && fail < 1000; ++fail) {
+            g_count = 0;
+            g_fail_at = fail;
+            sk_set_allocator(&al);
+            if (k < 3) {
+                st = sk_sparse_point_ordering(a, 2, xyz, methods[k], perm, NULL);
+            } else {
+                sk_solver_opts so = {SK_ORDERING_GIVEN, false, perm};
+                sk_solver *s = NULL;
+                st = sk_solver_create_opts(a, SK_SOLVER_CHOLESKY, &so, &s, NULL);
+                if (st == SK_ERR_NOMEM)
+                    assert_null(s);
+                sk_solver_destroy(&s);
+            }
+            sk_set_allocator(NULL);
+            assert_true(st == SK_OK || st == SK_ERR_NOMEM);
+        }
+        assert_int_equal(st, SK_OK);
+        assert_true(fail > 2); /* at least one allocation failed first */
+    }
+    free(perm);
+    free(xyz);
+    sk_sparse_destroy(&a);
+}
+
 /* largest |a - b| over the vertices, relative to the larger side of a's bounding box */
 static double uv_difference(size_t nv, const double *a, const double *b)
 {
@@ -237,6 +293,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_grid_orderings),
         cmocka_unit_test(test_bad_orderings),
+        cmocka_unit_test(test_orderings_out_of_memory),
         cmocka_unit_test(test_param_orderings_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

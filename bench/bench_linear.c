@@ -7,6 +7,9 @@
  *       With REF.bin (raw doubles u v per vertex, e.g. a direct run's) the largest |uv - ref|
  *       relative to the layout size is printed, else "-".
  *   bench_linear --write MESH METHOD direct|hierarchical OUT.bin   the same row, uv to OUT.bin
+ *   env ORDERING=default|auto|amd|metis|nesdis|geometric: the direct solver's ordering
+ *   (sk_param_opts.ordering: auto and nesdis are the solver's own, amd, metis and geometric
+ *   on the vertex graph)
  */
 #include "surfkit/surfkit.h"
 
@@ -50,6 +53,22 @@ int main(int argc, char **argv)
     else if (strcmp(solver, "direct")) {
         fprintf(stderr, "unknown solver %s\n", solver);
         return 2;
+    }
+    /* env ORDERING: sk_param_opts.ordering */
+    const char *ord = getenv("ORDERING");
+    if (ord && *ord) {
+        static const char *names[] = {"default", "auto", "amd", "metis", "nesdis", "geometric"};
+        static const sk_ordering ords[] = {SK_ORDERING_DEFAULT, SK_ORDERING_AUTO, SK_ORDERING_AMD,
+                                           SK_ORDERING_METIS, SK_ORDERING_NESDIS,
+                                           SK_ORDERING_GEOMETRIC};
+        size_t k = 0;
+        while (k < 6 && strcmp(ord, names[k]))
+            k++;
+        if (k == 6) {
+            fprintf(stderr, "unknown ORDERING %s\n", ord);
+            return 2;
+        }
+        o.ordering = ords[k];
     }
     sk_param_stats st;
     if (sk_param_linear(m, &o, uv, &st, &err)) {

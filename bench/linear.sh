@@ -8,6 +8,7 @@
 #
 #   bench/linear.sh [SCRATCH_DIR]
 # env: BUILD (default build-bench), SHARED (default ../shared), METHODS (default all five),
+#      ORDERING (passed to bench_linear: default, auto, amd, metis, nesdis, geometric),
 #      CGAL=0 (skip the peer)
 set -eu
 SRC=$(cd "$(dirname "$0")/.." && pwd)

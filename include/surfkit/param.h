@@ -111,6 +111,10 @@ typedef struct sk_param_opts {
                                   solved directly; 0 = 20000 */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
+    sk_ordering ordering;      /* direct: fill-reducing ordering. AMD, METIS, GEOMETRIC: on the
+                                  vertex graph (sk_sparse_point_ordering); AUTO, NESDIS, BEST:
+                                  the solver's own; 0 = surfkit's pick per system (src/param/
+                                  linear.c, docs/linear.md) */
     sk_progress_fn progress;   /* may be NULL; non-zero return cancels (SK_ERR_CANCELLED) */
     void *progress_user;
 } sk_param_opts;
@@ -128,6 +132,7 @@ typedef struct sk_param_stats {
     double check_seconds;   /* input check */
     double boundary_seconds;
     double weights_seconds; /* weights + matrix assembly */
+    double ordering_seconds; /* direct: a vertex-graph ordering (part of solve.analyse_seconds) */
     double solve_seconds;   /* analyse + factor + solve (or the iterations) */
     double total_seconds;
 } sk_param_stats;

@@ -92,14 +92,29 @@ typedef enum {
     SK_ORDERING_AMD,         /* approximate minimum degree */
     SK_ORDERING_METIS,       /* METIS nested dissection */
     SK_ORDERING_NESDIS,      /* CHOLMOD's nested dissection (Cholesky only; LU: UMFPACK_ORDERING_CHOLMOD) */
-    SK_ORDERING_BEST         /* try several and keep the sparsest factor */
+    SK_ORDERING_BEST,        /* try several and keep the sparsest factor */
+    SK_ORDERING_GIVEN,       /* sk_solver_opts.perm (e.g. from sk_sparse_point_ordering) */
+    SK_ORDERING_GEOMETRIC    /* sk_sparse_point_ordering only: nested dissection from the points */
 } sk_ordering;
 
 typedef struct sk_solver_opts {
     sk_ordering ordering;
     bool simplicial; /* Cholesky: simplicial (no BLAS) instead of supernodal; for small factors
                         solved many times from several threads (the multilevel coarsest level) */
+    const int *perm; /* SK_ORDERING_GIVEN: the fill-reducing permutation, n entries (unknown
+                        perm[k] is eliminated k-th); copied by sk_solver_create_opts */
 } sk_solver_opts;
+
+/* A fill-reducing ordering of a (square, symmetric pattern; lower or full storage) whose unknowns
+ * are dim per point (unknown dim * i + c belongs to point i), computed on the point graph and
+ * expanded so that a point's unknowns stay together (for LSCM's interleaved u, v: half the
+ * graph, wider supernodes). method: SK_ORDERING_METIS, SK_ORDERING_AMD, or
+ * SK_ORDERING_GEOMETRIC: nested dissection with plane / breadth-first separators of the points
+ * xyz (3 coordinates per point; split where the separator is smallest, separators last), the
+ * order within each part and separator by constrained minimum degree (CAMD). perm gets a->n
+ * entries, for SK_ORDERING_GIVEN. xyz may be NULL unless geometric. */
+SK_API sk_status sk_sparse_point_ordering(const sk_sparse *a, unsigned dim, const double *xyz,
+                                          sk_ordering method, int *perm, sk_error *err);
 
 /* Analyses the pattern of a (fill-reducing ordering, symbolic factorization). */
 SK_API sk_status sk_solver_create(const sk_sparse *a, sk_solver_kind kind, sk_solver **out,

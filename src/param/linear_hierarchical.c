@@ -99,22 +99,6 @@ done:
     return st;
 }
 
-/* Direct solve of a (the reference path). */
-static sk_status solve_direct(const sk_sparse *a, bool symmetric, size_t nrhs, const double *rhs,
-                              double *x, sk_param_stats *stats, sk_error *err)
-{
-    sk_solver *solver = NULL;
-    sk_status st = sk_solver_create(a, symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU, &solver, err);
-    if (st == SK_OK)
-        st = sk_solver_factorize(solver, a, err);
-    if (st == SK_OK)
-        st = sk_solver_solve(solver, nrhs, rhs, x, err);
-    if (solver && stats)
-        sk_solver_stats(solver, &stats->solve);
-    sk_solver_destroy(&solver);
-    return st;
-}
-
 /* The method's matrix on a level mesh, rows and columns the free vertices (idx), in rows. */
 static sk_status level_operator(const sk_mesh *lm, sk_param_method method, const uint32_t *idx,
                                 size_t n, sk__csr *out, sk_error *err)
@@ -180,141 +164,152 @@ done:
     return st;
 }
 
-/* Levels of the hierarchy used: every SK_HLINEAR_STRIDE-th from the input down. */
-#define SK_HLINEAR_STRIDE 2
+/* The state of one hierarchical solve: per hierarchy level the unknowns, the prolongation, and
+ * for the selected levels (coarsest first) the prolongations between them and the coarse
+ * operators. */
+typedef struct hsolve {
+    size_t L, U;      /* hierarchy levels, selected levels */
+    uint32_t **lidx;  /* per level: vertex -> unknown or SK_INVALID; the finest is borrowed */
+    size_t *nun;      /* per level: unknowns */
+    size_t *sel;      /* the selected levels, coarsest first */
+    sk__csr *p;       /* per level k: the prolongation from k to k + 1 */
+    sk__csr *sp;      /* per selected level i: the prolongation from sel[i] to sel[i + 1] */
+    sk__csr *ops;     /* per selected level: a rediscretized operator (harmonic) */
+} hsolve;
 
-sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
-                                       const sk_sparse *a, bool symmetric, const uint32_t *idx,
-                                       unsigned dim, size_t nrhs, const double *rhs, double *x,
-                                       const sk_param_opts *o, sk_param_stats *stats,
-                                       sk_error *err)
+static void hsolve_free(hsolve *hs)
 {
-    sk_status st = SK_OK;
-    sk_hierarchy *h = NULL;
-    sk_mesh *lm = NULL;
-    uint32_t **lidx = NULL;
-    size_t *nun = NULL, *sel = NULL;
-    sk__csr *p = NULL, *sp = NULL, *ops = NULL, fine = {0};
-    sk__multilevel *mg = NULL;
-    size_t L = 0, U = 0;
-    double t0 = sk_seconds();
-    size_t nverts = a->n / dim;
-    size_t coarse_max = o->coarse_vertices ? o->coarse_vertices : SK_HLINEAR_COARSE_VERTICES;
-    if (m->num_deleted_vertices > 0 || nverts <= 2 * coarse_max) {
-        /* small (or not compacted): the hierarchy has nothing to win */
-        if (stats)
-            stats->levels = 1;
-        st = solve_direct(a, symmetric, nrhs, rhs, x, stats, err);
-        goto done;
+    for (size_t k = 0; k < hs->L; ++k) {
+        if (hs->lidx && k + 1 < hs->L)
+            sk__free(hs->lidx[k]);
+        if (hs->p)
+            sk__csr_free(&hs->p[k]);
+        if (hs->sp)
+            sk__csr_free(&hs->sp[k]);
+        if (hs->ops)
+            sk__csr_free(&hs->ops[k]);
     }
-    sk_hierarchy_opts ho = {0};
-    ho.seed = 1;
-    ho.target_faces = 2 * coarse_max;
-    if ((st = sk_hierarchy_build(m, &ho, &h, err)))
-        goto done;
-    double t1 = sk_seconds();
-    L = sk_hierarchy_num_levels(h);
-    lidx = sk__calloc_array(L, sizeof *lidx);
-    nun = sk__calloc_array(L, sizeof *nun);
-    sel = sk__calloc_array(L, sizeof *sel);
-    p = sk__calloc_array(L, sizeof *p);
-    sp = sk__calloc_array(L, sizeof *sp);
-    ops = sk__calloc_array(L, sizeof *ops);
-    if (!lidx || !nun || !sel || !p || !sp || !ops) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    /* unknowns of every level: a coarse vertex is free when the fine vertex it is kept from is
-     * free and no fixed fine vertex was collapsed onto it (so a removed LSCM pin pins the vertex
-     * it went to; the boundary of the fixed-boundary methods only collapses onto itself) */
-    nun[L - 1] = nverts;
+    sk__free(hs->lidx);
+    sk__free(hs->nun);
+    sk__free(hs->sel);
+    sk__free(hs->p);
+    sk__free(hs->sp);
+    sk__free(hs->ops);
+    memset(hs, 0, sizeof *hs);
+}
+
+/* The unknowns of every level: a coarse vertex is free when the fine vertex it is kept from is
+ * free and no fixed fine vertex was collapsed onto it (so a removed LSCM pin pins the vertex it
+ * went to; the boundary of the fixed-boundary methods only collapses onto itself). */
+static sk_status level_unknowns(const sk_hierarchy *h, const uint32_t *idx, size_t nverts,
+                                hsolve *hs, sk_error *err)
+{
+    size_t L = hs->L;
+    hs->nun[L - 1] = nverts;
     for (size_t k = L - 1; k-- > 0;) {
-        size_t nc = sk_hierarchy_level_info(h, k).vertices, nf = sk_hierarchy_level_info(h, k + 1).vertices;
-        const uint32_t *fidx = k + 1 == L - 1 ? idx : lidx[k + 1];
+        size_t nc = sk_hierarchy_level_info(h, k).vertices;
+        size_t nf = sk_hierarchy_level_info(h, k + 1).vertices;
+        const uint32_t *fidx = k + 1 == L - 1 ? idx : hs->lidx[k + 1];
         const uint32_t *map = sk_hierarchy_vertex_map(h, k);
         size_t ns = 0;
         const sk_vertex_split *spl = sk_hierarchy_splits(h, k, &ns);
-        lidx[k] = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
-        if (!lidx[k]) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
-        }
+        uint32_t *ci = hs->lidx[k] = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+        if (!ci)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
         for (size_t c = 0; c < nc; ++c)
-            lidx[k][c] = SK_INVALID;
+            ci[c] = SK_INVALID;
         for (size_t f = 0; f < nf; ++f)
             if (map[f] != SK_INVALID && fidx[f] != SK_INVALID)
-                lidx[k][map[f]] = 0;
+                ci[map[f]] = 0;
         for (size_t j = 0; j < ns; ++j)
             if (fidx[spl[j].v] == SK_INVALID)
-                lidx[k][spl[j].w0] = SK_INVALID;
+                ci[spl[j].w0] = SK_INVALID;
         size_t n = 0;
         for (size_t c = 0; c < nc; ++c)
-            if (lidx[k][c] != SK_INVALID)
-                lidx[k][c] = (uint32_t)n++;
-        nun[k] = n;
+            if (ci[c] != SK_INVALID)
+                ci[c] = (uint32_t)n++;
+        hs->nun[k] = n;
     }
-    lidx[L - 1] = (uint32_t *)idx; /* borrowed: not freed */
-    /* the coarsest level used: the finest one that is small enough (the hierarchy may stop
-     * above the target when collapses run out) */
-    size_t first = 0;
-    while (first + 1 < L - 1 && nun[first + 1] <= coarse_max)
+    hs->lidx[L - 1] = (uint32_t *)idx; /* borrowed: not freed */
+    return SK_OK;
+}
+
+/* Levels of the hierarchy used: every SK_HLINEAR_STRIDE-th from the input down. */
+#define SK_HLINEAR_STRIDE 2
+
+/* The selected levels (the input and every SK_HLINEAR_STRIDE-th below it, down to the finest
+ * with at most coarse_max unknowns; the hierarchy may stop above the target when collapses run
+ * out) and the prolongations between them: products of the level ones. */
+static sk_status select_levels(const sk_hierarchy *h, unsigned dim, size_t coarse_max,
+                               hsolve *hs, sk_error *err)
+{
+    size_t L = hs->L, first = 0;
+    while (first + 1 < L - 1 && hs->nun[first + 1] <= coarse_max)
         first++;
+    sk_status st = SK_OK;
     for (size_t k = first; k + 1 < L; ++k)
-        if ((st = build_prolongation(h, k, lidx[k + 1], nun[k + 1], lidx[k], nun[k], dim, &p[k],
-                                     err)))
-            goto done;
-    size_t stride = SK_HLINEAR_STRIDE;
-    /* selected levels, coarsest first; the coarsest used is always `first` */
+        if ((st = build_prolongation(h, k, hs->lidx[k + 1], hs->nun[k + 1], hs->lidx[k],
+                                     hs->nun[k], dim, &hs->p[k], err)))
+            return st;
     size_t tmp[64], nt = 0;
-    for (size_t k = L - 1;; k = k >= first + stride ? k - stride : first) {
+    for (size_t k = L - 1;; k = k >= first + SK_HLINEAR_STRIDE ? k - SK_HLINEAR_STRIDE : first) {
         tmp[nt++] = k;
         if (k == first || nt == 64)
             break;
     }
-    U = nt;
-    for (size_t i = 0; i < U; ++i)
-        sel[i] = tmp[U - 1 - i];
-    /* prolongations between selected levels: products of the level ones */
-    for (size_t i = 0; i + 1 < U; ++i) {
-        sk__csr acc = p[sel[i]];
-        memset(&p[sel[i]], 0, sizeof acc);
-        for (size_t k = sel[i] + 1; k < sel[i + 1]; ++k) {
+    hs->U = nt;
+    for (size_t i = 0; i < nt; ++i)
+        hs->sel[i] = tmp[nt - 1 - i];
+    for (size_t i = 0; i + 1 < hs->U; ++i) {
+        sk__csr acc = hs->p[hs->sel[i]];
+        memset(&hs->p[hs->sel[i]], 0, sizeof acc);
+        for (size_t k = hs->sel[i] + 1; k < hs->sel[i + 1]; ++k) {
             sk__csr prod;
-            st = sk__csr_product(&p[k], &acc, &prod, err);
+            st = sk__csr_product(&hs->p[k], &acc, &prod, err);
             sk__csr_free(&acc);
             if (st)
-                goto done;
+                return st;
             acc = prod;
         }
-        sp[i] = acc;
+        hs->sp[i] = acc;
     }
-    /* coarse operators: for the harmonic method its own matrix on each level mesh (the
-     * cotangent matrix is the finite element stiffness matrix, which the Galerkin product of a
-     * nested linear space reproduces: this rediscretization is close to Galerkin at a quarter of
-     * its entries); for the others the Galerkin products (Tutte's graph Laplacian and the
-     * normalised Floater / mean value rows of a coarse mesh are poor stand-ins for them: 2-3x
-     * the iterations measured on a 1M-triangle disk) */
-    bool redisc = method == SK_PARAM_HARMONIC && dim == 1;
-    if (redisc) {
-        if ((st = sk_mesh_copy(sk_hierarchy_coarsest(h), &lm, err)))
-            goto done;
-        for (size_t k = 0, i = 0; i + 1 < U; ++k) {
-            if (k == sel[i]) {
-                if ((st = level_operator(lm, method, lidx[k], nun[k], &ops[i], err)))
-                    goto done;
-                i++;
-                if (i + 1 == U)
-                    break;
-            }
-            if ((st = sk_hierarchy_split(h, k, lm, err)))
-                goto done;
+    return SK_OK;
+}
+
+/* The harmonic method's own matrix on each selected coarse level mesh (the cotangent matrix is
+ * the finite element stiffness matrix, which the Galerkin product of a nested linear space
+ * reproduces: this rediscretization is close to Galerkin at a quarter of its entries); the
+ * level meshes come from the coarsest by the vertex splits. */
+static sk_status rediscretize(const sk_hierarchy *h, sk_param_method method, hsolve *hs,
+                              sk_error *err)
+{
+    sk_mesh *lm = NULL;
+    sk_status st = sk_mesh_copy(sk_hierarchy_coarsest(h), &lm, err);
+    for (size_t k = 0, i = 0; st == SK_OK && i + 1 < hs->U; ++k) {
+        if (k == hs->sel[i]) {
+            if ((st = level_operator(lm, method, hs->lidx[k], hs->nun[k], &hs->ops[i], err)))
+                break;
+            if (++i + 1 == hs->U)
+                break;
         }
-        sk_mesh_destroy(&lm);
+        st = sk_hierarchy_split(h, k, lm, err);
     }
-    sk_hierarchy_destroy(&h);
-    if ((st = sk__csr_from_sparse(a, &fine, err)))
+    sk_mesh_destroy(&lm);
+    return st;
+}
+
+/* The multilevel hierarchy over the selected levels and its nested Krylov solve; stats. */
+static sk_status multilevel_run(const sk_sparse *a, bool symmetric, hsolve *hs, bool redisc,
+                                size_t nrhs, const double *rhs, double *x, const sk_param_opts *o,
+                                const double t[2], sk_param_stats *stats, sk_error *err)
+{
+    sk__csr fine = {0};
+    sk__multilevel *mg = NULL;
+    sk_status st = sk__csr_from_sparse(a, &fine, err);
+    if (st)
         goto done;
-    st = sk__multilevel_create(&fine, sp, redisc ? ops : NULL, U, symmetric, &mg, err);
+    /* the multilevel object takes the prolongations and operators over (and zeroes them) */
+    st = sk__multilevel_create(&fine, hs->sp, redisc ? hs->ops : NULL, hs->U, symmetric, &mg, err);
     if (st)
         goto done;
     double t2 = sk_seconds();
@@ -343,30 +338,65 @@ sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
         stats->solve.factorizations = 1;
         stats->solve.solves = 1;
         stats->solve.rhs = nrhs;
-        stats->solve.analyse_seconds = t1 - t0; /* the hierarchy */
-        stats->solve.factor_seconds = t2 - t1;  /* prolongations, operators, coarse factor */
-        stats->solve.solve_seconds = t3 - t2;   /* nested Krylov iterations */
+        stats->solve.analyse_seconds = t[1] - t[0]; /* the hierarchy */
+        stats->solve.factor_seconds = t2 - t[1];    /* prolongations, operators, coarse factor */
+        stats->solve.solve_seconds = t3 - t2;       /* nested Krylov iterations */
     }
 done:
     sk__multilevel_destroy(&mg);
     sk__csr_free(&fine);
-    sk_mesh_destroy(&lm);
-    for (size_t k = 0; k < L; ++k) {
-        if (lidx && k + 1 < L)
-            sk__free(lidx[k]);
-        if (p)
-            sk__csr_free(&p[k]);
-        if (sp)
-            sk__csr_free(&sp[k]);
-        if (ops)
-            sk__csr_free(&ops[k]);
+    return st;
+}
+
+sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
+                                       const sk_sparse *a, bool symmetric, const uint32_t *idx,
+                                       unsigned dim, size_t nrhs, const double *rhs, double *x,
+                                       const sk_param_opts *o, sk_param_stats *stats,
+                                       sk_error *err)
+{
+    sk_status st = SK_OK;
+    sk_hierarchy *h = NULL;
+    hsolve hs = {0};
+    double t[2] = {sk_seconds(), 0};
+    size_t nverts = a->n / dim;
+    size_t coarse_max = o->coarse_vertices ? o->coarse_vertices : SK_HLINEAR_COARSE_VERTICES;
+    if (m->num_deleted_vertices > 0 || nverts <= 2 * coarse_max) {
+        /* small (or not compacted): the hierarchy has nothing to win */
+        if (stats)
+            stats->levels = 1;
+        return sk__param_solve_direct(m, a, symmetric, idx, dim, nrhs, rhs, x, o, stats, err);
     }
-    sk__free(lidx);
-    sk__free(nun);
-    sk__free(sel);
-    sk__free(p);
-    sk__free(sp);
-    sk__free(ops);
+    sk_hierarchy_opts ho = {0};
+    ho.seed = 1;
+    ho.target_faces = 2 * coarse_max;
+    if ((st = sk_hierarchy_build(m, &ho, &h, err)))
+        goto done;
+    t[1] = sk_seconds();
+    size_t L = hs.L = sk_hierarchy_num_levels(h);
+    hs.lidx = sk__calloc_array(L, sizeof *hs.lidx);
+    hs.nun = sk__calloc_array(L, sizeof *hs.nun);
+    hs.sel = sk__calloc_array(L, sizeof *hs.sel);
+    hs.p = sk__calloc_array(L, sizeof *hs.p);
+    hs.sp = sk__calloc_array(L, sizeof *hs.sp);
+    hs.ops = sk__calloc_array(L, sizeof *hs.ops);
+    if (!hs.lidx || !hs.nun || !hs.sel || !hs.p || !hs.sp || !hs.ops) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    if ((st = level_unknowns(h, idx, nverts, &hs, err)) ||
+        (st = select_levels(h, dim, coarse_max, &hs, err)))
+        goto done;
+    /* coarse operators: rediscretized for the harmonic method; for the others the Galerkin
+     * products (Tutte's graph Laplacian and the normalised Floater / mean value rows of a
+     * coarse mesh are poor stand-ins for them: 2-3x the iterations measured on a 1M-triangle
+     * disk) */
+    bool redisc = method == SK_PARAM_HARMONIC && dim == 1;
+    if (redisc && (st = rediscretize(h, method, &hs, err)))
+        goto done;
+    sk_hierarchy_destroy(&h);
+    st = multilevel_run(a, symmetric, &hs, redisc, nrhs, rhs, x, o, t, stats, err);
+done:
+    hsolve_free(&hs);
     sk_hierarchy_destroy(&h);
     return st;
 }

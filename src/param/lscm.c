@@ -43,73 +43,38 @@ static void farthest_pair(const sk_mesh *m, uint32_t pins[2])
     pins[1] = b;
 }
 
-sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
-                        sk_param_stats *stats, sk_error *err)
+/* The two pinned vertices (given or the farthest boundary pair) and their uv: (0, 0) and
+ * (|P1 - P0|, 0), so that the result has about the surface's size; every other uv is zeroed. */
+static sk_status place_pins(const sk_mesh *m, const sk_param_opts *o, uint32_t pins[2], double *uv,
+                            sk_error *err)
 {
-    sk_param_opts o = {0};
-    if (opts)
-        o = *opts;
-    sk_param_stats s;
-    memset(&s, 0, sizeof s);
-    double t0 = sk_seconds();
     size_t nv = m->num_vertices;
-    uint32_t *idx = NULL;
-    double *rhs = NULL, *x = NULL;
-    sk_triplets t = {0};
-    sk_sparse *a = NULL;
-    sk_solver *solver = NULL;
-    sk_status st = sk_param_check_disk(m, err);
-    if (st)
-        goto done;
-    s.vertices = nv;
-    s.faces = m->num_faces - m->num_deleted_faces;
-    double t1 = sk_seconds();
-    s.check_seconds = t1 - t0;
-    uint32_t pins[2];
-    if (o.has_pins) {
-        pins[0] = o.pins[0];
-        pins[1] = o.pins[1];
+    if (o->has_pins) {
+        pins[0] = o->pins[0];
+        pins[1] = o->pins[1];
         for (int k = 0; k < 2; ++k)
-            if (pins[k] >= nv || m->v_deleted[pins[k]] || m->v_halfedge[pins[k]] == SK_INVALID) {
-                st = sk__fail(err, SK_ERR_ARG, "pinned vertex %u is not a vertex of the mesh", pins[k]);
-                goto done;
-            }
-        if (pins[0] == pins[1]) {
-            st = sk__fail(err, SK_ERR_ARG, "LSCM needs two different pinned vertices");
-            goto done;
-        }
+            if (pins[k] >= nv || m->v_deleted[pins[k]] || m->v_halfedge[pins[k]] == SK_INVALID)
+                return sk__fail(err, SK_ERR_ARG, "pinned vertex %u is not a vertex of the mesh",
+                                pins[k]);
+        if (pins[0] == pins[1])
+            return sk__fail(err, SK_ERR_ARG, "LSCM needs two different pinned vertices");
     } else {
         farthest_pair(m, pins);
     }
     for (size_t v = 0; v < 2 * nv; ++v)
         uv[v] = 0;
-    /* pins at (0, 0) and (|P1 - P0|, 0): the result has about the surface's size */
     double dist = sk__dist3(m->positions + 3 * (size_t)pins[0], m->positions + 3 * (size_t)pins[1]);
     uv[2 * (size_t)pins[1]] = dist;
-    s.boundary_seconds = sk_seconds() - t1;
-    double t2 = sk_seconds();
-    idx = sk__malloc_array(nv, sizeof *idx);
-    size_t n = 0;
-    if (!idx) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    for (size_t v = 0; v < nv; ++v) {
-        idx[v] = SK_INVALID;
-        if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && v != pins[0] && v != pins[1])
-            idx[v] = (uint32_t)n++;
-    }
-    s.interior = n;
-    s.boundary = 2;
-    size_t N = 2 * n; /* unknown 2i is u_i, 2i + 1 is v_i */
-    rhs = sk__calloc_array(N ? N : 1, sizeof *rhs);
-    x = sk__malloc_array(N ? N : 1, sizeof *x);
-    if (!rhs || !x || sk_triplets_reserve(&t, 12 * (m->num_faces + 1), err)) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    if (n == 0)
-        goto done;
+    return SK_OK;
+}
+
+/* The lower triangle of the 2n x 2n conformal energy matrix over the free vertices idx
+ * (unknown 2i is u_i, 2i + 1 is v_i) into t, the pinned columns moved to rhs (2n, zeroed). */
+static sk_status assemble(const sk_mesh *m, const uint32_t *idx, const double *uv, sk_triplets *t,
+                          double *rhs, sk_error *err)
+{
+    if (sk_triplets_reserve(t, 12 * (m->num_faces + 1), err))
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     bool add_failed = false; /* a dropped entry would give wrong UVs, not an error */
 /* adds Q[(va, ca)][(vb, cb)] += q (ca, cb: 0 for u, 1 for v); pinned columns go to the rhs */
 #define ADD(va, ca, vb, cb, q)                                                                     \
@@ -119,7 +84,7 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
             uint32_t r_ = 2 * ia_ + (ca);                                                          \
             if (ib_ == SK_INVALID)                                                                 \
                 rhs[r_] -= (q) * uv[2 * (size_t)(vb) + (cb)];                                      \
-            else if (2 * ib_ + (cb) <= r_ && sk_triplets_add(&t, r_, 2 * ib_ + (cb), (q)))         \
+            else if (2 * ib_ + (cb) <= r_ && sk_triplets_add(t, r_, 2 * ib_ + (cb), (q)))          \
                 add_failed = true;                                                                 \
         }                                                                                          \
     } while (0)
@@ -154,29 +119,69 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
         ADD(va, 1, vb, 0, 0.5);
     }
 #undef ADD
-    if (add_failed) {
+    return add_failed ? sk__fail(err, SK_ERR_NOMEM, "out of memory") : SK_OK;
+}
+
+sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
+                        sk_param_stats *stats, sk_error *err)
+{
+    sk_param_opts o = {0};
+    if (opts)
+        o = *opts;
+    sk_param_stats s;
+    memset(&s, 0, sizeof s);
+    double t0 = sk_seconds();
+    size_t nv = m->num_vertices;
+    uint32_t *idx = NULL;
+    double *rhs = NULL, *x = NULL;
+    sk_triplets t = {0};
+    sk_sparse *a = NULL;
+    uint32_t pins[2];
+    sk_status st = sk_param_check_disk(m, err);
+    if (st)
+        goto done;
+    s.vertices = nv;
+    s.faces = m->num_faces - m->num_deleted_faces;
+    double t1 = sk_seconds();
+    s.check_seconds = t1 - t0;
+    if ((st = place_pins(m, &o, pins, uv, err)))
+        goto done;
+    double t2 = sk_seconds();
+    s.boundary_seconds = t2 - t1;
+    idx = sk__malloc_array(nv, sizeof *idx);
+    size_t n = 0;
+    if (!idx) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    st = sk_sparse_from_triplets(N, &t, SK_SPARSE_LOWER, &a, err);
-    sk_triplets_free(&t);
-    if (st)
+    for (size_t v = 0; v < nv; ++v) {
+        idx[v] = SK_INVALID;
+        if (!m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID && v != pins[0] && v != pins[1])
+            idx[v] = (uint32_t)n++;
+    }
+    s.interior = n;
+    s.boundary = 2;
+    size_t N = 2 * n; /* unknown 2i is u_i, 2i + 1 is v_i */
+    rhs = sk__calloc_array(N ? N : 1, sizeof *rhs);
+    x = sk__malloc_array(N ? N : 1, sizeof *x);
+    if (!rhs || !x) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
+    }
+    if (n == 0)
+        goto done;
+    if ((st = assemble(m, idx, uv, &t, rhs, err)) ||
+        (st = sk_sparse_from_triplets(N, &t, SK_SPARSE_LOWER, &a, err)))
+        goto done;
+    sk_triplets_free(&t);
     double t3 = sk_seconds();
     s.weights_seconds = t3 - t2;
     if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
         goto done;
-    if (o.solver == SK_LINEAR_HIERARCHICAL) {
+    if (o.solver == SK_LINEAR_HIERARCHICAL)
         st = sk__param_solve_hierarchical(m, SK_PARAM_LSCM, a, true, idx, 2, 1, rhs, x, &o, &s, err);
-    } else {
-        st = sk_solver_create(a, SK_SOLVER_CHOLESKY, &solver, err);
-        if (st == SK_OK)
-            st = sk_solver_factorize(solver, a, err);
-        if (st == SK_OK)
-            st = sk_solver_solve(solver, 1, rhs, x, err);
-        if (solver)
-            sk_solver_stats(solver, &s.solve);
-    }
+    else
+        st = sk__param_solve_direct(m, a, true, idx, 2, 1, rhs, x, &o, &s, err);
     s.solve_seconds = sk_seconds() - t3;
     if (st)
         goto done;
@@ -187,7 +192,6 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
         }
     st = sk__progress(o.progress, o.progress_user, 1.0, err);
 done:
-    sk_solver_destroy(&solver);
     sk_sparse_destroy(&a);
     sk_triplets_free(&t);
     sk__free(idx);

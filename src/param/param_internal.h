@@ -16,6 +16,13 @@ double sk__cot3(const double a[3], const double b[3], const double c[3]);
 /* Solves a x = rhs (nrhs columns) of `method` with SK_LINEAR_HIERARCHICAL (linear_hierarchical.c): idx[v]
  * is vertex v's unknown (SK_INVALID when fixed), dim unknowns per vertex (dim * idx[v] + c).
  * Fills stats->solve, levels, iterations, residual. */
+/* Direct solve of a (n x n, dim unknowns per free vertex as above) with o->ordering; the default
+ * is the geometric nested dissection of the free vertices' positions. Fills stats->solve. */
+sk_status sk__param_solve_direct(const sk_mesh *m, const sk_sparse *a, bool symmetric,
+                                 const uint32_t *idx, unsigned dim, size_t nrhs, const double *rhs,
+                                 double *x, const sk_param_opts *o, sk_param_stats *stats,
+                                 sk_error *err);
+
 sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
                                        const sk_sparse *a, bool symmetric, const uint32_t *idx,
                                        unsigned dim, size_t nrhs, const double *rhs, double *x,

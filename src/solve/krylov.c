@@ -383,7 +383,7 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
     mg->stats.finest_nnz = mg->A[L - 1].ptr[mg->A[L - 1].rows];
     /* simplicial: the coarsest factor is small and solved once per V-cycle from the threads of
      * the right-hand sides, where BLAS threads of a supernodal solve only compete with them */
-    sk_solver_opts so = {SK_ORDERING_DEFAULT, true};
+    sk_solver_opts so = {SK_ORDERING_DEFAULT, true, NULL};
     if ((st = coarse_sparse(&mg->A[0], symmetric, &mg->coarse, err)) ||
         (st = sk_solver_create_opts(mg->coarse, symmetric ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU,
                                     &so, &mg->solver, err)) ||

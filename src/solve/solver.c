@@ -6,6 +6,7 @@
 #include "core/internal.h"
 
 #include <cholmod.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <umfpack.h>
@@ -116,6 +117,11 @@ static void cholmod_ordering(cholmod_common *cc, sk_ordering o)
     case SK_ORDERING_BEST:
         cc->nmethods = 9; /* every ordering CHOLMOD has, the best kept */
         break;
+    case SK_ORDERING_GIVEN:
+    case SK_ORDERING_GEOMETRIC: /* refused by sk_solver_create_opts */
+        cc->nmethods = 1;
+        cc->method[0].ordering = CHOLMOD_GIVEN;
+        break;
     }
 }
 
@@ -125,6 +131,8 @@ static double umfpack_ordering(sk_ordering o)
     case SK_ORDERING_METIS: return UMFPACK_ORDERING_METIS;
     case SK_ORDERING_NESDIS: return UMFPACK_ORDERING_CHOLMOD;
     case SK_ORDERING_BEST: return UMFPACK_ORDERING_BEST;
+    case SK_ORDERING_GIVEN:
+    case SK_ORDERING_GEOMETRIC: return UMFPACK_ORDERING_GIVEN;
     case SK_ORDERING_AMD:
     case SK_ORDERING_AUTO:
     case SK_ORDERING_DEFAULT: break;
@@ -139,6 +147,12 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
     if (ord == SK_ORDERING_DEFAULT)
         ord = default_ordering(kind);
     *out = NULL;
+    int *perm = NULL; /* a copy: CHOLMOD and UMFPACK take non-const pointers */
+    if (ord == SK_ORDERING_GIVEN && (!opts->perm || a->n > (size_t)INT_MAX))
+        return sk__fail(err, SK_ERR_ARG, "SK_ORDERING_GIVEN without a permutation");
+    if (ord == SK_ORDERING_GEOMETRIC)
+        return sk__fail(err, SK_ERR_ARG, "the geometric ordering needs the points: compute it "
+                        "with sk_sparse_point_ordering and pass it as SK_ORDERING_GIVEN");
     if (kind == SK_SOLVER_CHOLESKY && a->storage != SK_SPARSE_LOWER)
         return sk__fail(err, SK_ERR_ARG, "the Cholesky solver needs a lower-stored matrix");
     if (kind == SK_SOLVER_LU && a->storage != SK_SPARSE_FULL)
@@ -153,6 +167,26 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
     s->stats.nnz = a->nnz;
     double t0 = sk_seconds();
     sk_status st = SK_OK;
+    if (ord == SK_ORDERING_GIVEN) {
+        perm = sk__malloc_array(a->n ? a->n : 1, sizeof *perm);
+        uint8_t *seen = sk__calloc_array(a->n ? a->n : 1, 1);
+        bool valid = perm && seen;
+        for (size_t k = 0; valid && k < a->n; ++k) {
+            int p = opts->perm[k];
+            valid = p >= 0 && (size_t)p < a->n && !seen[p];
+            if (valid)
+                seen[p] = 1;
+            perm[k] = p;
+        }
+        bool nomem = !perm || !seen;
+        sk__free(seen);
+        if (!valid) {
+            st = nomem ? sk__fail(err, SK_ERR_NOMEM, "out of memory")
+                       : sk__fail(err, SK_ERR_ARG, "the given ordering is not a permutation of "
+                                  "0..%zu", a->n - 1);
+            goto done;
+        }
+    }
     if (kind == SK_SOLVER_CHOLESKY) {
         cholmod_start(&s->cc);
         s->cc_started = true;
@@ -162,7 +196,7 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (opts && opts->simplicial)
             s->cc.supernodal = CHOLMOD_SIMPLICIAL;
         cholmod_sparse A = cholmod_view(a);
-        s->L = cholmod_analyze(&A, &s->cc);
+        s->L = perm ? cholmod_analyze_p(&A, perm, NULL, 0, &s->cc) : cholmod_analyze(&A, &s->cc);
         if (!s->L || s->cc.status < 0) {
             st = sk__fail(err, s->cc.status == CHOLMOD_OUT_OF_MEMORY ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "CHOLMOD analysis of a %zu x %zu matrix failed: %s", a->n, a->n,
@@ -185,9 +219,13 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         umfpack_di_defaults(s->control);
         s->control[UMFPACK_PRL] = 0;
         s->control[UMFPACK_ORDERING] = umfpack_ordering(ord);
+        if (perm) /* the given order is symmetric (of A + A^T): rows follow the columns */
+            s->control[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
         double info[UMFPACK_INFO];
-        int r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
-                                    s->control, info);
+        int r = perm ? umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
+                                            &s->symbolic, s->control, info)
+                     : umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax,
+                                           &s->symbolic, s->control, info);
         if (r != UMFPACK_OK) {
             st = sk__fail(err, r == UMFPACK_ERROR_out_of_memory ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "UMFPACK analysis of a %zu x %zu matrix failed (status %d)", a->n, a->n,
@@ -196,6 +234,7 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         }
     }
 done:
+    sk__free(perm);
     s->stats.analyse_seconds = sk_seconds() - t0;
     if (st)
         sk_solver_destroy(&s);

@@ -153,7 +153,7 @@ static void test_orderings_agree(void **state)
         size_t nord = sizeof ords / sizeof ords[0];
         for (size_t k = 0; k < nord + 1; ++k) {
             /* the last pass: the default ordering with a simplicial factor */
-            sk_solver_opts so = {k < nord ? ords[k] : SK_ORDERING_DEFAULT, k == nord};
+            sk_solver_opts so = {k < nord ? ords[k] : SK_ORDERING_DEFAULT, k == nord, NULL};
             sk_solver *s = NULL;
             sk_error err;
             sk_status st = sk_solver_create_opts(a, sym ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU, &so,

@@ -15,6 +15,7 @@
 
 #include "surfkit/core.h"
 #include "surfkit/deviation.h"
+#include "surfkit/hierarchy.h"
 #include "surfkit/mesh.h"
 #include "surfkit/smooth.h"
 
@@ -37,8 +38,11 @@ typedef struct sk_tolerance_opts {
     unsigned tess;           /* tessellation of each patch for the surface side (0 = 6) */
     unsigned refine_levels;  /* the refinement starts this many levels below the coarsest level
                                 that meets the tolerance (0 = 2) */
-    unsigned max_rounds;     /* refinement rounds (0 = 24) */
-    uint64_t seed;           /* hierarchy seed */
+    unsigned max_rounds;     /* refinement rounds (0 = 32); each splits back the coarsest
+                                missing collapses around the offending vertices */
+    uint64_t seed;           /* hierarchy seed (0 = 1, as surfkit simplify) */
+    sk_collapse_opts collapse; /* the hierarchy's collapses: 0 = a face normal turns by at most
+                                15 degrees, interior valence at least 4 */
     sk_progress_fn progress; /* called between surfaces; non-zero cancels */
     void *progress_user;
 } sk_tolerance_opts;
@@ -53,9 +57,9 @@ typedef struct sk_tolerance_try {
     sk_status status;        /* SK_OK, or why VC1 could not be built there (then skipped) */
     size_t vertices, patches;
     double max_deviation;    /* two-sided, over the samples; NaN when not built */
-    size_t singular;         /* singular patches (sk_smooth_patch_shapes): a surface with any
-                                does not meet T (the refinement splits around them) */
-    bool met;                /* within T and no singular patch */
+    size_t singular;         /* singular patches (sk_smooth_patch_shapes; the refinement splits
+                                around them too) */
+    bool met;                /* within T */
 } sk_tolerance_try;
 
 typedef struct sk_tolerance_stats {
@@ -66,7 +70,7 @@ typedef struct sk_tolerance_stats {
     sk_tolerance_try tried[SK_TOLERANCE_MAX_TRIED];
     size_t levels_tried;     /* full levels tried by the search */
     size_t failed_levels;    /* of them, where VC1 could not be built (skipped to a finer one) */
-    size_t singular_levels;  /* of them, whose surface has singular patches (they do not meet T) */
+    size_t singular_levels;  /* of them, whose surface has singular patches */
     size_t coarsest_met;     /* the coarsest full level found to meet T (levels - 1 when none) */
     size_t base_level;       /* the level the refinement started from */
     size_t rounds;           /* refinement rounds (surfaces built from the base level) */

@@ -188,31 +188,34 @@ done:
  * Cuts
  * ------------------------------------------------------------------------------------------- */
 
-/* Makes v alive with its dependencies; returns the number of vertices made alive. */
-static size_t want(const tol_ctx *c, uint8_t *alive, uint32_t v, uint32_t *stack)
+/* One step of refinement towards v: makes alive the splits on v's dependency chain (v, its w0,
+ * first and last, theirs, ...) whose own dependencies are all alive already, i.e. the coarsest
+ * missing collapses around v. stamp/stamp_value mark the vertices visited in this round.
+ * Returns the number of vertices made alive. */
+static size_t want_step(const tol_ctx *c, uint8_t *alive, uint32_t v, uint32_t *stack,
+                        uint32_t *stamp, uint32_t stamp_value)
 {
     size_t top = 0, added = 0;
-    if (alive[v])
+    if (alive[v] || stamp[v] == stamp_value)
         return 0;
+    stamp[v] = stamp_value;
     stack[top++] = v;
     while (top) {
-        uint32_t x = stack[top - 1];
-        if (alive[x]) {
-            --top;
-            continue;
-        }
+        uint32_t x = stack[--top];
         const sk_vertex_split *r = &c->rec[x];
         uint32_t dep[3] = {r->w0, r->first, r->last};
         bool ready = true;
         for (int q = 0; q < 3; ++q)
-            if (!alive[dep[q]]) {
-                stack[top++] = dep[q];
+            if (alive[dep[q]] != 1) {
                 ready = false;
+                if (!alive[dep[q]] && stamp[dep[q]] != stamp_value) {
+                    stamp[dep[q]] = stamp_value;
+                    stack[top++] = dep[q];
+                }
             }
         if (ready) {
-            alive[x] = 1;
+            alive[x] = 2; /* alive from the next build on (not a dependency in this round) */
             ++added;
-            --top;
         }
     }
     return added;
@@ -538,7 +541,7 @@ static sk_status build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_t
     if (!st)
         st = check(c, r->s, alive, b, bad, &r->max, err);
     stats->seconds_check += sk_seconds() - t1;
-    r->met = !st && r->max <= c->tol && r->singular == 0;
+    r->met = !st && r->max <= c->tol;
     return st;
 }
 
@@ -612,7 +615,7 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
     best.max = r.max = INFINITY;
     bool best_refined = false;
     uint8_t *alive = NULL, *bad = NULL;
-    uint32_t *stack = NULL;
+    uint32_t *stack = NULL, *stamp = NULL, stamp_value = 0;
     check_buf b = {0};
     sk_soup *fine_soup = NULL, *ts = NULL;
     sk_status st = SK_OK;
@@ -671,7 +674,7 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
     stats->tolerance = c.tol;
     stats->input_faces = c.nf;
     unsigned refine_levels = o.refine_levels ? o.refine_levels : 2;
-    unsigned max_rounds = o.max_rounds ? o.max_rounds : 24;
+    unsigned max_rounds = o.max_rounds ? o.max_rounds : 32;
 
     /* fine normals */
     c.normals = sk__malloc_array(3 * c.nv, sizeof *c.normals);
@@ -681,9 +684,10 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
     alive = sk__malloc_array(c.nv, 1);
     bad = sk__calloc_array(c.nv, 1);
     stack = sk__malloc_array(c.nv, sizeof *stack);
+    stamp = sk__calloc_array(c.nv, sizeof *stamp);
     b.fd = sk__malloc_array(c.nf, sizeof *b.fd);
     b.vd = sk__malloc_array(c.nv, sizeof *b.vd);
-    if (!c.normals || !tri || !c.f2m || !alive || !bad || !stack || !b.fd || !b.vd) {
+    if (!c.normals || !tri || !c.f2m || !alive || !bad || !stack || !stamp || !b.fd || !b.vd) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
@@ -704,6 +708,12 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
     sk_hierarchy_opts ho = {0};
     ho.seed = o.seed ? o.seed : 1;
     ho.target_faces = 8;
+    /* coarse triangles that stay close to the fine normals and no valence-3 vertices: VC1 over
+     * them has far fewer singular patches and spikes (measured on the sphere at 1e-2 of the
+     * diagonal: 79 patches, against 210 with the hierarchy's defaults of 90 degrees and 3) */
+    ho.collapse.max_normal_deviation_deg =
+        o.collapse.max_normal_deviation_deg > 0 ? o.collapse.max_normal_deviation_deg : 15;
+    ho.collapse.min_valence = o.collapse.min_valence ? o.collapse.min_valence : 4;
     if ((st = sk_hierarchy_build(mesh, &ho, &c.hier, err)))
         goto done;
     c.levels = sk_hierarchy_num_levels(c.hier);
@@ -826,24 +836,26 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
                 if (met || worse)
                     break;
             }
-            memset(fresh, 0, c.nv);
+            ++stamp_value;
             for (size_t v = 0; v < c.nv; ++v)
-                if (bad[v] && !alive[v]) {
-                    size_t before = added;
-                    added += want(&c, alive, (uint32_t)v, stack);
-                    if (added > before)
-                        fresh[v] = 1;
-                }
+                if (bad[v] && !alive[v])
+                    added += want_step(&c, alive, (uint32_t)v, stack, stamp, stamp_value);
             if (added == 0) {
                 /* the out-of-tolerance faces are all there: refine around them */
+                ++stamp_value;
                 for (size_t v = 0; v < c.nv; ++v)
                     if (bad[v])
                         for (uint32_t k = c.ring_off[v]; k < c.ring_off[v + 1]; ++k)
-                            if (!alive[c.ring[k]]) {
-                                added += want(&c, alive, c.ring[k], stack);
-                                fresh[c.ring[k]] = 1;
-                            }
+                            if (!alive[c.ring[k]])
+                                added += want_step(&c, alive, c.ring[k], stack, stamp,
+                                                   stamp_value);
             }
+            memset(fresh, 0, c.nv);
+            for (size_t v = 0; v < c.nv; ++v)
+                if (alive[v] == 2) {
+                    alive[v] = 1;
+                    fresh[v] = 1;
+                }
             if (added == 0)
                 break; /* the input mesh around every offending face */
         }
@@ -896,6 +908,7 @@ done:
     sk__free(alive);
     sk__free(bad);
     sk__free(stack);
+    sk__free(stamp);
     sk_soup_destroy(&ts);
     sk_soup_destroy(&fine_soup);
     ctx_free(&c);

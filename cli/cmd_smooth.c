@@ -25,14 +25,25 @@ static const char examples[] =
     "  surfkit smooth data/sphere.off -o sphere.step\n"
     "  surfkit smooth data/sphere.off -o sphere.obj --tess 8 --report "
     "sphere.json -q\n"
-    "  surfkit smooth data/sphere.off --scheme pn --json -q\n";
+    "  surfkit smooth data/sphere.off --scheme pn --json -q\n"
+    "  surfkit smooth data/sphere.off -o sphere.step --tolerance-rel 1e-2\n";
 
 static const char more[] =
     "\n"
     "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
     "0.5 degrees, a gap over 0.005, or a singular patch); the report (--report, --json) is\n"
     "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
-    "0). pn is C0 by construction: its report is information only.\n";
+    "0). pn is C0 by construction: its report is information only.\n"
+    "\n"
+    "--tolerance T / --tolerance-rel R: the surface is built over a coarse level of the\n"
+    "progressive mesh (collapses that turn no face normal by more than 15 degrees), with the\n"
+    "normals estimated on the input: a binary search over the levels finds the coarsest whose\n"
+    "surface is within T of the mesh both ways (every vertex, 4 points per triangle, and the\n"
+    "surface's tessellation against the mesh), then, from --refine-levels below it, only the\n"
+    "collapses where the distance exceeds T (or a patch is singular) are split back, round by\n"
+    "round. The summary gives patches, T, the deviation (max and RMS, both ways), normal jumps,\n"
+    "levels tried, rounds and seconds per stage. Exit 4 when T is not met (the surface is\n"
+    "still written).\n";
 
 typedef struct report_ctx {
     const char *in;
@@ -517,6 +528,7 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_kuint(&j, "levels_tried", t->levels_tried);
     json_kuint(&j, "failed_levels", t->failed_levels);
     json_kuint(&j, "singular_levels", t->singular_levels);
+    json_kbool(&j, "level_met", t->level_met);
     json_kuint(&j, "coarsest_level_met", t->coarsest_met);
     json_kuint(&j, "base_level", t->base_level);
     json_kuint(&j, "refinement_rounds", t->rounds);
@@ -570,11 +582,17 @@ static void print_tol_summary(const tol_report *x)
            t->met ? "met" : "NOT MET", d->hausdorff, d->hausdorff / diag, d->mesh_to_surface.max,
            d->mesh_to_surface.rms, d->surface_to_mesh.max, d->surface_to_mesh.rms);
     printf("smooth: max normal jump %.3g deg, max gap %.3g, singular patches %zu; %zu levels, %zu "
-           "tried (%zu without a vc1 surface), coarsest met %zu, %zu refinement rounds from "
-           "level %zu (%s), %.3f s\n",
+           "tried (%zu without a vc1 surface), ",
            x->r->max_normal_jump_deg, x->r->max_gap, x->r->singular_patches, t->levels,
-           t->levels_tried, t->failed_levels, t->coarsest_met, t->rounds, t->base_level,
-           t->refined ? "kept" : "a full level kept", x->seconds);
+           t->levels_tried, t->failed_levels);
+    if (t->level_met)
+        printf("coarsest within T: %zu", t->coarsest_met);
+    else
+        printf("none within T");
+    if (t->rounds)
+        printf(", %zu refinement rounds from level %zu (%s)", t->rounds, t->base_level,
+               t->refined ? "kept" : "the full level kept: fewer patches");
+    printf(", %.3f s\n", x->seconds);
 }
 
 static int smooth_tolerance(const smooth_args *a)
@@ -591,7 +609,7 @@ static int smooth_tolerance(const smooth_args *a)
     cli_progress_init(&bar, "smooth", a->quiet);
     sk_tolerance_opts to = a->to;
     to.smooth = a->so;
-    to.tess = a->tess > 6 ? a->tess : 6;
+    to.tess = a->tess; /* the deviation is that of the tessellation -o writes */
     to.progress = cli_progress_cb;
     to.progress_user = &bar;
     sk_status st = cli_read_triangles(a->in, a->keep_polygons, &mesh, &tri, &err);
@@ -637,7 +655,9 @@ static int smooth_tolerance(const smooth_args *a)
         rc = a->allow_fail ? rc : EXIT_QUALITY;
     }
     if (missed) {
-        cli_error("%s: %s (the surface is written)", a->in, missed_msg);
+        cli_error("%s: %s (%s)", a->in, missed_msg,
+                  failed && !a->allow_fail ? "not written: it fails its continuity report"
+                                           : "the surface is written");
         rc = EXIT_QUALITY;
     }
 done:

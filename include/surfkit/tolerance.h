@@ -35,7 +35,8 @@ typedef struct sk_tolerance_opts {
                                 not used) and the normals: mesh->normals when present and not
                                 smooth.estimate_normals, else estimated with smooth.normals */
     int face_samples;        /* samples per triangle edge on both sides (0 = 2: 4 per triangle) */
-    unsigned tess;           /* tessellation of each patch for the surface side (0 = 6) */
+    unsigned tess;           /* tessellation of each patch for the surface side (0 = 4: the
+                                grid `surfkit smooth -o OUT.obj` writes by default) */
     unsigned refine_levels;  /* the refinement starts this many levels below the coarsest level
                                 that meets the tolerance (0 = 2) */
     unsigned max_rounds;     /* refinement rounds (0 = 32); each splits back the coarsest
@@ -56,7 +57,8 @@ typedef struct sk_tolerance_try {
     bool refined;            /* a refinement round */
     sk_status status;        /* SK_OK, or why VC1 could not be built there (then skipped) */
     size_t vertices, patches;
-    double max_deviation;    /* two-sided, over the samples; NaN when not built */
+    double max_deviation;    /* two-sided, over the samples; NaN when not built; a level the
+                                search finds beyond T on the mesh side: that side's maximum */
     size_t singular;         /* singular patches (sk_smooth_patch_shapes; the refinement splits
                                 around them too) */
     bool met;                /* within T */
@@ -72,6 +74,7 @@ typedef struct sk_tolerance_stats {
     size_t failed_levels;    /* of them, where VC1 could not be built (skipped to a finer one) */
     size_t singular_levels;  /* of them, whose surface has singular patches */
     size_t coarsest_met;     /* the coarsest full level found to meet T (levels - 1 when none) */
+    bool level_met;          /* some full level meets T */
     size_t base_level;       /* the level the refinement started from */
     size_t rounds;           /* refinement rounds (surfaces built from the base level) */
     size_t failed_rounds;    /* rounds where VC1 could not be built (the region was widened) */

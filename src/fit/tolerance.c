@@ -384,6 +384,22 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
             b->vd[v] = cl.distance;
         }
     }
+    double mx = 0;
+    for (size_t f = 0; f < c->nf; ++f) {
+        mx = fmax(mx, b->fd[f]);
+        if (bad && b->fd[f] > c->tol)
+            for (int q = 0; q < 3; ++q)
+                bad[c->tri[3 * f + q]] = 1;
+    }
+    for (size_t v = 0; v < c->nv; ++v) {
+        mx = fmax(mx, b->vd[v]);
+        if (bad && b->vd[v] > c->tol)
+            bad[v] = 1;
+    }
+    if (!bad && mx > c->tol) { /* the search needs no more: the mesh side already misses T */
+        *max_out = mx;
+        goto done;
+    }
     const double *Q = ts->positions;
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(dynamic, 1024)
@@ -417,18 +433,6 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         }
         b->sd[g] = worst;
         b->sf[g] = wf;
-    }
-    double mx = 0;
-    for (size_t f = 0; f < c->nf; ++f) {
-        mx = fmax(mx, b->fd[f]);
-        if (bad && b->fd[f] > c->tol)
-            for (int q = 0; q < 3; ++q)
-                bad[c->tri[3 * f + q]] = 1;
-    }
-    for (size_t v = 0; v < c->nv; ++v) {
-        mx = fmax(mx, b->vd[v]);
-        if (bad && b->vd[v] > c->tol)
-            bad[v] = 1;
     }
     for (size_t g = 0; g < need; ++g) {
         mx = fmax(mx, b->sd[g]);
@@ -654,7 +658,7 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
     c.so.estimate_normals = false; /* every cut carries the fine normals */
     c.so.allow_split = true;       /* only where no split of the hierarchy evens a closed component */
     c.n = o.face_samples ? o.face_samples : 2;
-    c.tess = o.tess ? o.tess : 6;
+    c.tess = o.tess ? o.tess : 4;
     {
         size_t k = 0;
         for (int i = 0; i < c.n; ++i)
@@ -779,6 +783,7 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
         keep_better(&best, &at_hi, &best_refined, false);
     cut_result_free(&at_hi);
     stats->coarsest_met = coarsest_met < L ? coarsest_met : L - 1;
+    stats->level_met = hi_met;
     double td = sk_seconds();
     stats->seconds_search = td - tc;
 

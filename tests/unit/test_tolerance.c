@@ -12,12 +12,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The surface's deviation from mesh measured again from scratch (tessellation 6, 2 face
+/* The surface's deviation from mesh measured again from scratch (tessellation 4, 2 face
  * samples: the route's own sampling) */
 static sk_deviation_report measure(const sk_smooth *s, const sk_mesh *mesh)
 {
     sk_soup *tess = NULL, *ms = NULL;
-    assert_int_equal(sk_patch_set_tessellate(&s->surface, 6, &tess, NULL), SK_OK);
+    assert_int_equal(sk_patch_set_tessellate(&s->surface, 4, &tess, NULL), SK_OK);
     assert_int_equal(sk_mesh_to_soup(mesh, &ms, NULL), SK_OK);
     sk_deviation_report r;
     assert_int_equal(sk_deviation(tess, ms, NULL, &r, NULL, NULL), SK_OK);

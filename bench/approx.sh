@@ -8,8 +8,14 @@
 # surface by Open CASCADE (max), a 65 x 65 grid of the surface against the mesh (max).
 # mask_cone has two components: the cone (the one holding its last vertex) is used; the other
 # is the nefertiti mask again.
+#
+# Coarse-level G1 (issue 13, the coarse-level half): `surfkit smooth --tolerance-rel R` on
+# bunny00, armadillo, cow and armadillo after two Loop subdivisions (832k triangles, closed), at
+# R = 1e-3 and 1e-4: patches, STEP size, two-sided max / RMS deviation, normal jumps, singular
+# patches, wall and CPU seconds.
 #   bench/approx.sh [SCRATCH_DIR]      env: BUILD (default build-bench), SHARED, GRID (default 60),
-#                                      REL (default 1e-3), MESHES
+#                                      REL (default 1e-3), MESHES, PARTS (default "fit coarse"),
+#                                      COARSE_MESHES, COARSE_RELS (default "1e-3 1e-4")
 set -eu
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${BUILD:-$SRC/build-bench}
@@ -17,12 +23,16 @@ SHARED=${SHARED:-$SRC/../shared}
 SCRATCH=${1:-$(mktemp -d /tmp/sk-bench-approx.XXXXXX)}
 GRID=${GRID:-60} REL=${REL:-1e-3}
 MESHES=${MESHES:-"paraboloid-patch nefertiti patch-01 mask_cone lion-head"}
+PARTS=${PARTS:-"fit coarse"}
+COARSE_MESHES=${COARSE_MESHES:-"cow armadillo bunny00 armadillo-loop2"}
+COARSE_RELS=${COARSE_RELS:-"1e-3 1e-4"}
 mkdir -p "$SCRATCH"
-command -v freecadcmd > /dev/null || { echo "freecadcmd not installed (scripts/setup.sh --interop)"; exit 1; }
 cmake -S "$SRC" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_BUILD_TESTS=OFF > /dev/null
 cmake --build "$BUILD" -j2 --target surfkit > /dev/null
 SK=$BUILD/surfkit M=$SHARED/data/meshes
 export HOME=$SCRATCH/home; mkdir -p "$HOME"
+if [[ " $PARTS " == *" fit "* ]]; then
+command -v freecadcmd > /dev/null || { echo "freecadcmd not installed (scripts/setup.sh --interop)"; exit 1; }
 echo "# load average: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores; T = $REL of the diagonal, OCCT grid ${GRID}x${GRID}"
 echo "| disk | tool | control points | max mesh->surface / diag | max surface->mesh / diag | met | seconds |"
 echo "|---|---|---|---|---|---|---|"
@@ -65,3 +75,40 @@ else:
         r.get("occt_seconds", 0))
 PY
 done
+fi
+
+if [[ " $PARTS " == *" coarse "* ]]; then
+echo
+echo "# coarse-level G1: load average $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores"
+echo "| mesh | triangles | T / diag | patches | triangles per patch | STEP MB | max / diag | RMS mesh->surface / diag | RMS surface->mesh / diag | max normal jump deg | singular | met | levels tried, rounds | wall s | CPU s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+for mesh in $COARSE_MESHES; do
+  in=$M/$mesh.off
+  if [ "$mesh" = armadillo-loop2 ]; then
+    in=$SCRATCH/armadillo-loop2.off
+    [ -s "$in" ] || "$SK" subdivide -q "$M/armadillo.off" -o "$in" --scheme loop -n 2
+  fi
+  for rel in $COARSE_RELS; do
+    out=$SCRATCH/$mesh-$rel
+    /usr/bin/time -f "%e %U %S" -o "$out.time" timeout 3600 "$SK" smooth "$in" -o "$out.step" \
+      --tolerance-rel "$rel" --allow-fail --json -q > "$out.json" 2> "$out.err" || true
+    python3 - "$mesh" "$rel" "$out" <<'PY'
+import json, os, sys
+mesh, rel, out = sys.argv[1:]
+try:
+    d = json.load(open(out + ".json"))
+except (OSError, ValueError):
+    print("| %s | | %s | failed: %s | | | | | | | | | | | |" % (mesh, rel, open(out + ".err").read().strip()[:80]))
+    sys.exit(0)
+wall, user, sys_ = map(float, open(out + ".time").read().split()[-3:])
+dev, diag = d["deviation"], d["deviation"]["diagonal"]
+step = os.path.getsize(out + ".step") / 1e6 if os.path.exists(out + ".step") else float("nan")
+print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d, %d | %.1f | %.1f |" % (
+    mesh, d["input_faces"], rel, d["patches"], d["input_faces"] / d["patches"], step,
+    dev["hausdorff"] / diag, dev["mesh_to_surface_rms"] / diag, dev["surface_to_mesh_rms"] / diag,
+    d["max_normal_jump_deg"], d["singular_patches"], "yes" if d["met"] else "no",
+    d["levels_tried"], d["refinement_rounds"], wall, user + sys_))
+PY
+  done
+done
+fi

@@ -25,14 +25,25 @@ static const char examples[] =
     "  surfkit smooth data/sphere.off -o sphere.step\n"
     "  surfkit smooth data/sphere.off -o sphere.obj --tess 8 --report "
     "sphere.json -q\n"
-    "  surfkit smooth data/sphere.off --scheme pn --json -q\n";
+    "  surfkit smooth data/sphere.off --scheme pn --json -q\n"
+    "  surfkit smooth data/sphere.off -o sphere.step --tolerance-rel 1e-2\n";
 
 static const char more[] =
     "\n"
     "Exit status 4: the vc1 surface fails its own continuity report (a normal jump over\n"
     "0.5 degrees, a gap over 0.005, or a singular patch); the report (--report, --json) is\n"
     "still written, the surface files are not, unless --allow-fail (then the exit status is\n"
-    "0). pn is C0 by construction: its report is information only.\n";
+    "0). pn is C0 by construction: its report is information only.\n"
+    "\n"
+    "--tolerance T / --tolerance-rel R: the surface is built over a coarse level of the\n"
+    "progressive mesh (collapses that turn no face normal by more than 15 degrees), with the\n"
+    "normals estimated on the input: a binary search over the levels finds the coarsest whose\n"
+    "surface is within T of the mesh both ways (every vertex, 4 points per triangle, and the\n"
+    "surface's tessellation against the mesh), then, from --refine-levels below it, only the\n"
+    "collapses where the distance exceeds T (or a patch is singular) are split back, round by\n"
+    "round. The summary gives patches, T, the deviation (max and RMS, both ways), normal jumps,\n"
+    "levels tried, rounds and seconds per stage. Exit 4 when T is not met (the surface is\n"
+    "still written).\n";
 
 typedef struct report_ctx {
     const char *in;
@@ -240,6 +251,8 @@ typedef struct smooth_args {
     unsigned tess;
     bool quiet, json, freeform, allow_fail, keep_polygons;
     cad_kind cad;
+    sk_tolerance_opts to; /* --tolerance / --tolerance-rel: the coarse-level route */
+    bool tolerance;
     sk_smooth_opts so;
     sk_export_opts eo;
 } smooth_args;
@@ -310,6 +323,15 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
         OPT_FLAG("--allow-fail", a->allow_fail,
                  "write the surface even when the vc1 continuity report fails"),
+        OPT_DOUBLE("--tolerance", a->to.tolerance, 0, 0, CLI_LO_OPEN, "T",
+                   "vc1 over a coarse level of the progressive mesh: as few patches as keep\n"
+                   "the surface within T (model units) of the mesh both ways (vertices and face\n"
+                   "samples); exit 4 when not met (the surface is still written)"),
+        OPT_DOUBLE("--tolerance-rel", a->to.tolerance_rel, 0, 1, CLI_LO_OPEN, "R",
+                   "--tolerance as R times the bounding-box diagonal"),
+        OPT_INT("--refine-levels", a->to.refine_levels, 1, 64, "K",
+                "with a tolerance: the local refinement starts K levels below the coarsest\n"
+                "level that meets it (default 2)"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
     };
     const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,
@@ -336,6 +358,13 @@ static int parse_args(int argc, char **argv, smooth_args *a)
     }
     if (a->freeform && a->cad != CAD_OBJ_FREEFORM)
         return cli_usage("smooth", "--obj-freeform needs -o with an .obj file");
+    if (a->to.tolerance > 0 && a->to.tolerance_rel > 0)
+        return cli_usage("smooth", "give --tolerance or --tolerance-rel, not both");
+    a->tolerance = a->to.tolerance > 0 || a->to.tolerance_rel > 0;
+    if (a->tolerance && a->so.scheme != SK_SMOOTH_VC1)
+        return cli_usage("smooth", "--tolerance builds vc1 surfaces (not --scheme pn)");
+    if (cli_given(&args, "--refine-levels") && !a->tolerance)
+        return cli_usage("smooth", "--refine-levels needs --tolerance or --tolerance-rel");
     return EXIT_OK;
 }
 
@@ -378,6 +407,8 @@ static void print_summary(const sk_smooth *s, const sk_continuity_report *rep, b
            s->num_problems, failed ? "FAIL" : "pass");
 }
 
+static int smooth_tolerance(const smooth_args *a);
+
 int cmd_smooth(int argc, char **argv)
 {
     smooth_args a;
@@ -385,6 +416,8 @@ int cmd_smooth(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     if (rc)
         return rc == CLI_HELP ? EXIT_OK : rc;
+    if (a.tolerance)
+        return smooth_tolerance(&a);
     double t0 = sk_seconds();
     cli_progress bar;
     cli_progress_init(&bar, "smooth", a.quiet);
@@ -431,6 +464,206 @@ int cmd_smooth(int argc, char **argv)
         cli_error("%s: the surface fails its continuity report (max normal jump %.3g deg, max gap "
                   "%.3g, singular patches %zu): no surface written (--allow-fail writes it anyway)",
                   a.in, rep.max_normal_jump_deg, rep.max_gap, rep.singular_patches);
+        rc = EXIT_QUALITY;
+    }
+done:
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&mesh);
+    return rc;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * --tolerance / --tolerance-rel: the coarse-level route (sk_smooth_tolerance)
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct tol_report {
+    const char *in;
+    const sk_smooth *s;
+    const sk_tolerance_stats *t;
+    const sk_continuity_report *r;
+    const char *normals_src;
+    sk_triangulate_stats tri;
+    double seconds_report, seconds;
+} tol_report;
+
+static void write_tol_report(FILE *fp, const void *ctx)
+{
+    const tol_report *x = ctx;
+    const sk_tolerance_stats *t = x->t;
+    const sk_continuity_report *r = x->r;
+    const sk_deviation_report *d = &t->deviation;
+    double diag = t->diagonal > 0 ? t->diagonal : 1;
+    size_t tri = 0, quad = 0;
+    for (size_t p = 0; p < x->s->surface.count; ++p)
+        x->s->surface.patches[p].kind == SK_PATCH_TENSOR ? ++quad : ++tri;
+    cli_json j;
+    json_begin(&j, fp);
+    json_obj_open(&j);
+    json_kstr(&j, "input", x->in);
+    json_kstr(&j, "scheme", "vc1");
+    json_kstr(&j, "normals", x->normals_src);
+    json_triangulated(&j, &x->tri);
+    json_knum(&j, "tolerance", t->tolerance);
+    json_knum(&j, "tolerance_rel", t->tolerance / diag);
+    json_kbool(&j, "met", t->met);
+    json_kuint(&j, "input_faces", t->input_faces);
+    json_kuint(&j, "patches", t->patches);
+    json_kuint(&j, "triangles", tri);
+    json_kuint(&j, "quads", quad);
+    json_kuint(&j, "vertices", t->vertices);
+    json_knum(&j, "faces_per_patch", t->patches ? (double)t->input_faces / (double)t->patches : 0);
+    json_key(&j, "deviation");
+    json_obj_open(&j);
+    json_knum(&j, "hausdorff", d->hausdorff);
+    json_knum(&j, "hausdorff_rel", d->hausdorff / diag);
+    json_knum(&j, "diagonal", d->diagonal);
+    json_knum(&j, "mesh_to_surface_max", d->mesh_to_surface.max);
+    json_knum(&j, "mesh_to_surface_rms", d->mesh_to_surface.rms);
+    json_knum(&j, "mesh_to_surface_mean", d->mesh_to_surface.mean);
+    json_knum(&j, "surface_to_mesh_max", d->surface_to_mesh.max);
+    json_knum(&j, "surface_to_mesh_rms", d->surface_to_mesh.rms);
+    json_knum(&j, "surface_to_mesh_mean", d->surface_to_mesh.mean);
+    json_obj_close(&j);
+    json_knum(&j, "max_normal_jump_deg", r->max_normal_jump_deg);
+    json_knum(&j, "mean_normal_jump_deg", r->mean_normal_jump_deg);
+    json_knum(&j, "max_gap", r->max_gap);
+    json_kuint(&j, "singular_patches", r->singular_patches);
+    json_kbool(&j, "pass_g1", r->pass_g1);
+    json_kbool(&j, "pass_gap", r->pass_gap);
+    json_kuint(&j, "hierarchy_levels", t->levels);
+    json_kuint(&j, "levels_tried", t->levels_tried);
+    json_kuint(&j, "failed_levels", t->failed_levels);
+    json_kuint(&j, "singular_levels", t->singular_levels);
+    json_kbool(&j, "level_met", t->level_met);
+    json_kuint(&j, "coarsest_level_met", t->coarsest_met);
+    json_kuint(&j, "base_level", t->base_level);
+    json_kuint(&j, "refinement_rounds", t->rounds);
+    json_kuint(&j, "failed_rounds", t->failed_rounds);
+    json_kuint(&j, "parity_splits", t->parity_splits);
+    json_kbool(&j, "refined", t->refined);
+    json_key(&j, "tried");
+    json_arr_open(&j);
+    for (size_t k = 0; k < t->num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k) {
+        const sk_tolerance_try *e = &t->tried[k];
+        json_obj_open(&j);
+        json_kstr(&j, "kind", e->refined ? "round" : "level");
+        json_kuint(&j, "level", e->level);
+        json_kuint(&j, "vertices", e->vertices);
+        if (e->status) {
+            json_kstr(&j, "vc1", sk_status_string(e->status));
+        } else {
+            json_kuint(&j, "patches", e->patches);
+            json_knum(&j, "max_deviation", e->max_deviation);
+            json_kuint(&j, "singular_patches", e->singular);
+            json_kbool(&j, "met", e->met);
+        }
+        json_obj_close(&j);
+    }
+    json_arr_close(&j);
+    json_key(&j, "stage_seconds");
+    json_obj_open(&j);
+    json_knum(&j, "normals", t->seconds_normals);
+    json_knum(&j, "hierarchy", t->seconds_hierarchy);
+    json_knum(&j, "search", t->seconds_search);
+    json_knum(&j, "refine", t->seconds_refine);
+    json_knum(&j, "vc1", t->seconds_vc1);
+    json_knum(&j, "check", t->seconds_check);
+    json_knum(&j, "deviation", t->seconds_deviation);
+    json_knum(&j, "report", x->seconds_report);
+    json_obj_close(&j);
+    json_knum(&j, "seconds", x->seconds);
+    json_obj_close(&j);
+    json_end(&j);
+}
+
+static void print_tol_summary(const tol_report *x)
+{
+    const sk_tolerance_stats *t = x->t;
+    const sk_deviation_report *d = &t->deviation;
+    double diag = t->diagonal > 0 ? t->diagonal : 1;
+    printf("smooth: %zu patches (vc1) for %zu triangles, tolerance %.6g (%.3g of the diagonal) %s; "
+           "deviation max %.6g (%.3g): mesh to surface max %.6g rms %.6g, surface to mesh max "
+           "%.6g rms %.6g\n",
+           t->patches, t->input_faces, t->tolerance, t->tolerance / diag,
+           t->met ? "met" : "NOT MET", d->hausdorff, d->hausdorff / diag, d->mesh_to_surface.max,
+           d->mesh_to_surface.rms, d->surface_to_mesh.max, d->surface_to_mesh.rms);
+    printf("smooth: max normal jump %.3g deg, max gap %.3g, singular patches %zu; %zu levels, %zu "
+           "tried (%zu without a vc1 surface), ",
+           x->r->max_normal_jump_deg, x->r->max_gap, x->r->singular_patches, t->levels,
+           t->levels_tried, t->failed_levels);
+    if (t->level_met)
+        printf("coarsest within T: %zu", t->coarsest_met);
+    else
+        printf("none within T");
+    if (t->rounds)
+        printf(", %zu refinement rounds from level %zu (%s)", t->rounds, t->base_level,
+               t->refined ? "kept" : "the full level kept: fewer patches");
+    printf(", %.3f s\n", x->seconds);
+}
+
+static int smooth_tolerance(const smooth_args *a)
+{
+    double t0 = sk_seconds();
+    sk_error err = {0};
+    sk_mesh *mesh = NULL;
+    sk_smooth *s = NULL;
+    sk_tolerance_stats ts;
+    sk_continuity_report rep;
+    sk_triangulate_stats tri;
+    int rc = EXIT_OK;
+    cli_progress bar;
+    cli_progress_init(&bar, "smooth", a->quiet);
+    sk_tolerance_opts to = a->to;
+    to.smooth = a->so;
+    to.tess = a->tess; /* the deviation is that of the tessellation -o writes */
+    to.progress = cli_progress_cb;
+    to.progress_user = &bar;
+    sk_status st = cli_read_triangles(a->in, a->keep_polygons, &mesh, &tri, &err);
+    if (st == SK_OK && !a->quiet && !a->json)
+        cli_print_triangulated(a->in, &tri);
+    const char *normals_src = "";
+    if (st == SK_OK) {
+        normals_src = mesh->normals && !a->so.estimate_normals ? "file"
+                                                                : sk_normal_method_name(a->so.normals);
+        st = sk_smooth_tolerance(mesh, &to, &s, NULL, &ts, &err);
+    }
+    cli_progress_done(&bar);
+    bool missed = st == SK_WARN_TOLERANCE;
+    char missed_msg[SK_ERROR_MESSAGE_SIZE] = "";
+    if (missed) {
+        memcpy(missed_msg, err.message, sizeof missed_msg);
+        st = SK_OK;
+    }
+    double t1 = sk_seconds();
+    if (st == SK_OK)
+        st = sk_smooth_continuity(s, NULL, &rep, &err);
+    cli_name_input(a->in, st, &err);
+    if (st != SK_OK) {
+        rc = cli_fail(st, &err);
+        goto done;
+    }
+    double t2 = sk_seconds();
+    bool failed = !(rep.pass_g1 && rep.pass_gap) || rep.singular_patches > 0;
+    if ((!failed || a->allow_fail) && (rc = write_surface(a, s)) != EXIT_OK)
+        goto done;
+    tol_report x = {a->in, s, &ts, &rep, normals_src, tri, t2 - t1, sk_seconds() - t0};
+    if (a->report && (rc = cli_write_file(a->report, write_tol_report, &x)) != EXIT_OK)
+        goto done;
+    if (a->json)
+        write_tol_report(stdout, &x);
+    else if (!a->quiet)
+        print_tol_summary(&x);
+    if (failed) {
+        cli_error("%s: the surface fails its continuity report (max normal jump %.3g deg, max gap "
+                  "%.3g, singular patches %zu): %s", a->in, rep.max_normal_jump_deg, rep.max_gap,
+                  rep.singular_patches, a->allow_fail ? "written anyway (--allow-fail)"
+                  : "no surface written (--allow-fail writes it anyway)");
+        rc = a->allow_fail ? rc : EXIT_QUALITY;
+    }
+    if (missed) {
+        cli_error("%s: %s (%s)", a->in, missed_msg,
+                  failed && !a->allow_fail ? "not written: it fails its continuity report"
+                                           : "the surface is written");
         rc = EXIT_QUALITY;
     }
 done:

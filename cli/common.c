@@ -43,6 +43,8 @@ int cli_exit_code(sk_status st)
     case SK_ERR_NOMEM:
     case SK_ERR_CANCELLED:
         return EXIT_INTERNAL;
+    case SK_WARN_TOLERANCE:
+        return EXIT_QUALITY;
     }
     return EXIT_INTERNAL;
 }

@@ -30,6 +30,14 @@ echo "== 4. how far the smooth surface is from the mesh, both ways -> out/sphere
 $sk deviation out/sphere_smooth.obj data/sphere.off --png out/sphere_deviation.png \
   --png-surface out/sphere_deviation_surface.png --report out/sphere_deviation.json
 echo
+echo "== 4b. as few patches as a tolerance allows: VC1 over a coarse level of the progressive mesh,"
+echo "       within 1e-2 of the diagonal -> out/nefertiti_tol.step, out/nefertiti_tol_deviation*.png"
+$sk smooth data/nefertiti.off -o out/nefertiti_tol.step --tolerance-rel 1e-2 \
+  --report out/nefertiti_tol.json
+$sk smooth data/nefertiti.off -o out/nefertiti_tol.obj --tolerance-rel 1e-2 -q
+$sk deviation out/nefertiti_tol.obj data/nefertiti.off --tolerance-rel 1e-2 \
+  --png out/nefertiti_tol_deviation.png --png-surface out/nefertiti_tol_deviation_surface.png
+echo
 echo "== 5. interactive viewer (one self-contained HTML file): out/sphere.html, out/nefertiti.html"
 $sk view data/sphere.off --smooth -o out/sphere.html
 $sk view out/nefertiti_uv.obj -o out/nefertiti.html

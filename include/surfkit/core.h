@@ -47,7 +47,8 @@ typedef enum {
     SK_ERR_NOMEM = -5,    /* an allocation failed */
     SK_ERR_ARG = -6,      /* invalid argument (programmer or user option error) */
     SK_ERR_CANCELLED = -7,/* the progress callback asked to stop */
-    SK_WARN_FLIPS = 1     /* finished, but some triangles are flipped */
+    SK_WARN_FLIPS = 1,    /* finished, but some triangles are flipped */
+    SK_WARN_TOLERANCE = 2 /* finished, but the result does not meet the tolerance asked for */
 } sk_status;
 
 #define SK_ERROR_MESSAGE_SIZE 256

@@ -24,6 +24,7 @@
 #include "surfkit/intersect.h"
 #include "surfkit/bspline.h"
 #include "surfkit/fit.h"
+#include "surfkit/tolerance.h"
 #include "surfkit/bspline_export.h"
 
 #endif

@@ -17,6 +17,7 @@ const char *sk_status_string(sk_status status)
     case SK_ERR_ARG: return "invalid argument";
     case SK_ERR_CANCELLED: return "cancelled";
     case SK_WARN_FLIPS: return "flipped triangles";
+    case SK_WARN_TOLERANCE: return "tolerance not met";
     }
     return "unknown status";
 }

@@ -285,6 +285,29 @@ static sk_status p_smooth_export(const char *off, size_t size, double *res, size
     return st;
 }
 
+static sk_status p_tolerance(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    sk_smooth *sm = NULL;
+    sk_tolerance_stats ts;
+    sk_tolerance_opts to = {.tolerance_rel = 1e-2};
+    if ((st = sk_smooth_tolerance(m, &to, &sm, NULL, &ts, &g_err)) == SK_OK) {
+        res[0] = (double)ts.patches;
+        res[1] = ts.deviation.hausdorff;
+        res[2] = (double)ts.levels_tried;
+        res[3] = (double)ts.rounds;
+        *nres = 4;
+    }
+    sk_smooth_destroy(&sm);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
 typedef struct sweep_case {
     const char *name;
     pipeline_fn fn;
@@ -359,7 +382,7 @@ static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **
         {"mips-hierarchical", p_mips_hier}, {"mips-flat", p_mips_flat},
         {"smooth+export", p_smooth_export}, {"floater-hierarchical", p_floater_hier},
         {"fit", p_fit},                     {"square", p_square},
-        {"square-split", p_square_split},
+        {"square-split", p_square_split},   {"smooth-tolerance", p_tolerance},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
         sweep(&cases[i], off, size);

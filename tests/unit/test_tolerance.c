@@ -1,0 +1,213 @@
+/* VC1 surfaces within a tolerance over coarse levels (sk_smooth_tolerance): a plane (known answer:
+ * the coarsest level within T, checked against the hierarchy's own level meshes), the sphere within 1e-2 of its diagonal with fewer patches than
+ * triangles, G1 and the deviation measured again independently, an unreachable tolerance
+ * (SK_WARN_TOLERANCE with a surface), the shared scans (cow, bunny00; skipped with SK_TEST_QUICK
+ * for bunny00), bad options. */
+#include "testutil.h"
+#include "surfkit/tolerance.h"
+#include "surfkit/deviation.h"
+#include "surfkit/hierarchy.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The surface's deviation from mesh measured again from scratch (tessellation 4, 2 face
+ * samples: the route's own sampling) */
+static sk_deviation_report measure(const sk_smooth *s, const sk_mesh *mesh)
+{
+    sk_soup *tess = NULL, *ms = NULL;
+    assert_int_equal(sk_patch_set_tessellate(&s->surface, 4, &tess, NULL), SK_OK);
+    assert_int_equal(sk_mesh_to_soup(mesh, &ms, NULL), SK_OK);
+    sk_deviation_report r;
+    assert_int_equal(sk_deviation(tess, ms, NULL, &r, NULL, NULL), SK_OK);
+    sk_soup_destroy(&tess);
+    sk_soup_destroy(&ms);
+    return r;
+}
+
+/* every vertex of the result is an input vertex, exactly */
+static void check_vertices(const sk_smooth *s, const uint32_t *ids, const sk_mesh *mesh)
+{
+    const sk_mesh *c = s->config;
+    size_t built = c->num_vertices - s->stats.split_edges;
+    for (size_t k = 0; k < built; ++k) {
+        assert_true(ids[k] < mesh->num_vertices);
+        assert_memory_equal(c->positions + 3 * k, mesh->positions + 3 * (size_t)ids[k],
+                            3 * sizeof(double));
+        if (k > 0)
+            assert_true(ids[k] != ids[k - 1]);
+    }
+}
+
+/* VC1 of level `level` of the hierarchy the route builds (seed 1, 8 faces, 15 degrees,
+ * valence 4), with normals estimated on it (the plane's are (0, 0, 1) on every level), and its
+ * deviation from the input */
+static double level_deviation(const sk_mesh *m, size_t level, size_t *patches)
+{
+    sk_hierarchy *h = NULL;
+    sk_hierarchy_opts ho = {.seed = 1, .target_faces = 8,
+                            .collapse = {.max_normal_deviation_deg = 15, .min_valence = 4}};
+    assert_int_equal(sk_hierarchy_build(m, &ho, &h, NULL), SK_OK);
+    sk_mesh *lm = NULL;
+    assert_int_equal(sk_hierarchy_level_mesh(h, level, &lm, NULL), SK_OK);
+    sk_smooth *s = NULL;
+    assert_int_equal(sk_smooth_build(lm, NULL, &s, NULL), SK_OK);
+    *patches = s->surface.count;
+    double d = measure(s, m).hausdorff;
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&lm);
+    sk_hierarchy_destroy(&h);
+    return d;
+}
+
+/* a plane: every surface is planar, so the deviation is the part of the square a level's
+ * boundary cuts off; the level found is the coarsest within T, the one below is not (both
+ * rebuilt here from the hierarchy's own level meshes) */
+static void plane_levels(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_planar_disk(17, 5);
+    sk_smooth *s = NULL;
+    uint32_t *ids = NULL;
+    sk_tolerance_stats st;
+    sk_error err;
+    sk_tolerance_opts o = {.tolerance = 2, .refine_levels = 1};
+    assert_int_equal(sk_smooth_tolerance(m, &o, &s, &ids, &st, &err), SK_OK);
+    assert_true(st.met);
+    assert_int_equal(st.input_faces, 2 * 16 * 16);
+    assert_true(st.levels > 3);
+    assert_true(st.coarsest_met > 0 && st.coarsest_met < st.levels - 1);
+    /* the search halves: log2(levels) + 1 surfaces at most */
+    assert_true(st.levels_tried <= (size_t)ceil(log2((double)st.levels)) + 1);
+    for (size_t i = 0; i < s->surface.num_points; ++i)
+        assert_true(s->surface.points[3 * i + 2] == 0);
+    assert_true(st.deviation.hausdorff <= 2);
+    size_t p_at = 0, p_below = 0;
+    double d_at = level_deviation(m, st.coarsest_met, &p_at);
+    double d_below = level_deviation(m, st.coarsest_met - 1, &p_below);
+    assert_true(d_at <= 2 && d_below > 2);
+    /* the result: that level, or a refinement of the level below with fewer patches */
+    if (st.refined)
+        assert_true(st.patches < p_at && st.base_level == st.coarsest_met - 1);
+    else
+        assert_true(st.patches == p_at && fabs(st.deviation.hausdorff - d_at) < 1e-12);
+    assert_true(st.patches == s->surface.count && st.patches >= p_below);
+    check_vertices(s, ids, m);
+    free(ids);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&m);
+}
+
+/* met, fewer patches than triangles, G1, and the figures agree with a fresh measurement */
+static void check_met(const char *name, double rel, const sk_mesh *m, sk_smooth *s,
+                      const uint32_t *ids, const sk_tolerance_stats *st)
+{
+    sk_continuity_report rep;
+    assert_int_equal(sk_smooth_continuity(s, NULL, &rep, NULL), SK_OK);
+    sk_deviation_report d = measure(s, m);
+    print_message("%-14s T = %g diag: %zu patches for %zu triangles, %zu levels (%zu tried, "
+                  "coarsest met %zu), %zu rounds from %zu, max %.3g rms %.3g / %.3g of the "
+                  "diagonal, normal jump %.2g deg, singular %zu\n",
+                  name, rel, st->patches, st->input_faces, st->levels, st->levels_tried,
+                  st->coarsest_met, st->rounds, st->base_level, d.hausdorff / d.diagonal,
+                  d.mesh_to_surface.rms / d.diagonal, d.surface_to_mesh.rms / d.diagonal,
+                  rep.max_normal_jump_deg, rep.singular_patches);
+    assert_true(st->met);
+    assert_true(fabs(st->tolerance - rel * st->diagonal) <= 1e-12 * st->diagonal);
+    assert_true(d.hausdorff <= st->tolerance);
+    assert_true(fabs(d.hausdorff - st->deviation.hausdorff) <= 1e-12 * d.diagonal);
+    assert_true(fabs(d.mesh_to_surface.rms - st->deviation.mesh_to_surface.rms) <= 1e-9 * d.diagonal);
+    assert_true(st->patches < st->input_faces);
+    assert_true(rep.max_normal_jump_deg < 0.5 && rep.pass_g1 && rep.pass_gap);
+    check_vertices(s, ids, m);
+}
+
+static void run_met(const char *name, double rel)
+{
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh(name));
+    sk_smooth *s = NULL;
+    uint32_t *ids = NULL;
+    sk_tolerance_stats st;
+    sk_error err;
+    sk_tolerance_opts o = {.tolerance_rel = rel};
+    sk_status rc = sk_smooth_tolerance(m, &o, &s, &ids, &st, &err);
+    if (rc != SK_OK)
+        print_message("%s: %s\n", name, err.message);
+    assert_int_equal(rc, SK_OK);
+    check_met(name, rel, m, s, ids, &st);
+    free(ids);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&m);
+}
+
+static void sphere_met(void **state)
+{
+    (void)state;
+    run_met("sphere.off", 1e-2);
+}
+
+static void scans_met(void **state)
+{
+    (void)state;
+    run_met("cow.off", 5e-2);
+    if (!getenv("SK_TEST_QUICK"))
+        run_met("bunny00.off", 1e-3);
+}
+
+static void unreachable(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("sphere.off"));
+    sk_smooth *s = NULL;
+    sk_tolerance_stats st;
+    sk_error err;
+    sk_tolerance_opts o = {.tolerance_rel = 1e-7};
+    assert_int_equal(sk_smooth_tolerance(m, &o, &s, NULL, &st, &err), SK_WARN_TOLERANCE);
+    assert_non_null(s);
+    assert_false(st.met);
+    assert_true(strstr(err.message, "not met") != NULL);
+    assert_true(st.deviation.hausdorff > st.tolerance);
+    assert_int_equal(st.patches, s->surface.count);
+    /* the search ends at the input itself without scanning every level */
+    assert_true(st.levels_tried <= (size_t)ceil(log2((double)st.levels)) + 1 + st.failed_levels);
+    assert_int_equal(st.coarsest_met, st.levels - 1);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&m);
+}
+
+static void bad_options(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_planar_disk(6, 1);
+    sk_smooth *s = NULL;
+    sk_error err;
+    sk_tolerance_opts o = {.tolerance = -1};
+    assert_int_equal(sk_smooth_tolerance(m, &o, &s, NULL, NULL, &err), SK_ERR_ARG);
+    assert_null(s);
+    o = (sk_tolerance_opts){.smooth = {.scheme = SK_SMOOTH_PN}};
+    assert_int_equal(sk_smooth_tolerance(m, &o, &s, NULL, NULL, &err), SK_ERR_ARG);
+    o = (sk_tolerance_opts){.face_samples = 100};
+    assert_int_equal(sk_smooth_tolerance(m, &o, &s, NULL, NULL, &err), SK_ERR_ARG);
+    assert_null(s);
+    sk_mesh_destroy(&m);
+    /* a quad */
+    const double p[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const uint32_t off[] = {0, 4}, idx[] = {0, 1, 2, 3};
+    assert_int_equal(sk_mesh_from_faces(4, p, 1, off, idx, &m, NULL), SK_OK);
+    assert_int_equal(sk_smooth_tolerance(m, NULL, &s, NULL, NULL, &err), SK_ERR_TOPOLOGY);
+    assert_null(s);
+    sk_mesh_destroy(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(plane_levels),
+        cmocka_unit_test(sphere_met),
+        cmocka_unit_test(unreachable),
+        cmocka_unit_test(bad_options),
+        cmocka_unit_test(scans_met),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

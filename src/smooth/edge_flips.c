@@ -160,8 +160,8 @@ static void flip(sk_mesh *m, uint32_t h)
     m->f_halfedge[g] = o;
 }
 
-sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
-                                    sk_error *err)
+sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, const uint8_t *keep,
+                                    size_t *flipped, sk_error *err)
 {
     size_t ne = sk_num_edges(m), count = 0;
     *flipped = 0;
@@ -190,7 +190,7 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *f
         uint32_t e = stack[--top];
         queued[e] = 0;
         uint32_t h = 2 * e;
-        if (!want_flip(m, normals, h))
+        if ((keep && keep[e]) || !want_flip(m, normals, h))
             continue;
         flip(m, h);
         ++count;

@@ -20,6 +20,8 @@ void sk_smooth_destroy(sk_smooth **smooth)
     sk__free(s->deleted);
     sk__free(s->problems);
     sk__free(s->creases);
+    sk__free(s->crease_edge);
+    sk__free(s->corner_normals);
     sk__free(s);
     *smooth = NULL;
 }
@@ -57,7 +59,9 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
     uint8_t *status = sk__calloc_array(nv ? nv : 1, 1);
-    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status) {
+    uint8_t *crease_v = s->crease_edge ? sk__calloc_array(nv ? nv : 1, 1) : NULL;
+    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status ||
+        (s->crease_edge && !crease_v)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
     }
@@ -66,9 +70,19 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *
     W.target = target;
     W.r = r;
     W.alpha = alpha;
+    if (s->crease_edge) { /* G0 at the creases: sectors, their normals, the shared curves */
+        for (uint32_t e = 0; e < sk_num_edges(m); ++e)
+            if (s->crease_edge[e])
+                crease_v[sk_from(m, 2 * e)] = crease_v[sk_to(m, 2 * e)] = 1;
+        W.crease_e = s->crease_edge;
+        W.crease_v = crease_v;
+        W.cn = s->corner_normals;
+    }
     double t0 = sk_seconds();
-    if ((st = sk__wireframe_targets(m, s->normals, target, err)) != SK_OK)
+    if ((st = sk__wireframe_targets_cn(m, s->normals, W.cn, W.crease_e, target, err)) != SK_OK)
         goto done;
+    if (W.crease_e)
+        sk__crease_targets(m, W.crease_e, W.cn, target);
     sk__patch_ratios(m, target, r);
     for (size_t h = 0; h < nh; ++h) {
         uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
@@ -88,6 +102,11 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *
             W.nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
         }
     }
+    for (size_t h = 0; W.crease_e && h < nh; ++h)
+        if (W.crease_e[sk_edge((uint32_t)h)])
+            W.nu[h] = NAN; /* no constraint (8) across a crease, as on a boundary */
+    if (W.crease_e)
+        sk__crease_tangent_ratios(&W, r, target);
     /* the vertex systems (8) */
     double max_res = 0.0, dev_sum = 0.0;
     size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
@@ -194,6 +213,7 @@ done:
     sk__free(W.nu);
     sk__free(W.C);
     sk__free(status);
+    sk__free(crease_v);
     return st;
 }
 
@@ -221,6 +241,18 @@ static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle,
     return st;
 }
 
+/* the crease edges (s->creases) as flags per edge of m */
+static sk_status crease_flags_of(const sk_smooth *s, const sk_mesh *m, uint8_t **flags,
+                                 sk_error *err)
+{
+    size_t ne = sk_num_edges(m);
+    *flags = sk__malloc_array(ne ? ne : 1, 1);
+    if (!*flags)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk__crease_flags(m, s->creases, s->num_creases, *flags);
+    return SK_OK;
+}
+
 sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
                           sk_error *err)
 {
@@ -237,6 +269,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_status st = SK_OK;
     sk_mesh *work = NULL;
     double *normals = NULL;
+    uint8_t *keep = NULL; /* crease flags of the mesh being flipped / deleted */
     sk_smooth *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -311,18 +344,31 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             base = work;
         }
     }
-    /* a better triangulation of the same vertices */
+    /* a better triangulation of the same vertices (crease edges kept) */
     if (!opts.keep_triangulation) {
         t0 = sk_seconds();
         if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
             goto fail;
-        if ((st = sk__improve_triangulation(work, normals, &s->stats.flipped_edges, err)) != SK_OK)
+        if (s->num_creases && (st = crease_flags_of(s, work, &keep, err)) != SK_OK)
+            goto fail;
+        if ((st = sk__improve_triangulation(work, normals, keep, &s->stats.flipped_edges,
+                                            err)) != SK_OK)
             goto fail;
         base = work;
         s->stats.seconds_flips = sk_seconds() - t0;
     }
     t0 = sk_seconds();
-    if ((st = sk_edge_deletion(base, &s->config, &s->deleted, &s->stats.deletion, err)) != SK_OK)
+    sk__free(keep);
+    keep = NULL;
+    if (s->num_creases && (st = crease_flags_of(s, base, &keep, err)) != SK_OK)
+        goto fail;
+    if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted, &s->stats.deletion,
+                                        err)) != SK_OK)
+        goto fail;
+    sk__free(keep);
+    keep = NULL;
+    if (s->num_creases && (st = sk__crease_setup(s->config, normals, s->creases, s->num_creases,
+                                                 &s->crease_edge, &s->corner_normals, err)))
         goto fail;
     s->num_deleted = s->stats.deletion.deleted_edges;
     s->stats.seconds_deletion = sk_seconds() - t0;
@@ -333,12 +379,14 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     if ((st = vc1_build(s, alpha, max_nu, err)) != SK_OK)
         goto fail;
     sk_mesh_destroy(&work);
+    sk__free(keep);
     *out = s;
     sk__ok(err);
     sk__blas_serial_end(blas_threads);
     return sk__progress(opts.progress, opts.progress_user, 1.0, err);
 fail:
     sk_mesh_destroy(&work);
+    sk__free(keep);
     sk__free(normals);
     sk_smooth_destroy(&s);
     sk__blas_serial_end(blas_threads);

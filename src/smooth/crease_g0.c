@@ -95,15 +95,165 @@ size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, 
     return n;
 }
 
-sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const uint32_t *pairs,
-                           size_t npairs, uint8_t **crease_e, double **cn, sk_error *err)
+static bool has_edge(const sk_mesh *m, uint32_t a, uint32_t b)
+{
+    return find_halfedge(m, a, b) != SK_INVALID;
+}
+
+static size_t face_count(const sk_mesh *m, uint32_t v)
+{
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    size_t n = 0;
+    do {
+        n += m->h_face[h] != SK_INVALID;
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return n;
+}
+
+size_t sk__crease_split_sectors(sk_mesh *m, const uint8_t *crease)
+{
+    size_t flips = 0;
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        if (m->f_deleted[f] || sk_mesh_face_size(m, f) != 3)
+            continue;
+        uint32_t h = m->f_halfedge[f];
+        for (int i = 0; i < 3; ++i, h = m->h_next[h]) {
+            uint32_t v = sk_from(m, h), third = m->h_next[h], o = sk_opp(third);
+            if (!crease[sk_edge(h)] || !crease[sk_edge(m->h_prev[h])] || crease[sk_edge(third)] ||
+                m->h_face[o] == SK_INVALID)
+                continue;
+            /* v has exactly these two crease edges */
+            uint32_t g0 = m->v_halfedge[v], g = g0, k = 0;
+            do {
+                k += crease[sk_edge(g)];
+                g = sk_cw_out(m, g);
+            } while (g != g0);
+            uint32_t a = sk_from(m, third), b = sk_to(m, third), w = sk_to(m, m->h_next[o]);
+            if (k != 2 || w == v || has_edge(m, v, w) || face_count(m, a) <= 2 ||
+                face_count(m, b) <= 2)
+                continue;
+            if (flips == 0) { /* per-corner uvs do not survive a flip (not used by VC1) */
+                sk__free(m->h_wedge_uv);
+                sk__free(m->wedge_uvs);
+                m->h_wedge_uv = NULL;
+                m->wedge_uvs = NULL;
+                m->num_wedge_uvs = 0;
+            }
+            sk__flip_edge(m, third);
+            ++flips;
+            break; /* f is a new face now */
+        }
+    }
+    return flips;
+}
+
+/* angle-weighted normal of sector S of v (its corners at v) into out; false if degenerate */
+static bool sector_normal(const sk_mesh *m, uint32_t v, const uint32_t *L, const sector *S,
+                          double out[3])
+{
+    const double *V = m->positions + 3 * (size_t)v;
+    out[0] = out[1] = out[2] = 0.0;
+    for (int j = 0; j + 1 < S->n; ++j) {
+        uint32_t h = L[S->first + j];
+        double a[3], b[3], c[3];
+        sk__sub3(a, m->positions + 3 * (size_t)sk_to(m, h), V);
+        sk__sub3(b, m->positions + 3 * (size_t)sk_from(m, m->h_prev[h]), V);
+        sk__cross3(c, a, b);
+        double len_c = sk__norm3(c);
+        if (len_c > 0.0)
+            sk__axpy3(out, out, atan2(len_c, sk__dot3(a, b)) / len_c, c);
+    }
+    return sk__normalize3(out) > 0.0;
+}
+
+/* clears the crease edges connected to edge e through their vertices (the whole line: a piece
+ * left over would be a crease without its feature); returns how many */
+static size_t drop_line(const sk_mesh *m, uint8_t *crease, uint32_t e)
+{
+    size_t n = 0, cap = 64, top = 0;
+    uint32_t stack_local[64], *stack = stack_local;
+    crease[e] = 0;
+    stack[top++] = e;
+    while (top) {
+        uint32_t x = stack[--top];
+        ++n;
+        uint32_t ends[2] = {sk_from(m, 2 * x), sk_to(m, 2 * x)};
+        for (int k = 0; k < 2; ++k) {
+            uint32_t h0 = m->v_halfedge[ends[k]], h = h0;
+            do {
+                uint32_t y = sk_edge(h);
+                if (crease[y]) {
+                    crease[y] = 0;
+                    if (top == cap) { /* a long line: grow the stack */
+                        uint32_t *big = sk__malloc_array(2 * cap, sizeof *big);
+                        if (!big)
+                            return n; /* out of memory: the rest stays (still valid input) */
+                        memcpy(big, stack, top * sizeof *big);
+                        if (stack != stack_local)
+                            sk__free(stack);
+                        stack = big;
+                        cap *= 2;
+                    }
+                    stack[top++] = y;
+                }
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+    }
+    if (stack != stack_local)
+        sk__free(stack);
+    return n;
+}
+
+/* cosine of the largest angle allowed between a crease edge and its tangent line at a vertex
+ * with two crease edges (75 degrees) */
+#define SK_CREASE_TANGENT_COS 0.2588
+
+size_t sk__crease_validate(const sk_mesh *m, uint8_t *crease)
+{
+    size_t dropped = 0;
+    bool changed = true;
+    while (changed) {
+        changed = false;
+        for (uint32_t v = 0; v < m->num_vertices; ++v) {
+            if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+                continue;
+            uint32_t L[SK_VSYS_MAX];
+            sector S[SK_VSYS_MAX];
+            int ns, len = sectors_of(m, crease, v, L, S, &ns);
+            if (len <= 0 || ns != 2 || !S[0].fix_first || !S[0].fix_last)
+                continue;
+            double n1[3], n2[3], t[3], dx[3], dy[3];
+            bool ok = sector_normal(m, v, L, &S[0], n1) && sector_normal(m, v, L, &S[1], n2);
+            uint32_t hx = L[S[0].first], hy = L[S[0].first + S[0].n - 1];
+            const double *V = m->positions + 3 * (size_t)v;
+            sk__cross3(t, n1, n2);
+            if (ok && sk__normalize3(t) > 1e-12) {
+                sk__sub3(dx, m->positions + 3 * (size_t)sk_to(m, hx), V);
+                sk__sub3(dy, m->positions + 3 * (size_t)sk_to(m, hy), V);
+                double cx = sk__dot3(dx, t) / sk__norm3(dx), cy = sk__dot3(dy, t) / sk__norm3(dy);
+                /* the two crease curves leave V in opposite directions along the line, neither
+                 * far from its edge */
+                ok = cx * cy < 0.0 && fmin(fabs(cx), fabs(cy)) >= SK_CREASE_TANGENT_COS;
+            }
+            if (ok)
+                continue;
+            dropped += drop_line(m, crease, sk_edge(hx));
+            changed = true;
+        }
+    }
+    return dropped;
+}
+
+sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mesh *src,
+                           const uint8_t *src_crease, uint8_t **crease_e, double **cn,
+                           sk_error *err)
 {
     size_t ne = sk_num_edges(m), nh = m->num_halfedges, nv = m->num_vertices;
     *crease_e = NULL;
     *cn = NULL;
-    if (npairs == 0)
-        return SK_OK;
-    uint8_t *ce = sk__malloc_array(ne ? ne : 1, 1);
+    uint8_t *ce = sk__calloc_array(ne ? ne : 1, 1);
     double *N = sk__malloc_array(nh + 1, 3 * sizeof(double));
     uint8_t *cv = sk__calloc_array(nv ? nv : 1, 1);
     sk_status st = SK_OK;
@@ -111,8 +261,19 @@ sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const uint32
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory setting up the creases");
         goto done;
     }
-    if (sk__crease_flags(m, pairs, npairs, ce) == 0)
-        goto done; /* none survived (a split edge): no creases */
+    size_t found = 0;
+    for (uint32_t e = 0; e < sk_num_edges(src); ++e) {
+        if (!src_crease[e])
+            continue;
+        uint32_t a = sk_from(src, 2 * e), b = sk_to(src, 2 * e);
+        uint32_t h = a < nv && b < nv ? find_halfedge(m, a, b) : SK_INVALID;
+        if (h != SK_INVALID && !sk_is_boundary_e(m, sk_edge(h)) && !ce[sk_edge(h)]) {
+            ce[sk_edge(h)] = 1;
+            ++found;
+        }
+    }
+    if (found == 0)
+        goto done; /* none: no creases */
     for (uint32_t e = 0; e < ne; ++e)
         if (ce[e])
             cv[sk_from(m, 2 * e)] = cv[sk_to(m, 2 * e)] = 1;
@@ -131,21 +292,9 @@ sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const uint32
         }
         if (ns <= 1)
             continue; /* one sector (a crease end): the vertex normal */
-        const double *V = m->positions + 3 * (size_t)v;
         for (int s = 0; s < ns; ++s) {
-            /* angle-weighted normal of the sector's corners at v */
-            double sum[3] = {0, 0, 0};
-            for (int j = 0; j + 1 < S[s].n; ++j) {
-                uint32_t h = L[S[s].first + j];
-                double a[3], b[3], c[3];
-                sk__sub3(a, m->positions + 3 * (size_t)sk_to(m, h), V);
-                sk__sub3(b, m->positions + 3 * (size_t)sk_from(m, m->h_prev[h]), V);
-                sk__cross3(c, a, b);
-                double len_c = sk__norm3(c);
-                if (len_c > 0.0)
-                    sk__axpy3(sum, sum, atan2(len_c, sk__dot3(a, b)) / len_c, c);
-            }
-            if (sk__normalize3(sum) == 0.0) {
+            double sum[3];
+            if (!sector_normal(m, v, L, &S[s], sum)) {
                 st = sk__fail(err, SK_ERR_NUMERIC,
                               "vertex %u: a crease sector of degenerate faces has no normal", v);
                 goto done;
@@ -320,6 +469,31 @@ static void blend_free(sk__vsys *q, const double *orig, double alpha, double b, 
         memcpy(q->pstar + 2 * (n - 1), orig + 2 * (n - 1), 2 * sizeof(double));
 }
 
+/* sk__vsys_solve for a sector chain. A sector of two faces between the two crease edges of a
+ * vertex with two (fixed ends on one line, their lengths set by sk__crease_tangent_ratios so
+ * that Delta_u p_2 - nu Delta_d p_0 = 0) meets its constraint with w = 0 and p_1 free: solved
+ * here, since the rounding left in that difference would make the iteration move p_1 onto the
+ * line (w p_1 must equal it). */
+static int solve_sector(sk__vsys *q)
+{
+    const double *a = q->pstar, *b = q->pstar + 4;
+    if (q->n_edges == 3 && q->fixed_first && q->fixed_last &&
+        fabs(a[0] * b[1] - a[1] * b[0]) <= 1e-9 * hypot(a[0], a[1]) * hypot(b[0], b[1]) &&
+        a[0] * b[0] + a[1] * b[1] < 0.0) {
+        double rx = q->du[1] * b[0] - q->nu[1] * q->dd[1] * a[0];
+        double ry = q->du[1] * b[1] - q->nu[1] * q->dd[1] * a[1];
+        double scale = (hypot(a[0], a[1]) + hypot(b[0], b[1]) + hypot(q->pstar[2], q->pstar[3])) / 3;
+        memcpy(q->p, q->pstar, 6 * sizeof(double));
+        q->w[0] = q->w[1] = q->w[2] = 0.0;
+        q->residual = scale > 0.0 ? hypot(rx, ry) / scale : 0.0;
+        q->iterations = 0;
+        q->used_fallback = 0;
+        if (q->residual <= 1e-12)
+            return 0;
+    }
+    return sk__vsys_solve(q);
+}
+
 int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend,
                                 double lscale)
 {
@@ -369,7 +543,7 @@ int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, doub
         memcpy(orig, q.pstar, sizeof(double) * (size_t)(2 * n));
         if (blend > 0.0)
             blend_free(&q, orig, W->alpha, blend, 0.0);
-        int ok = sk__vsys_solve(&q);
+        int ok = solve_sector(&q);
         int bad = ok != 0 || bad_angles(&q, W->alpha);
         /* the relaxation of sk__vc1_solve_vertex, on the free points only */
         for (int t = 1; t <= 8 && bad && n > 2; ++t) {
@@ -377,7 +551,7 @@ int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, doub
             if (b <= blend && lb == 0.0)
                 continue;
             blend_free(&q, orig, W->alpha, b, lb);
-            ok = sk__vsys_solve(&q);
+            ok = solve_sector(&q);
             bad = ok != 0 || bad_angles(&q, W->alpha);
             sys->relaxed = 1;
         }

@@ -211,3 +211,8 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, const uin
     sk__ok(err);
     return SK_OK;
 }
+
+void sk__flip_edge(sk_mesh *m, uint32_t h)
+{
+    flip(m, h);
+}

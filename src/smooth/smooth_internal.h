@@ -21,14 +21,21 @@ sk_status sk__wireframe_targets_cn(const sk_mesh *m, const double *normals, cons
 
 /* Creases (crease_g0.c, docs/creases.md). sk__crease_flags: flags[e] = 1 (sk_num_edges(m)
  * entries, written in full) for the interior edges of m joining one of the npairs vertex pairs;
- * returns their number. sk__crease_setup: the crease flags of m and the per-half-edge normals
+ * returns their number. sk__crease_setup: the crease flags of m (the edges of src flagged in
+ * src_crease, by their vertex ids) and the per-half-edge normals
  * (the sector normal at from(h) on face(h)'s side: the angle-weighted normal of the sector's
- * corners where a vertex has two or more sectors, else normals[from(h)]); both NULL when no pair
+ * corners where a vertex has two or more sectors, else normals[from(h)]); both NULL when none
  * is an edge of m. sk__crease_targets: the wire frame target of every crease half-edge, on the
  * line V + t (n1 x n2) shared by both sides. */
 size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, uint8_t *flags);
-sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const uint32_t *pairs,
-                           size_t npairs, uint8_t **crease_e, double **cn, sk_error *err);
+sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mesh *src,
+                           const uint8_t *src_crease, uint8_t **crease_e, double **cn,
+                           sk_error *err);
+/* Drops (clears) the crease edges at vertices with two of them that the construction cannot
+ * follow: both crease curves share one tangent line there, so the two edges must leave the
+ * vertex on opposite sides of it and within 75 degrees of it (a crease that turns back, or a
+ * loop of three creases round one face, is not a feature line). Returns the edges dropped. */
+size_t sk__crease_validate(const sk_mesh *m, uint8_t *crease);
 void sk__crease_targets(const sk_mesh *m, const uint8_t *ce, const double *cn, double *target);
 
 /* Edge deletion (sk_edge_deletion) that keeps the edges with crease[e] set (NULL = none): their
@@ -108,6 +115,16 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
  * none) are never flipped; *flipped counts the flips. Drops per-corner uvs. */
 sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, const uint8_t *keep,
                                     size_t *flipped, sk_error *err);
+
+/* Flips the interior edge of half-edge h of a triangle mesh (edge_flips.c): the two triangles
+ * abc, bad become cdb... the edge joins the two opposite vertices instead, its id kept. */
+void sk__flip_edge(sk_mesh *m, uint32_t h);
+
+/* A vertex with exactly two crease edges has both crease tangents on one line, so a sector of
+ * one face between them would be a patch with a 180-degree corner: the edge opposite the vertex
+ * in such a triangle is flipped (crease_g0.c). Returns the number of flips; drops per-corner
+ * uvs when it flips. */
+size_t sk__crease_split_sectors(sk_mesh *m, const uint8_t *crease);
 
 /* PN triangles on the triangle mesh s->config with normals s->normals (fills s->surface). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);

@@ -362,14 +362,21 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     keep = NULL;
     if (s->num_creases && (st = crease_flags_of(s, base, &keep, err)) != SK_OK)
         goto fail;
+    if (keep) { /* no one-face sector between two crease edges in a line (crease_g0.c) */
+        if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
+            goto fail;
+        base = work;
+        s->stats.flipped_edges += sk__crease_split_sectors(work, keep);
+        sk__crease_validate(work, keep);
+    }
     if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted, &s->stats.deletion,
                                         err)) != SK_OK)
         goto fail;
+    if (keep && (st = sk__crease_setup(s->config, normals, base, keep, &s->crease_edge,
+                                       &s->corner_normals, err)) != SK_OK)
+        goto fail;
     sk__free(keep);
     keep = NULL;
-    if (s->num_creases && (st = sk__crease_setup(s->config, normals, s->creases, s->num_creases,
-                                                 &s->crease_edge, &s->corner_normals, err)))
-        goto fail;
     s->num_deleted = s->stats.deletion.deleted_edges;
     s->stats.seconds_deletion = sk_seconds() - t0;
     s->normals = normals;

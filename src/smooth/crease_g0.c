@@ -206,6 +206,20 @@ static size_t drop_line(const sk_mesh *m, uint8_t *crease, uint32_t e)
     return n;
 }
 
+size_t sk__crease_drop_at(const sk_mesh *m, uint8_t *crease, uint32_t v)
+{
+    size_t n = 0;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    if (v >= m->num_vertices || h0 == SK_INVALID)
+        return 0;
+    do {
+        if (crease[sk_edge(h)])
+            n += drop_line(m, crease, sk_edge(h));
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return n;
+}
+
 /* cosine of the largest angle allowed between a crease edge and its tangent line at a vertex
  * with two crease edges (75 degrees) */
 #define SK_CREASE_TANGENT_COS 0.2588

@@ -160,8 +160,14 @@ static void flip(sk_mesh *m, uint32_t h)
     m->f_halfedge[g] = o;
 }
 
-sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, const uint8_t *keep,
-                                    size_t *flipped, sk_error *err)
+sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
+                                    sk_error *err)
+{
+    return sk__improve_triangulation_keep(m, normals, NULL, flipped, err);
+}
+
+sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
+                                         size_t *flipped, sk_error *err)
 {
     size_t ne = sk_num_edges(m), count = 0;
     *flipped = 0;

@@ -36,6 +36,8 @@ sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mes
  * vertex on opposite sides of it and within 75 degrees of it (a crease that turns back, or a
  * loop of three creases round one face, is not a feature line). Returns the edges dropped. */
 size_t sk__crease_validate(const sk_mesh *m, uint8_t *crease);
+/* Clears the crease lines (connected crease edges) through vertex v; returns the edges. */
+size_t sk__crease_drop_at(const sk_mesh *m, uint8_t *crease, uint32_t v);
 void sk__crease_targets(const sk_mesh *m, const uint8_t *ce, const double *cn, double *target);
 
 /* Edge deletion (sk_edge_deletion) that keeps the edges with crease[e] set (NULL = none): their
@@ -111,10 +113,12 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
 
 /* The triangulation pass before the edge deletion (edge_flips.c): flips edges of the triangle
  * mesh m in place (same vertices; normals per vertex) to remove slivers and near-folds, bounded
- * by a dihedral-angle limit so the shape is kept; edges with keep[e] set (crease edges; NULL =
- * none) are never flipped; *flipped counts the flips. Drops per-corner uvs. */
-sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, const uint8_t *keep,
-                                    size_t *flipped, sk_error *err);
+ * by a dihedral-angle limit so the shape is kept; *flipped counts the flips. Drops per-corner uvs.
+ * The _keep variant never flips the edges with keep[e] set (crease edges; NULL = none). */
+sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
+                                    sk_error *err);
+sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
+                                         size_t *flipped, sk_error *err);
 
 /* Flips the interior edge of half-edge h of a triangle mesh (edge_flips.c): the two triangles
  * abc, bad become cdb... the edge joins the two opposite vertices instead, its id kept. */

@@ -46,7 +46,9 @@ static sk_status add_patches(sk_smooth *s, sk_error *err)
     return st;
 }
 
-static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *err)
+/* failed_v: the vertex named when a vertex system fails (SK_ERR_NUMERIC) */
+static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, uint32_t *failed_v,
+                           sk_error *err)
 {
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
@@ -188,6 +190,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_error *
         if (status[v] == 2) {
             sk__vsys sys;
             sk__vc1_solve_vertex(&W, (uint32_t)v, &sys, 0.0, 1.0);
+            *failed_v = (uint32_t)v;
             st = sk__fail(err, SK_ERR_NUMERIC,
                           "vertex %zu: its vertex system (eq. 8) did not converge (residual %.3g "
                           "of its scale), so the surface would not be VC1 there (%zu such "
@@ -240,6 +243,9 @@ static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle,
     sk__free(crease);
     return st;
 }
+
+/* rounds of dropping crease lines whose sectors cannot be built */
+#define SK_CREASE_ROUNDS 4
 
 /* the crease edges (s->creases) as flags per edge of m */
 static sk_status crease_flags_of(const sk_smooth *s, const sk_mesh *m, uint8_t **flags,
@@ -351,8 +357,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             goto fail;
         if (s->num_creases && (st = crease_flags_of(s, work, &keep, err)) != SK_OK)
             goto fail;
-        if ((st = sk__improve_triangulation(work, normals, keep, &s->stats.flipped_edges,
-                                            err)) != SK_OK)
+        if ((st = sk__improve_triangulation_keep(work, normals, keep,
+                                                 &s->stats.flipped_edges, err)) != SK_OK)
             goto fail;
         base = work;
         s->stats.seconds_flips = sk_seconds() - t0;
@@ -362,29 +368,61 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     keep = NULL;
     if (s->num_creases && (st = crease_flags_of(s, base, &keep, err)) != SK_OK)
         goto fail;
-    if (keep) { /* no one-face sector between two crease edges in a line (crease_g0.c) */
-        if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
-            goto fail;
-        base = work;
+    if (keep && !opts.keep_triangulation) {
+        /* no one-face sector between two crease edges in a line (crease_g0.c); with the input's
+         * triangulation kept, such a crease line is dropped below instead */
         s->stats.flipped_edges += sk__crease_split_sectors(work, keep);
-        sk__crease_validate(work, keep);
     }
-    if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted, &s->stats.deletion,
-                                        err)) != SK_OK)
-        goto fail;
-    if (keep && (st = sk__crease_setup(s->config, normals, base, keep, &s->crease_edge,
-                                       &s->corner_normals, err)) != SK_OK)
-        goto fail;
-    sk__free(keep);
-    keep = NULL;
-    s->num_deleted = s->stats.deletion.deleted_edges;
-    s->stats.seconds_deletion = sk_seconds() - t0;
+    if (keep)
+        sk__crease_validate(base, keep);
     s->normals = normals;
     normals = NULL;
-    if ((st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
-        goto fail;
-    if ((st = vc1_build(s, alpha, max_nu, err)) != SK_OK)
-        goto fail;
+    sk_smooth_stats saved = s->stats;
+    for (int round = 0;; ++round) {
+        if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted,
+                                            &s->stats.deletion, err)) != SK_OK)
+            goto fail;
+        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep, &s->crease_edge,
+                                           &s->corner_normals, err)) != SK_OK)
+            goto fail;
+        s->num_deleted = s->stats.deletion.deleted_edges;
+        s->stats.seconds_deletion = sk_seconds() - t0;
+        if (round == 0 && (st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
+            goto fail;
+        uint32_t failed_v = SK_INVALID;
+        st = vc1_build(s, alpha, max_nu, &failed_v, err);
+        if (st != SK_OK && st != SK_ERR_NUMERIC)
+            goto fail;
+        /* creases whose sectors cannot be built (a vertex system that fails or misses its angle
+         * bounds at a crease vertex: on scans, mostly bands of sharp edges that are no feature
+         * line) are dropped, whole lines, and the surface is built again without them */
+        size_t dropped = 0;
+        if (keep && round < SK_CREASE_ROUNDS) {
+            if (st == SK_ERR_NUMERIC && failed_v != SK_INVALID)
+                dropped += sk__crease_drop_at(base, keep, failed_v);
+            for (size_t i = 0; st == SK_OK && i < s->num_problems; ++i)
+                dropped += sk__crease_drop_at(base, keep, s->problems[i]);
+        }
+        if (dropped == 0) {
+            if (st != SK_OK)
+                goto fail;
+            break;
+        }
+        sk_mesh_destroy(&s->config);
+        sk_patch_set_free(&s->surface);
+        sk__free(s->deleted);
+        sk__free(s->problems);
+        sk__free(s->crease_edge);
+        sk__free(s->corner_normals);
+        s->deleted = s->problems = NULL;
+        s->crease_edge = NULL;
+        s->corner_normals = NULL;
+        s->num_deleted = s->num_problems = 0;
+        s->stats = saved;
+        t0 = sk_seconds();
+    }
+    sk__free(keep);
+    keep = NULL;
     sk_mesh_destroy(&work);
     sk__free(keep);
     *out = s;

@@ -139,6 +139,7 @@ size_t sk__crease_split_sectors(sk_mesh *m, const uint8_t *crease)
                 m->h_wedge_uv = NULL;
                 m->wedge_uvs = NULL;
                 m->num_wedge_uvs = 0;
+                sk_mesh_set_wedge_normals(m, 0, NULL, NULL, NULL);
             }
             sk__flip_edge(m, third);
             ++flips;
@@ -260,9 +261,54 @@ size_t sk__crease_validate(const sk_mesh *m, uint8_t *crease)
     return dropped;
 }
 
+/* the file's normal of the corner at from(h) in face(h), h an edge of m (found in file by its
+ * vertex ids), into out; false when there is none */
+static bool file_corner_normal(const sk_mesh *file, const sk_mesh *m, uint32_t h, double out[3])
+{
+    uint32_t a = sk_from(m, h), b = sk_to(m, h);
+    if (!file || !file->h_wedge_normal || a >= file->num_vertices || b >= file->num_vertices)
+        return false;
+    uint32_t g = find_halfedge(file, a, b);
+    if (g == SK_INVALID || file->h_face[g] == SK_INVALID || file->h_wedge_normal[g] == SK_INVALID)
+        return false;
+    memcpy(out, file->wedge_normals + 3 * (size_t)file->h_wedge_normal[g], 3 * sizeof(double));
+    return isfinite(out[0] + out[1] + out[2]) && sk__normalize3(out) > 0.0;
+}
+
+/* the corner normals of two corners (half-edges, their corners at from()) differ */
+static bool corners_differ(const sk_mesh *m, uint32_t g, uint32_t h)
+{
+    uint32_t a = m->h_wedge_normal[g], b = m->h_wedge_normal[h];
+    if (a == b || a == SK_INVALID || b == SK_INVALID)
+        return false;
+    double x[3], y[3], c[3];
+    memcpy(x, m->wedge_normals + 3 * (size_t)a, sizeof x);
+    memcpy(y, m->wedge_normals + 3 * (size_t)b, sizeof y);
+    sk__cross3(c, x, y);
+    /* more than about 1e-6 radians apart (rounding in the file's digits is not a crease) */
+    return sk__norm3(c) > 1e-6 * sk__norm3(x) * sk__norm3(y) || sk__dot3(x, y) < 0.0;
+}
+
+size_t sk__corner_normal_creases(const sk_mesh *m, uint8_t *crease)
+{
+    size_t n = 0;
+    for (uint32_t e = 0; e < sk_num_edges(m); ++e) {
+        uint32_t h = 2 * e, o = h + 1;
+        if (crease[e] || m->e_deleted[e] || m->h_face[h] == SK_INVALID ||
+            m->h_face[o] == SK_INVALID)
+            continue;
+        /* at from(h): face(h)'s corner is h, face(o)'s is next(o); at to(h): next(h) and o */
+        if (corners_differ(m, h, m->h_next[o]) || corners_differ(m, m->h_next[h], o)) {
+            crease[e] = 1;
+            ++n;
+        }
+    }
+    return n;
+}
+
 sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mesh *src,
-                           const uint8_t *src_crease, uint8_t **crease_e, double **cn,
-                           sk_error *err)
+                           const uint8_t *src_crease, const sk_mesh *file, uint8_t **crease_e,
+                           double **cn, sk_error *err)
 {
     size_t ne = sk_num_edges(m), nh = m->num_halfedges, nv = m->num_vertices;
     *crease_e = NULL;
@@ -308,7 +354,9 @@ sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mes
             continue; /* one sector (a crease end): the vertex normal */
         for (int s = 0; s < ns; ++s) {
             double sum[3];
-            if (!sector_normal(m, v, L, &S[s], sum)) {
+            if (file_corner_normal(file, m, L[S[s].first], sum)) {
+                /* the file's normal of the sector */
+            } else if (!sector_normal(m, v, L, &S[s], sum)) {
                 st = sk__fail(err, SK_ERR_NUMERIC,
                               "vertex %u: a crease sector of degenerate faces has no normal", v);
                 goto done;

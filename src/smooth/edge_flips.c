@@ -184,6 +184,7 @@ sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, cons
     m->h_wedge_uv = NULL;
     m->wedge_uvs = NULL;
     m->num_wedge_uvs = 0;
+    sk_mesh_set_wedge_normals(m, 0, NULL, NULL, NULL); /* nor do per-corner normals */
     size_t top = 0;
     for (size_t e = ne; e-- > 0;) {
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, (uint32_t)e)) {

@@ -24,13 +24,17 @@ sk_status sk__wireframe_targets_cn(const sk_mesh *m, const double *normals, cons
  * returns their number. sk__crease_setup: the crease flags of m (the edges of src flagged in
  * src_crease, by their vertex ids) and the per-half-edge normals
  * (the sector normal at from(h) on face(h)'s side: the angle-weighted normal of the sector's
- * corners where a vertex has two or more sectors, else normals[from(h)]); both NULL when none
- * is an edge of m. sk__crease_targets: the wire frame target of every crease half-edge, on the
+ * corners where a vertex has two or more sectors, or the file's per-corner normal of the
+ * sector's first edge in file (the input mesh, may be NULL), else normals[from(h)]); both NULL
+ * when none is an edge of m. sk__crease_targets: the wire frame target of every crease half-edge, on the
  * line V + t (n1 x n2) shared by both sides. */
 size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, uint8_t *flags);
 sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mesh *src,
-                           const uint8_t *src_crease, uint8_t **crease_e, double **cn,
-                           sk_error *err);
+                           const uint8_t *src_crease, const sk_mesh *file, uint8_t **crease_e,
+                           double **cn, sk_error *err);
+/* Sets crease[e] for the interior edges of m whose per-corner normals (m->h_wedge_normal, the
+ * file's) differ across the edge at one of its ends; returns how many it set that were not set. */
+size_t sk__corner_normal_creases(const sk_mesh *m, uint8_t *crease);
 /* Drops (clears) the crease edges at vertices with two of them that the construction cannot
  * follow: both crease curves share one tangent line there, so the two edges must leave the
  * vertex on opposite sides of it and within 75 degrees of it (a crease that turns back, or a

@@ -220,8 +220,10 @@ done:
     return st;
 }
 
-/* The crease edges of the input as vertex pairs (s->creases). */
-static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle, sk_error *err)
+/* The crease edges of the input as vertex pairs (s->creases): detected, and (file_normals) the
+ * edges whose per-corner normals differ at an end. */
+static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle, bool file_normals,
+                                sk_error *err)
 {
     size_t ne = sk_num_edges(mesh), n = 0;
     uint8_t *crease = sk__malloc_array(ne ? ne : 1, 1);
@@ -229,6 +231,8 @@ static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle,
     sk_status st = crease ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (st == SK_OK)
         st = sk_mesh_crease_edges(mesh, &co, crease, &n, err);
+    if (st == SK_OK && file_normals && mesh->h_wedge_normal)
+        n += sk__corner_normal_creases(mesh, crease);
     if (st == SK_OK && n > 0) {
         s->creases = sk__malloc_array(2 * n, sizeof(uint32_t));
         if (!s->creases)
@@ -316,7 +320,9 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         goto fail;
     }
     s->stats.seconds_normals = sk_seconds() - t0;
-    if (opts.crease_angle_deg >= 0.0 && (st = detect_creases(s, mesh, opts.crease_angle_deg, err)))
+    bool file_normals = mesh->normals && !opts.estimate_normals;
+    if (opts.crease_angle_deg >= 0.0 &&
+        (st = detect_creases(s, mesh, opts.crease_angle_deg, file_normals, err)))
         goto fail;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.1, err)) != SK_OK)
         goto fail;
@@ -382,7 +388,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted,
                                             &s->stats.deletion, err)) != SK_OK)
             goto fail;
-        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep, &s->crease_edge,
+        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep,
+                                           file_normals ? mesh : NULL, &s->crease_edge,
                                            &s->corner_normals, err)) != SK_OK)
             goto fail;
         s->num_deleted = s->stats.deletion.deleted_edges;

@@ -250,7 +250,7 @@ static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
 typedef struct smooth_args {
     const char *in, *out, *patches, *layout, *render, *zebra, *patch_map, *report;
     unsigned tess;
-    bool quiet, json, freeform, allow_fail, keep_polygons;
+    bool quiet, json, freeform, allow_fail, keep_polygons, no_creases;
     cad_kind cad;
     sk_smooth_opts so;
     sk_export_opts eo;
@@ -316,6 +316,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                    "sharp edges (dihedral angle >= DEG, default 40) become G0 creases: patch\n"
                    "boundaries with one normal per side, G1 elsewhere (crease_edges and\n"
                    "max_crease_gap in the report; the max normal jump skips them)"),
+        OPT_FLAG("--no-creases", a->no_creases,
+                 "no creases: G1 across every edge, sharp ones included (crease_edges 0)"),
         OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
         OPT_FLAG("--allow-fail", a->allow_fail,
                  "write the surface even when the vc1 continuity report fails"),
@@ -400,6 +402,8 @@ int cmd_smooth(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     if (rc)
         return rc == CLI_HELP ? EXIT_OK : rc;
+    if (a.no_creases)
+        a.so.crease_angle_deg = -1.0; /* no detection, no G0 construction */
     double t0 = sk_seconds();
     cli_progress bar;
     cli_progress_init(&bar, "smooth", a.quiet);

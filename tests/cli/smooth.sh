@@ -22,6 +22,9 @@ assert r["crease_edges"] == 0, r
 PY
 "$bin" smooth "$m/cube.off" --crease-angle 60 --scheme pn --json -q > "$tmp/c.json" || fail "cube exit"
 python3 -c "import json; assert json.load(open('$tmp/c.json'))['crease_edges'] == 12" || fail "cube creases"
+"$bin" smooth "$m/cube.off" --no-creases -o "$tmp/c0.obj" --json -q > "$tmp/c0.json" || fail "cube --no-creases exit"
+python3 -c "import json; r = json.load(open('$tmp/c0.json')); assert r['crease_edges'] == 0 and r['g0_crease_edges'] == 0, r" ||
+  fail "cube --no-creases"
 # vc1: the cube's edges are G0 creases (listed, normal jump 90 there, gap at rounding), the
 # max normal jump skips them and says so; the tessellation stays closed; STEP export works
 "$bin" smooth "$m/cube.off" -o "$tmp/cube.obj" --json -q > "$tmp/cv.json" || fail "cube vc1 exit"

@@ -75,6 +75,20 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "even_vertices", s->stats.deletion.even_vertices);
     json_kuint(&j, "deleted_edges", s->stats.deletion.deleted_edges);
     json_kuint(&j, "crease_edges", s->num_creases);
+    /* the G0 creases of the surface (vc1): vertex pairs; max_normal_jump_deg skips them */
+    json_kuint(&j, "g0_crease_edges", r->crease_edges);
+    json_knum(&j, "max_crease_gap", r->max_crease_gap);
+    json_knum(&j, "max_crease_jump_deg", r->max_crease_jump_deg);
+    json_knum(&j, "min_crease_jump_deg", r->min_crease_jump_deg);
+    json_key(&j, "creases");
+    json_arr_open(&j);
+    for (size_t i = 0; i < s->num_creases; ++i) {
+        json_arr_open(&j);
+        json_uint(&j, s->creases[2 * i]);
+        json_uint(&j, s->creases[2 * i + 1]);
+        json_arr_close(&j);
+    }
+    json_arr_close(&j);
     json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
     json_kuint(&j, "split_edges", s->stats.split_edges);
     json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
@@ -249,7 +263,7 @@ static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
 typedef struct smooth_args {
     const char *in, *out, *patches, *layout, *render, *zebra, *patch_map, *report;
     unsigned tess;
-    bool quiet, json, freeform, allow_fail, keep_polygons;
+    bool quiet, json, freeform, allow_fail, keep_polygons, no_creases;
     cad_kind cad;
     sk_tolerance_opts to; /* --tolerance / --tolerance-rel: the coarse-level route */
     bool tolerance;
@@ -318,8 +332,11 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                    "moved to lower the patches' bending energy (fair, default), or the\n"
                    "least-squares fit alone (lsq); both exactly VC1"),
         OPT_DOUBLE("--crease-angle", a->so.crease_angle_deg, 0, 180, CLI_LO_OPEN, "DEG",
-                   "sharp edges (dihedral angle >= DEG, default 40) are detected and counted\n"
-                   "(crease_edges in the report); the surface stays G1 across them"),
+                   "sharp edges (dihedral angle >= DEG, default 40) become G0 creases: patch\n"
+                   "boundaries with one normal per side, G1 elsewhere (crease_edges and\n"
+                   "max_crease_gap in the report; the max normal jump skips them)"),
+        OPT_FLAG("--no-creases", a->no_creases,
+                 "no creases: G1 across every edge, sharp ones included (crease_edges 0)"),
         OPT_FLAG("--keep-polygons", a->keep_polygons, "refuse quads and polygons (default: split)"),
         OPT_FLAG("--allow-fail", a->allow_fail,
                  "write the surface even when the vc1 continuity report fails"),
@@ -398,13 +415,19 @@ static int write_surface(const smooth_args *a, const sk_smooth *s)
 
 static void print_summary(const sk_smooth *s, const sk_continuity_report *rep, bool failed)
 {
-    printf("smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg, "
+    char creases[160] = "";
+    if (rep->crease_edges)
+        snprintf(creases, sizeof creases,
+                 " off %zu crease edges (G0 there: normal jump %.3g..%.3g deg, max gap %.3g)",
+                 rep->crease_edges, rep->min_crease_jump_deg, rep->max_crease_jump_deg,
+                 rep->max_crease_gap);
+    printf("smooth: %zu patches (%s), %zu deleted edges (bound %zu), max normal jump %.3g deg%s, "
            "max gap %.3g, singular patches %zu, self-intersecting patch pairs %zu, problem "
            "vertices %zu, report %s\n",
            s->surface.count, s->scheme == SK_SMOOTH_PN ? "pn" : "vc1",
            s->stats.deletion.deleted_edges, s->stats.deletion.lower_bound,
-           rep->max_normal_jump_deg, rep->max_gap, rep->singular_patches, rep->intersecting_pairs,
-           s->num_problems, failed ? "FAIL" : "pass");
+           rep->max_normal_jump_deg, creases, rep->max_gap, rep->singular_patches,
+           rep->intersecting_pairs, s->num_problems, failed ? "FAIL" : "pass");
 }
 
 static int smooth_tolerance(const smooth_args *a);
@@ -416,6 +439,8 @@ int cmd_smooth(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     if (rc)
         return rc == CLI_HELP ? EXIT_OK : rc;
+    if (a.no_creases)
+        a.so.crease_angle_deg = -1.0; /* no detection, no G0 construction */
     if (a.tolerance)
         return smooth_tolerance(&a);
     double t0 = sk_seconds();

@@ -179,6 +179,12 @@ typedef struct sk_mesh {
     size_t num_wedge_uvs;
     double *wedge_uvs;
     uint32_t *h_wedge_uv; /* cap_halfedges entries when present */
+    /* per-corner (wedge) normals, the same way (OBJ vn per corner; the soup's corner_normal):
+     * the normal at sk_from(h) in face sk_face(h) is wedge_normals[3 h_wedge_normal[h]]. Two
+     * faces whose corners at a vertex hold different normals meet at a crease there. */
+    size_t num_wedge_normals;
+    double *wedge_normals;
+    uint32_t *h_wedge_normal; /* cap_halfedges entries when present */
 
     /* deletion flags (0 alive, 1 deleted); sk_mesh_compact removes deleted elements */
     uint8_t *v_deleted;
@@ -247,6 +253,9 @@ SK_API sk_status sk_mesh_add_uvs(sk_mesh *mesh, sk_error *err);
  * (num_halfedges entries, copied; SK_INVALID allowed). values == NULL removes them. */
 SK_API sk_status sk_mesh_set_wedge_uvs(sk_mesh *mesh, size_t n, const double *values,
                                        const uint32_t *h_wedge, sk_error *err);
+/* The same for the per-corner normals (3 doubles each). */
+SK_API sk_status sk_mesh_set_wedge_normals(sk_mesh *mesh, size_t n, const double *values,
+                                           const uint32_t *h_wedge, sk_error *err);
 
 /* Room for more elements (mutating algorithms call this before adding). */
 SK_API sk_status sk_mesh_reserve(sk_mesh *mesh, size_t vertices, size_t halfedges, size_t faces,

@@ -59,8 +59,8 @@ SK_API sk_status sk_edge_deletion(const sk_mesh *mesh, sk_mesh **out, uint32_t *
                                   sk_edge_deletion_stats *stats, sk_error *err);
 
 /* ---------------------------------------------------------------------------------------------
- * Crease edges (sharp features; the G0 construction at creases is designed in docs/creases.md,
- * not built yet: today the surface stays G1 across them and they are only detected and reported)
+ * Crease edges (sharp features): the VC1 surface is only G0 across them, with one normal per
+ * sector on each side (docs/creases.md), and G1 everywhere else
  * ------------------------------------------------------------------------------------------- */
 
 #define SK_CREASE_ANGLE_DEFAULT 40.0 /* degrees */
@@ -142,7 +142,13 @@ typedef struct sk_smooth {
     size_t num_problems;       /* vertices with a failed system or violated angle bound */
     uint32_t *problems;        /* their ids */
     size_t num_creases;        /* crease edges of the input mesh ... */
-    uint32_t *creases;         /* ... as 2 vertex ids each (reported; not yet G0 boundaries) */
+    uint32_t *creases;         /* ... as 2 vertex ids each (VC1: G0 patch boundaries) */
+    /* VC1 with creases (both NULL without, and for PN): crease_edge[e] = 1 for the crease edges
+     * of config (sk_num_edges(config) entries); corner_normals[3 h] the unit normal at from(h)
+     * of the sector holding face(h) (per half-edge of config; a vertex on a crease has one
+     * normal per sector, interpolated at the corners there; elsewhere normals[from(h)]) */
+    uint8_t *crease_edge;
+    double *corner_normals;
     sk_smooth_stats stats;
 } sk_smooth;
 
@@ -176,6 +182,11 @@ typedef struct sk_continuity_report {
     double max_gap, mean_gap;
     double max_normal_jump_deg, mean_normal_jump_deg;
     uint32_t worst_edge_vertices[2];  /* where the largest normal jump is */
+    /* creases (sk_smooth.crease_edge): the G1 figures above skip them (the surface is G0 there,
+     * by design); their gaps count in max_gap and here, their normal jumps only here */
+    size_t crease_edges;
+    double max_crease_gap;
+    double max_crease_jump_deg, min_crease_jump_deg; /* over the samples of the crease edges */
     double max_vertex_error;          /* |S(corner) - V| */
     double max_normal_error_deg;      /* angle(patch normal at corner, given normal) */
     /* singular: a patch whose normal vanishes or turns over somewhere (found by sampling): it has

@@ -213,5 +213,29 @@ sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
             return ws;
         }
     }
+    if (s->corner_normal) {
+        /* the same for the per-corner normals */
+        uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
+        if (!hw) {
+            sk_mesh_destroy(out);
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        }
+        for (size_t h = 0; h < m->num_halfedges; ++h)
+            hw[h] = SK_INVALID;
+        for (size_t f = 0; f < s->num_faces; ++f) {
+            uint32_t h = m->f_halfedge[f];
+            for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
+                hw[h] = s->corner_normal[c];
+                h = m->h_next[h];
+            }
+        }
+        sk_status ws =
+            sk_mesh_set_wedge_normals(m, s->num_wedge_normals, s->wedge_normals, hw, err);
+        sk__free(hw);
+        if (ws) {
+            sk_mesh_destroy(out);
+            return ws;
+        }
+    }
     return SK_OK;
 }

@@ -31,6 +31,7 @@ static const mesh_array mesh_arrays[] = {
     ARRAY(h_prev, sizeof(uint32_t), PER_HALFEDGE, false),
     ARRAY(h_face, sizeof(uint32_t), PER_HALFEDGE, false),
     ARRAY(h_wedge_uv, sizeof(uint32_t), PER_HALFEDGE, true),
+    ARRAY(h_wedge_normal, sizeof(uint32_t), PER_HALFEDGE, true),
     ARRAY(e_deleted, 1, PER_EDGE, false),
     ARRAY(f_halfedge, sizeof(uint32_t), PER_FACE, false),
     ARRAY(f_deleted, 1, PER_FACE, false),
@@ -111,6 +112,7 @@ void sk_mesh_destroy(sk_mesh **mesh)
     for (size_t k = 0; k < NUM_MESH_ARRAYS; ++k)
         sk__free(*array_ptr(m, &mesh_arrays[k]));
     sk__free(m->wedge_uvs);
+    sk__free(m->wedge_normals);
     sk__free(m);
     *mesh = NULL;
 }
@@ -169,6 +171,8 @@ uint32_t sk_mesh_new_edge(sk_mesh *m)
         m->h_vertex[i] = m->h_next[i] = m->h_prev[i] = m->h_face[i] = SK_INVALID;
         if (m->h_wedge_uv)
             m->h_wedge_uv[i] = SK_INVALID;
+        if (m->h_wedge_normal)
+            m->h_wedge_normal[i] = SK_INVALID;
     }
     m->e_deleted[h / 2] = 0;
     return h;
@@ -206,8 +210,11 @@ sk_status sk_mesh_copy(const sk_mesh *src, sk_mesh **out, sk_error *err)
     m->num_deleted_vertices = src->num_deleted_vertices;
     m->num_deleted_edges = src->num_deleted_edges;
     m->num_deleted_faces = src->num_deleted_faces;
-    if (src->h_wedge_uv &&
-        sk_mesh_set_wedge_uvs(m, src->num_wedge_uvs, src->wedge_uvs, src->h_wedge_uv, err)) {
+    if ((src->h_wedge_uv &&
+         sk_mesh_set_wedge_uvs(m, src->num_wedge_uvs, src->wedge_uvs, src->h_wedge_uv, err)) ||
+        (src->h_wedge_normal &&
+         sk_mesh_set_wedge_normals(m, src->num_wedge_normals, src->wedge_normals,
+                                   src->h_wedge_normal, err))) {
         sk_mesh_destroy(&m);
         return SK_ERR_NOMEM;
     }
@@ -215,36 +222,52 @@ sk_status sk_mesh_copy(const sk_mesh *src, sk_mesh **out, sk_error *err)
     return SK_OK;
 }
 
-sk_status sk_mesh_set_wedge_uvs(sk_mesh *m, size_t n, const double *values,
-                                const uint32_t *h_wedge, sk_error *err)
+/* per-corner values of dim doubles (uvs, normals) into *num, *vals, *idx */
+static sk_status set_wedges(sk_mesh *m, size_t dim, size_t n, const double *values,
+                            const uint32_t *h_wedge, size_t *num, double **vals, uint32_t **idx,
+                            sk_error *err)
 {
     if (!values || !h_wedge) {
-        sk__free(m->wedge_uvs);
-        sk__free(m->h_wedge_uv);
-        m->wedge_uvs = NULL;
-        m->h_wedge_uv = NULL;
-        m->num_wedge_uvs = 0;
+        sk__free(*vals);
+        sk__free(*idx);
+        *vals = NULL;
+        *idx = NULL;
+        *num = 0;
         return SK_OK;
     }
     for (size_t h = 0; h < m->num_halfedges; ++h)
         if (h_wedge[h] != SK_INVALID && h_wedge[h] >= n)
             return sk__fail(err, SK_ERR_ARG, "half-edge %zu has wedge %u of %zu", h,
                             (unsigned)h_wedge[h], n);
-    double *v = sk__malloc_array(n ? n : 1, 2 * sizeof(double));
+    double *v = sk__malloc_array(n ? n : 1, dim * sizeof(double));
     uint32_t *i = sk__malloc_array(m->cap_halfedges ? m->cap_halfedges : 1, sizeof(uint32_t));
     if (!v || !i) {
         sk__free(v);
         sk__free(i);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
-    memcpy(v, values, 2 * n * sizeof(double));
+    memcpy(v, values, dim * n * sizeof(double));
     memcpy(i, h_wedge, m->num_halfedges * sizeof(uint32_t));
-    sk__free(m->wedge_uvs);
-    sk__free(m->h_wedge_uv);
-    m->wedge_uvs = v;
-    m->h_wedge_uv = i;
-    m->num_wedge_uvs = n;
+    sk__free(*vals);
+    sk__free(*idx);
+    *vals = v;
+    *idx = i;
+    *num = n;
     return SK_OK;
+}
+
+sk_status sk_mesh_set_wedge_uvs(sk_mesh *m, size_t n, const double *values,
+                                const uint32_t *h_wedge, sk_error *err)
+{
+    return set_wedges(m, 2, n, values, h_wedge, &m->num_wedge_uvs, &m->wedge_uvs, &m->h_wedge_uv,
+                      err);
+}
+
+sk_status sk_mesh_set_wedge_normals(sk_mesh *m, size_t n, const double *values,
+                                    const uint32_t *h_wedge, sk_error *err)
+{
+    return set_wedges(m, 3, n, values, h_wedge, &m->num_wedge_normals, &m->wedge_normals,
+                      &m->h_wedge_normal, err);
 }
 
 size_t sk_mesh_valence(const sk_mesh *m, uint32_t v)
@@ -330,6 +353,8 @@ sk_status sk_mesh_compact(sk_mesh *m, uint32_t *vmap_out, uint32_t *fmap_out, sk
         m->h_face[t] = remap(fmap, m->h_face[h]);
         if (m->h_wedge_uv)
             m->h_wedge_uv[t] = m->h_wedge_uv[h];
+        if (m->h_wedge_normal)
+            m->h_wedge_normal[t] = m->h_wedge_normal[h];
         m->e_deleted[t / 2] = 0;
     }
     for (size_t f = 0; f < nf; ++f) {
@@ -507,6 +532,29 @@ sk_status sk_mesh_to_soup(const sk_mesh *m, sk_soup **out, sk_error *err)
         if ((st = sk_soup_set_corner_uvs(s, m->num_wedge_uvs, m->wedge_uvs, cw))) {
             st = sk__fail(err, st, "per-corner uvs: %s", st == SK_ERR_NOMEM ? "out of memory"
                                                                             : "index out of range");
+            goto done;
+        }
+    }
+    if (m->h_wedge_normal) {
+        size_t nc = s->face_offsets[s->num_faces], c = 0;
+        sk__free(cw);
+        cw = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+        if (!cw) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        for (size_t f = 0; f < m->num_faces; ++f) {
+            if (m->f_deleted[f])
+                continue;
+            uint32_t h0 = m->f_halfedge[f], h = h0;
+            do {
+                cw[c++] = m->h_wedge_normal[h];
+                h = m->h_next[h];
+            } while (h != h0);
+        }
+        if ((st = sk_soup_set_corner_normals(s, m->num_wedge_normals, m->wedge_normals, cw))) {
+            st = sk__fail(err, st, "per-corner normals: %s",
+                          st == SK_ERR_NOMEM ? "out of memory" : "index out of range");
             goto done;
         }
     }

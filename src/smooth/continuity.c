@@ -44,6 +44,8 @@ typedef struct edge_block {
     double max_gap, sum_gap, max_jump, sum_jump;
     long worst;
     size_t nint, nsamp;
+    size_t ncrease;
+    double max_crease_gap, max_crease_jump, min_crease_jump;
 } edge_block;
 
 typedef struct patch_block {
@@ -141,12 +143,17 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     memset(b, 0, sizeof *b);
     b->worst = -1;
     b->max_jump = -1.0;
+    b->min_crease_jump = 180.0;
     for (long e = e0; e < e1; ++e) {
         uint32_t h = (uint32_t)(2 * e), o = h + 1;
         uint32_t f = m->h_face[h], g = m->h_face[o];
         if (f == SK_INVALID || g == SK_INVALID)
             continue;
-        ++b->nint;
+        bool crease = s->crease_edge && s->crease_edge[e];
+        if (!crease)
+            ++b->nint;
+        else
+            ++b->ncrease;
         side_rows rf, rg;
         side_rows_of(s, f, side_of(m, f, h), &rf);
         side_rows_of(s, g, side_of(m, g, o), &rg);
@@ -159,6 +166,13 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
             if (sk__norm3(n1) == 0.0 || sk__norm3(n2) == 0.0)
                 jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
             b->max_gap = b->max_gap > gap ? b->max_gap : gap;
+            if (crease) {
+                /* G0 by design: the gap counts, the normal jump only in the crease figures */
+                b->max_crease_gap = fmax(b->max_crease_gap, gap);
+                b->max_crease_jump = fmax(b->max_crease_jump, jump);
+                b->min_crease_jump = fmin(b->min_crease_jump, jump);
+                continue;
+            }
             b->sum_gap += gap;
             b->sum_jump += jump;
             local_max = local_max > jump ? local_max : jump;
@@ -183,7 +197,7 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
         corner_param(pa->kind, i, &u, &v);
         sk_patch_eval(&s->surface, p, u, v, x, NULL, NULL, n);
         const double *V = m->positions + 3 * (size_t)pa->corner_ids[i];
-        const double *N = s->normals + 3 * (size_t)pa->corner_ids[i];
+        const double *N = sk__corner_normal(s, p, i); /* its sector's at a crease */
         b->max_verr = fmax(b->max_verr, sk__dist3(x, V));
         b->max_nerr = fmax(b->max_nerr, sk__norm3(n) == 0.0 ? 180.0 : sk__angle3(n, N) * RAD2DEG);
     }
@@ -319,7 +333,12 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     double max_gap = 0.0, sum_gap = 0.0, max_jump = 0.0, sum_jump = 0.0;
     size_t nint = 0, nsamp = 0;
     long worst = -1;
+    rep->min_crease_jump_deg = 180.0;
     for (long k = 0; k < neb; ++k) {
+        rep->crease_edges += eb[k].ncrease;
+        rep->max_crease_gap = fmax(rep->max_crease_gap, eb[k].max_crease_gap);
+        rep->max_crease_jump_deg = fmax(rep->max_crease_jump_deg, eb[k].max_crease_jump);
+        rep->min_crease_jump_deg = fmin(rep->min_crease_jump_deg, eb[k].min_crease_jump);
         max_gap = fmax(max_gap, eb[k].max_gap);
         sum_gap += eb[k].sum_gap;
         sum_jump += eb[k].sum_jump;
@@ -330,6 +349,8 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
             worst = eb[k].worst;
         }
     }
+    if (rep->crease_edges == 0)
+        rep->min_crease_jump_deg = 0.0;
     rep->interior_edges = nint;
     rep->samples = nsamp;
     rep->max_gap = max_gap;

@@ -26,6 +26,7 @@
  * Both steps keep the parity of every vertex and strictly shrink the deleted set, so the loop ends;
  * at the end no triangle holds two deleted edges, so every face is a triangle or a quad. */
 #include "surfkit/smooth.h"
+#include "smooth/smooth_internal.h"
 #include "core/internal.h"
 
 #include <math.h>
@@ -254,7 +255,8 @@ static void merge_across_edge(sk_mesh *m, uint32_t e)
 typedef struct ed_state {
     const sk_mesh *m;
     size_t nv, ne, nf;
-    uint8_t *even, *bnd; /* per vertex: even interior vertex, boundary vertex */
+    uint8_t *even, *bnd; /* per vertex: even interior vertex, boundary vertex (or crease vertex) */
+    const uint8_t *crease; /* per edge: a crease edge, kept (NULL = none) */
     uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
     uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
     uint32_t *comp, *queue, *dist, *src, *pred, *partner;
@@ -326,13 +328,18 @@ static void find_even_vertices(ed_state *S)
 {
     const sk_mesh *m = S->m;
     S->nrem = 0;
+    /* a vertex on a crease is cut into sectors whose systems are chains, like a boundary
+     * vertex's: it needs no parity, and an edge joining two such vertices is never deleted */
+    for (uint32_t e = 0; S->crease && e < S->ne; ++e)
+        if (S->crease[e] && !m->e_deleted[e])
+            S->bnd[sk_from(m, 2 * e)] = S->bnd[sk_to(m, 2 * e)] = 1;
     for (uint32_t v = 0; v < S->nv; ++v) {
         S->comp[v] = SK_INVALID;
         S->partner[v] = SK_INVALID;
         S->medge[v] = SK_INVALID;
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
             continue;
-        S->bnd[v] = sk_is_boundary_v(m, v);
+        S->bnd[v] |= sk_is_boundary_v(m, v);
         if (!S->bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0) {
             S->even[v] = 1;
             S->remaining[S->nrem++] = v;
@@ -941,6 +948,13 @@ done:
 sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_out,
                            sk_edge_deletion_stats *stats, sk_error *err)
 {
+    return sk__edge_deletion_creases(m, NULL, out, deleted_out, stats, err);
+}
+
+sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_mesh **out,
+                                    uint32_t **deleted_out, sk_edge_deletion_stats *stats,
+                                    sk_error *err)
+{
     *out = NULL;
     if (deleted_out)
         *deleted_out = NULL;
@@ -949,7 +963,8 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
             return sk__fail(err, SK_ERR_TOPOLOGY,
                             "edge deletion needs a triangle mesh, face %zu has %zu sides", f,
                             sk_mesh_face_size(m, (uint32_t)f));
-    ed_state S = {.m = m, .nv = m->num_vertices, .ne = sk_num_edges(m), .nf = m->num_faces};
+    ed_state S = {.m = m, .nv = m->num_vertices, .ne = sk_num_edges(m), .nf = m->num_faces,
+                  .crease = crease};
     sk_status st = ed_alloc(&S, err);
     if (st == SK_OK) {
         find_even_vertices(&S);

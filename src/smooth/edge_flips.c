@@ -163,6 +163,12 @@ static void flip(sk_mesh *m, uint32_t h)
 sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
                                     sk_error *err)
 {
+    return sk__improve_triangulation_keep(m, normals, NULL, flipped, err);
+}
+
+sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
+                                         size_t *flipped, sk_error *err)
+{
     size_t ne = sk_num_edges(m), count = 0;
     *flipped = 0;
     uint32_t *stack = sk__malloc_array(ne + 1, sizeof *stack);
@@ -178,6 +184,7 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *f
     m->h_wedge_uv = NULL;
     m->wedge_uvs = NULL;
     m->num_wedge_uvs = 0;
+    sk_mesh_set_wedge_normals(m, 0, NULL, NULL, NULL); /* nor do per-corner normals */
     size_t top = 0;
     for (size_t e = ne; e-- > 0;) {
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, (uint32_t)e)) {
@@ -190,7 +197,7 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *f
         uint32_t e = stack[--top];
         queued[e] = 0;
         uint32_t h = 2 * e;
-        if (!want_flip(m, normals, h))
+        if ((keep && keep[e]) || !want_flip(m, normals, h))
             continue;
         flip(m, h);
         ++count;
@@ -210,4 +217,9 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *f
     sk__free(queued);
     sk__ok(err);
     return SK_OK;
+}
+
+void sk__flip_edge(sk_mesh *m, uint32_t h)
+{
+    flip(m, h);
 }

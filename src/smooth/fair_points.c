@@ -547,7 +547,9 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     grow(m, region, next, FAIR_REGION_RINGS);
     for (uint32_t v = 0; v < nv; ++v)
         region[v] = region[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
-                    status[v] < 2;
+                    status[v] < 2 && !(W->crease_v && W->crease_v[v]);
+    /* (a crease vertex has one tangent plane per sector and fixed crease tangents: one linear
+     * map of all its tangents would break both, so it keeps its least-squares points) */
     /* later sweeps visit the vertices that moved by more than FAIR_ACTIVE_STEP in the sweep
      * before, and their neighbours, within the region */
     for (int sweep = 0; sweep < sweeps; ++sweep) {

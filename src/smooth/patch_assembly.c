@@ -23,11 +23,20 @@ static void natural_interior(const sk__vc1_work *W, uint32_t h, double c[3])
  * free, chosen to minimise the sum of |C_k - natural_k|^2 over the chain. */
 void sk__vc1_interior_points(sk__vc1_work *W, uint32_t v)
 {
-    const sk_mesh *m = W->m;
     uint32_t E[SK_VSYS_MAX];
-    int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
+    if (W->crease_v && W->crease_v[v]) { /* a chain per sector (crease.c) */
+        sk__vc1_crease_interior_points(W, v);
+        return;
+    }
+    int closed, n = sk__vc1_ordered_edges(W->m, v, E, &closed);
     if (n <= 0 || n > SK_VSYS_MAX)
         return;
+    sk__vc1_interior_star(W, v, E, n, closed);
+}
+
+void sk__vc1_interior_star(sk__vc1_work *W, uint32_t v, const uint32_t *E, int n, int closed)
+{
+    const sk_mesh *m = W->m;
     const double *V = m->positions + 3 * (size_t)v;
     int npatch = closed ? n : n - 1;
     /* C_k = alpha_k x + beta_k, patch k = face(E[k]) between E[k] and E[k+1] */

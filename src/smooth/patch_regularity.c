@@ -12,7 +12,7 @@ bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular)
     unsigned nc = sk_patch_num_corners(pa);
     double ref[3] = {0, 0, 0};
     for (unsigned i = 0; i < nc; ++i)
-        sk__add3(ref, ref, s->normals + 3 * (size_t)pa->corner_ids[i]);
+        sk__add3(ref, ref, sk__corner_normal(s, p, i));
     double du[3], dv[3];
     sk_patch_eval(&s->surface, p, 1.0 / 3.0, 1.0 / 3.0, NULL, du, dv, NULL);
     double scale = sk__norm3(du) * sk__norm3(dv);

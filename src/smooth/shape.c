@@ -103,7 +103,7 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
     const double *X[4], *Nv[4];
     for (unsigned i = 0; i < nc; ++i) {
         X[i] = s->config->positions + 3 * (size_t)pa->corner_ids[i];
-        Nv[i] = s->normals + 3 * (size_t)pa->corner_ids[i];
+        Nv[i] = sk__corner_normal(s, p, i); /* its sector's normal at a crease */
     }
     /* the flat triangles the patch replaces, as corner triples */
     int tri[4][3] = {{0, 1, 2}}, ntri = 1;

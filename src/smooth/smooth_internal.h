@@ -14,6 +14,54 @@ static inline double sk__delta(size_t face_size) { return face_size == 3 ? 0.75 
 sk_status sk__wireframe_targets(const sk_mesh *m, const double *normals, double *target,
                                 sk_error *err);
 
+/* The same with per-half-edge normals cn (cn[h]: the normal at from(h) on face(h)'s side; NULL =
+ * normals per vertex), edges with skip[e] set left to the caller (NULL = none). */
+sk_status sk__wireframe_targets_cn(const sk_mesh *m, const double *normals, const double *cn,
+                                   const uint8_t *skip, double *target, sk_error *err);
+
+/* Creases (crease_g0.c, docs/creases.md). sk__crease_flags: flags[e] = 1 (sk_num_edges(m)
+ * entries, written in full) for the interior edges of m joining one of the npairs vertex pairs;
+ * returns their number. sk__crease_setup: the crease flags of m (the edges of src flagged in
+ * src_crease, by their vertex ids) and the per-half-edge normals
+ * (the sector normal at from(h) on face(h)'s side: the angle-weighted normal of the sector's
+ * corners where a vertex has two or more sectors, or the file's per-corner normal of the
+ * sector's first edge in file (the input mesh, may be NULL), else normals[from(h)]); both NULL
+ * when none is an edge of m. sk__crease_targets: the wire frame target of every crease half-edge, on the
+ * line V + t (n1 x n2) shared by both sides. */
+size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, uint8_t *flags);
+sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mesh *src,
+                           const uint8_t *src_crease, const sk_mesh *file, uint8_t **crease_e,
+                           double **cn, sk_error *err);
+/* Sets crease[e] for the interior edges of m whose per-corner normals (m->h_wedge_normal, the
+ * file's) differ across the edge at one of its ends; returns how many it set that were not set. */
+size_t sk__corner_normal_creases(const sk_mesh *m, uint8_t *crease);
+/* Drops (clears) the crease edges at vertices with two of them that the construction cannot
+ * follow: both crease curves share one tangent line there, so the two edges must leave the
+ * vertex on opposite sides of it and within 75 degrees of it (a crease that turns back, or a
+ * loop of three creases round one face, is not a feature line). Returns the edges dropped. */
+size_t sk__crease_validate(const sk_mesh *m, uint8_t *crease);
+/* Clears the crease lines (connected crease edges) through vertex v; returns the edges. */
+size_t sk__crease_drop_at(const sk_mesh *m, uint8_t *crease, uint32_t v);
+void sk__crease_targets(const sk_mesh *m, const uint8_t *ce, const double *cn, double *target);
+
+/* Edge deletion (sk_edge_deletion) that keeps the edges with crease[e] set (NULL = none): their
+ * vertices are boundary-like (no parity, paths end there), so crease edges are never deleted. */
+sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_mesh **out,
+                                    uint32_t **deleted, sk_edge_deletion_stats *stats,
+                                    sk_error *err);
+
+/* The normal at corner i of patch p: its sector's (s->corner_normals) or the vertex normal. */
+static inline const double *sk__corner_normal(const sk_smooth *s, size_t p, unsigned i)
+{
+    const sk_patch *pa = &s->surface.patches[p];
+    if (!s->corner_normals)
+        return s->normals + 3 * (size_t)pa->corner_ids[i];
+    uint32_t h = s->config->f_halfedge[p];
+    while (i--)
+        h = s->config->h_next[h];
+    return s->corner_normals + 3 * (size_t)h;
+}
+
 /* r_m of eq. (7) for every face: Delta/3 (triangles) or 1/4 (quads) times the sum over the corners
  * of the area of (corner, its two targets). */
 void sk__patch_ratios(const sk_mesh *m, const double *target, double *r);
@@ -40,6 +88,9 @@ typedef struct sk__vsys {
     int iterations;
     int used_fallback;
     int relaxed;            /* set by the caller when the targets were relaxed */
+    /* chains only: the first / last point is fixed at its target (a crease edge, whose tangent
+     * point both sides share: docs/creases.md); 0 = free (a boundary edge). Set by the caller. */
+    int fixed_first, fixed_last;
 } sk__vsys;
 
 /* Solves min sum |P_m - P*_m|^2 subject to (8) by Gauss-Newton / SQP on (P, w). Returns 0 when the
@@ -66,9 +117,22 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
 
 /* The triangulation pass before the edge deletion (edge_flips.c): flips edges of the triangle
  * mesh m in place (same vertices; normals per vertex) to remove slivers and near-folds, bounded
- * by a dihedral-angle limit so the shape is kept; *flipped counts the flips. Drops per-corner uvs. */
+ * by a dihedral-angle limit so the shape is kept; *flipped counts the flips. Drops per-corner uvs.
+ * The _keep variant never flips the edges with keep[e] set (crease edges; NULL = none). */
 sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
                                     sk_error *err);
+sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
+                                         size_t *flipped, sk_error *err);
+
+/* Flips the interior edge of half-edge h of a triangle mesh (edge_flips.c): the two triangles
+ * abc, bad become cdb... the edge joins the two opposite vertices instead, its id kept. */
+void sk__flip_edge(sk_mesh *m, uint32_t h);
+
+/* A vertex with exactly two crease edges has both crease tangents on one line, so a sector of
+ * one face between them would be a patch with a 180-degree corner: the edge opposite the vertex
+ * in such a triangle is flipped (crease_g0.c). Returns the number of flips; drops per-corner
+ * uvs when it flips. */
+size_t sk__crease_split_sectors(sk_mesh *m, const uint8_t *crease);
 
 /* PN triangles on the triangle mesh s->config with normals s->normals (fills s->surface). */
 sk_status sk__pn_build(sk_smooth *s, sk_error *err);

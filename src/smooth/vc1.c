@@ -20,6 +20,8 @@ void sk_smooth_destroy(sk_smooth **smooth)
     sk__free(s->deleted);
     sk__free(s->problems);
     sk__free(s->creases);
+    sk__free(s->crease_edge);
+    sk__free(s->corner_normals);
     sk__free(s);
     *smooth = NULL;
 }
@@ -51,9 +53,11 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
 {
     const sk_mesh *m = W->m;
     size_t nh = m->num_halfedges;
-    sk_status st = sk__wireframe_targets(m, W->normals, target, err);
+    sk_status st = sk__wireframe_targets_cn(m, W->normals, W->cn, W->crease_e, target, err);
     if (st != SK_OK)
         return st;
+    if (W->crease_e)
+        sk__crease_targets(m, W->crease_e, W->cn, target);
     sk__patch_ratios(m, target, r);
     for (size_t h = 0; h < nh; ++h) {
         uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
@@ -69,6 +73,11 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
         uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
         W->nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
     }
+    for (size_t h = 0; W->crease_e && h < nh; ++h)
+        if (W->crease_e[sk_edge((uint32_t)h)])
+            W->nu[h] = NAN; /* no constraint (8) across a crease, as on a boundary */
+    if (W->crease_e)
+        sk__crease_tangent_ratios(W, r, target);
     return SK_OK;
 }
 
@@ -151,8 +160,10 @@ static void vc1_assemble(sk_smooth *s, const sk__vc1_work *W)
 }
 
 /* Step 6: exactness or a named failure (eq. (8) holds to rounding at every vertex, else no
- * surface), then the list of problem vertices (failed or angle-violating) in s->problems. */
-static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *status, sk_error *err)
+ * surface: *failed_v names the vertex), then the list of problem vertices (failed or
+ * angle-violating) in s->problems. */
+static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
+                              uint32_t *failed_v, sk_error *err)
 {
     size_t nv = W->m->num_vertices, nprob = 0;
     for (size_t v = 0; v < nv; ++v) {
@@ -164,6 +175,7 @@ static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *stat
         if (status[v] == 2) {
             sk__vsys sys;
             sk__vc1_solve_vertex(W, (uint32_t)v, &sys, 0.0, 1.0);
+            *failed_v = (uint32_t)v;
             return sk__fail(err, SK_ERR_NUMERIC,
                             "vertex %zu: its vertex system (eq. 8) did not converge (residual "
                             "%.3g of its scale), so the surface would not be VC1 there (%zu such "
@@ -185,9 +197,10 @@ static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *stat
 #define VC1_FAIR_SWEEPS 10
 
 /* The construction on s->config: targets and ratios, vertex systems, interior points, fair free
- * points (unless LSQ), patches, regularity repair, exactness check. */
+ * points (unless LSQ), patches, regularity repair, exactness check (failed_v: the vertex named
+ * when a vertex system fails, SK_ERR_NUMERIC). G0 at the creases of s->crease_edge. */
 static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_points free_points,
-                           sk_error *err)
+                           uint32_t *failed_v, sk_error *err)
 {
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
@@ -200,7 +213,9 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
     uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL;
-    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status) {
+    uint8_t *crease_v = s->crease_edge ? sk__calloc_array(nv ? nv : 1, 1) : NULL;
+    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status ||
+        (s->crease_edge && !crease_v)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
     }
@@ -209,6 +224,14 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     W.target = target;
     W.r = r;
     W.alpha = alpha;
+    if (s->crease_edge) { /* G0 at the creases: sectors, their normals, the shared curves */
+        for (uint32_t e = 0; e < sk_num_edges(m); ++e)
+            if (s->crease_edge[e])
+                crease_v[sk_from(m, 2 * e)] = crease_v[sk_to(m, 2 * e)] = 1;
+        W.crease_e = s->crease_edge;
+        W.crease_v = crease_v;
+        W.cn = s->corner_normals;
+    }
     double t0 = sk_seconds();
     if ((st = vc1_targets_and_ratios(&W, target, r, max_nu, err)) != SK_OK ||
         (st = vc1_vertex_systems(s, &W, status, err)) != SK_OK)
@@ -236,7 +259,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     if ((st = sk__vc1_repair_regularity(s, &W, status, sing, err)) != SK_OK)
         goto done;
     s->stats.seconds_repair = sk_seconds() - t3;
-    st = vc1_problems(s, &W, status, err);
+    st = vc1_problems(s, &W, status, failed_v, err);
 done:
     sk__free(target);
     sk__free(r);
@@ -246,11 +269,14 @@ done:
     sk__free(W.C);
     sk__free(status);
     sk__free(sing);
+    sk__free(crease_v);
     return st;
 }
 
-/* The crease edges of the input as vertex pairs (s->creases). */
-static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle, sk_error *err)
+/* The crease edges of the input as vertex pairs (s->creases): detected, and (file_normals) the
+ * edges whose per-corner normals differ at an end. */
+static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle, bool file_normals,
+                                sk_error *err)
 {
     size_t ne = sk_num_edges(mesh), n = 0;
     uint8_t *crease = sk__malloc_array(ne ? ne : 1, 1);
@@ -258,6 +284,8 @@ static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle,
     sk_status st = crease ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (st == SK_OK)
         st = sk_mesh_crease_edges(mesh, &co, crease, &n, err);
+    if (st == SK_OK && file_normals && mesh->h_wedge_normal)
+        n += sk__corner_normal_creases(mesh, crease);
     if (st == SK_OK && n > 0) {
         s->creases = sk__malloc_array(2 * n, sizeof(uint32_t));
         if (!s->creases)
@@ -271,6 +299,21 @@ static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle,
     }
     sk__free(crease);
     return st;
+}
+
+/* rounds of dropping crease lines whose sectors cannot be built */
+#define SK_CREASE_ROUNDS 4
+
+/* the crease edges (s->creases) as flags per edge of m */
+static sk_status crease_flags_of(const sk_smooth *s, const sk_mesh *m, uint8_t **flags,
+                                 sk_error *err)
+{
+    size_t ne = sk_num_edges(m);
+    *flags = sk__malloc_array(ne ? ne : 1, 1);
+    if (!*flags)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk__crease_flags(m, s->creases, s->num_creases, *flags);
+    return SK_OK;
 }
 
 sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
@@ -289,6 +332,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     sk_status st = SK_OK;
     sk_mesh *work = NULL;
     double *normals = NULL;
+    uint8_t *keep = NULL; /* crease flags of the mesh being flipped / deleted */
     sk_smooth *s = sk__calloc_array(1, sizeof *s);
     if (!s)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -329,7 +373,9 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         goto fail;
     }
     s->stats.seconds_normals = sk_seconds() - t0;
-    if (opts.crease_angle_deg >= 0.0 && (st = detect_creases(s, mesh, opts.crease_angle_deg, err)))
+    bool file_normals = mesh->normals && !opts.estimate_normals;
+    if (opts.crease_angle_deg >= 0.0 &&
+        (st = detect_creases(s, mesh, opts.crease_angle_deg, file_normals, err)))
         goto fail;
     if ((st = sk__progress(opts.progress, opts.progress_user, 0.1, err)) != SK_OK)
         goto fail;
@@ -363,34 +409,89 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             base = work;
         }
     }
-    /* a better triangulation of the same vertices */
+    /* a better triangulation of the same vertices (crease edges kept) */
     if (!opts.keep_triangulation) {
         t0 = sk_seconds();
         if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
             goto fail;
-        if ((st = sk__improve_triangulation(work, normals, &s->stats.flipped_edges, err)) != SK_OK)
+        if (s->num_creases && (st = crease_flags_of(s, work, &keep, err)) != SK_OK)
+            goto fail;
+        if ((st = sk__improve_triangulation_keep(work, normals, keep,
+                                                 &s->stats.flipped_edges, err)) != SK_OK)
             goto fail;
         base = work;
         s->stats.seconds_flips = sk_seconds() - t0;
     }
     t0 = sk_seconds();
-    if ((st = sk_edge_deletion(base, &s->config, &s->deleted, &s->stats.deletion, err)) != SK_OK)
+    sk__free(keep);
+    keep = NULL;
+    if (s->num_creases && (st = crease_flags_of(s, base, &keep, err)) != SK_OK)
         goto fail;
-    s->num_deleted = s->stats.deletion.deleted_edges;
-    s->stats.seconds_deletion = sk_seconds() - t0;
+    if (keep && !opts.keep_triangulation) {
+        /* no one-face sector between two crease edges in a line (crease_g0.c); with the input's
+         * triangulation kept, such a crease line is dropped below instead */
+        s->stats.flipped_edges += sk__crease_split_sectors(work, keep);
+    }
+    if (keep)
+        sk__crease_validate(base, keep);
     s->normals = normals;
     normals = NULL;
-    if ((st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
-        goto fail;
-    if ((st = vc1_build(s, alpha, max_nu, opts.free_points, err)) != SK_OK)
-        goto fail;
+    sk_smooth_stats saved = s->stats;
+    for (int round = 0;; ++round) {
+        if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted,
+                                            &s->stats.deletion, err)) != SK_OK)
+            goto fail;
+        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep,
+                                           file_normals ? mesh : NULL, &s->crease_edge,
+                                           &s->corner_normals, err)) != SK_OK)
+            goto fail;
+        s->num_deleted = s->stats.deletion.deleted_edges;
+        s->stats.seconds_deletion = sk_seconds() - t0;
+        if (round == 0 && (st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
+            goto fail;
+        uint32_t failed_v = SK_INVALID;
+        st = vc1_build(s, alpha, max_nu, opts.free_points, &failed_v, err);
+        if (st != SK_OK && st != SK_ERR_NUMERIC)
+            goto fail;
+        /* creases whose sectors cannot be built (a vertex system that fails or misses its angle
+         * bounds at a crease vertex: on scans, mostly bands of sharp edges that are no feature
+         * line) are dropped, whole lines, and the surface is built again without them */
+        size_t dropped = 0;
+        if (keep && round < SK_CREASE_ROUNDS) {
+            if (st == SK_ERR_NUMERIC && failed_v != SK_INVALID)
+                dropped += sk__crease_drop_at(base, keep, failed_v);
+            for (size_t i = 0; st == SK_OK && i < s->num_problems; ++i)
+                dropped += sk__crease_drop_at(base, keep, s->problems[i]);
+        }
+        if (dropped == 0) {
+            if (st != SK_OK)
+                goto fail;
+            break;
+        }
+        sk_mesh_destroy(&s->config);
+        sk_patch_set_free(&s->surface);
+        sk__free(s->deleted);
+        sk__free(s->problems);
+        sk__free(s->crease_edge);
+        sk__free(s->corner_normals);
+        s->deleted = s->problems = NULL;
+        s->crease_edge = NULL;
+        s->corner_normals = NULL;
+        s->num_deleted = s->num_problems = 0;
+        s->stats = saved;
+        t0 = sk_seconds();
+    }
+    sk__free(keep);
+    keep = NULL;
     sk_mesh_destroy(&work);
+    sk__free(keep);
     *out = s;
     sk__ok(err);
     sk__blas_serial_end(blas_threads);
     return sk__progress(opts.progress, opts.progress_user, 1.0, err);
 fail:
     sk_mesh_destroy(&work);
+    sk__free(keep);
     sk__free(normals);
     sk_smooth_destroy(&s);
     sk__blas_serial_end(blas_threads);

@@ -17,6 +17,12 @@ typedef struct sk__vc1_work {
     double *nu;           /* per half-edge: nu at from(h) (upper patch = face(h)) */
     double *C;            /* per half-edge: interior control point of face(h) at from(h) */
     double alpha;
+    /* creases (docs/creases.md; all NULL without creases): per edge of m a crease flag, per
+     * vertex its number of crease edges (capped at 255), per half-edge h the normal at from(h)
+     * of the sector holding face(h) */
+    const uint8_t *crease_e;
+    const uint8_t *crease_v;
+    const double *cn;
 } sk__vc1_work;
 
 /* Delta of eq. (1) for face f. */
@@ -36,6 +42,26 @@ int sk__vc1_ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed
  * variations); 0 and 1 give the plain construction. Where the angle bounds fail, the targets are
  * relaxed further (blend up to 1). */
 int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale);
+
+/* blend_targets of vertex_targets.c (the relaxation of the targets towards an even spread). */
+void sk__vc1_blend_targets(const double *orig, double *out, int n, int closed, double alpha,
+                           double b, double lb);
+
+/* A vertex with crease edges (crease.c): its star is cut at them into sectors, each solved as a
+ * chain with the crease tangent points as fixed ends; same codes and arguments as
+ * sk__vc1_solve_vertex (sys receives the sectors one after another, residual the worst). */
+int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend,
+                                double lscale);
+
+/* System (4) of the ordered star E (n edges, closed = cycle) of v, and the same per sector of
+ * a vertex with crease edges (crease.c). */
+void sk__vc1_interior_star(sk__vc1_work *W, uint32_t v, const uint32_t *E, int n, int closed);
+void sk__vc1_crease_interior_points(sk__vc1_work *W, uint32_t v);
+
+/* The tangent lengths of the crease edges at vertices with two of them, set so that a sector
+ * of two faces can meet its constraint (8) (crease.c); returns the vertices where both sectors
+ * need it with different ratios. */
+size_t sk__crease_tangent_ratios(sk__vc1_work *W, double *r, double *target);
 
 /* Bounds the ratios nu between neighbouring patches: r (per face, r_m of eq. 7, all positive) is
  * lowered where needed so that r_f / r_g <= max_ratio for neighbouring faces (see

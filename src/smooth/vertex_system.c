@@ -111,6 +111,12 @@ static inline void rows(const sk__vsys *s, const double *w, crow *r, int nc)
         r[i].ca = -s->nu[m] * s->dd[m];
         r[i].cm = -w[m];
         r[i].cb = s->du[m];
+        /* a fixed end is a constant: no column in the Jacobian, so no step moves it (the steps
+         * start from p = p* there and the least-squares term keeps dp = 0) */
+        if (!s->closed && s->fixed_first && r[i].a == 0)
+            r[i].ca = 0.0;
+        if (!s->closed && s->fixed_last && r[i].b == s->n_edges - 1)
+            r[i].cb = 0.0;
     }
 }
 
@@ -374,6 +380,8 @@ static int project_n(const sk__vsys *s, double *p, double *w, int *iters, int ma
     sk__vsys f;
     f.n_edges = n;
     f.closed = s->closed;
+    f.fixed_first = s->fixed_first;
+    f.fixed_last = s->fixed_last;
     memcpy(f.du, s->du, sizeof(double) * (size_t)n);
     memcpy(f.dd, s->dd, sizeof(double) * (size_t)n);
     memcpy(f.nu, s->nu, sizeof(double) * (size_t)n);

@@ -71,10 +71,13 @@ static void blend_targets(const double *orig, double *out, int n, int closed, do
 int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale)
 {
     const sk_mesh *m = W->m;
+    if (W->crease_v && W->crease_v[v]) /* cut into sectors at its crease edges (crease.c) */
+        return sk__vc1_solve_crease_vertex(W, v, sys, blend, lscale);
     uint32_t E[SK_VSYS_MAX];
     int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
     if (n <= 0 || n > SK_VSYS_MAX)
         return 3;
+    sys->fixed_first = sys->fixed_last = 0;
     const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
     double e1[3], e2[3];
     tangent_basis(nv, e1, e2);
@@ -133,6 +136,12 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
     if (bad)
         return 1;
     return 0;
+}
+
+void sk__vc1_blend_targets(const double *orig, double *out, int n, int closed, double alpha,
+                           double b, double lb)
+{
+    blend_targets(orig, out, n, closed, alpha, b, lb);
 }
 
 void sk__bound_ratios(const sk_mesh *m, double *r, double max_ratio)

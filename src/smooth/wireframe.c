@@ -25,6 +25,12 @@
 sk_status sk__wireframe_targets(const sk_mesh *m, const double *normals, double *target,
                                 sk_error *err)
 {
+    return sk__wireframe_targets_cn(m, normals, NULL, NULL, target, err);
+}
+
+sk_status sk__wireframe_targets_cn(const sk_mesh *m, const double *normals, const double *cn,
+                                   const uint8_t *skip, double *target, sk_error *err)
+{
     long nh = (long)m->num_halfedges;
     long bad = -1;
     int bad_kind = 0;
@@ -34,13 +40,14 @@ sk_status sk__wireframe_targets(const sk_mesh *m, const double *normals, double 
     for (long hh = 0; hh < nh; ++hh) {
         uint32_t h = (uint32_t)hh;
         double *t = target + 3 * (size_t)h;
-        if (m->e_deleted[sk_edge(h)]) {
+        if (m->e_deleted[sk_edge(h)] || (skip && skip[sk_edge(h)])) {
             t[0] = t[1] = t[2] = 0.0;
             continue;
         }
         uint32_t a = sk_from(m, h), b = sk_to(m, h);
         const double *pa = m->positions + 3 * (size_t)a, *pb = m->positions + 3 * (size_t)b;
-        const double *n0 = normals + 3 * (size_t)a, *n1 = normals + 3 * (size_t)b;
+        const double *n0 = cn ? cn + 3 * (size_t)h : normals + 3 * (size_t)a;
+        const double *n1 = cn ? cn + 3 * (size_t)sk_opp(h) : normals + 3 * (size_t)b;
         double d[3], s[3], f[3], dir[3];
         sk__sub3(d, pb, pa);
         double len = sk__norm3(d);

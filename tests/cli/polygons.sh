@@ -19,11 +19,19 @@ grep -q 'triangulated 6 quads' "$tmp/out" || fail "param summary: $(cat "$tmp/ou
 [ "$(val triangulated_quads "$tmp/cube.json")" = 6 ] && [ "$(val triangulated_polygons "$tmp/cube.json")" = 0 ] ||
   fail "param cube report: triangulated_quads $(val triangulated_quads "$tmp/cube.json")"
 [ "$(grep -c '^f ' "$tmp/cube.obj")" = 12 ] || fail "param cube: not 12 triangles"
-# the file's per-corner normals are flat (opposite at some edges): with them the surface cannot be
-# built, a bad input (exit 1, one line naming the file), not an internal failure (it was exit 3)
-"$bin" smooth "$d/blender_cube.obj" -o "$tmp/cube.step" > "$tmp/out" 2> "$tmp/err"; rc=$?
-[ $rc -eq 1 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "blender_cube.obj: .*normals at its ends are opposite" "$tmp/err" &&
-  [ ! -e "$tmp/cube.step" ] || fail "smooth cube with the file's normals: exit $rc, $(cat "$tmp/err")"
+# the file's per-corner normals are flat, one per face side: they differ at every cube edge, so
+# those edges are G0 creases with the file's normals, and the surface is the cube (it failed with
+# exit 1 before creases: one normal per vertex was opposite at some edges)
+"$bin" smooth "$d/blender_cube.obj" -o "$tmp/cube.step" --json -q > "$tmp/cn.json" 2> "$tmp/err" ||
+  fail "smooth cube with the file's normals: exit $?, $(cat "$tmp/err")"
+python3 -c "import json; r = json.load(open('$tmp/cn.json')); assert r['g0_crease_edges'] == 12 and r['max_normal_jump_deg'] < 1e-7 and abs(r['max_crease_jump_deg'] - 90) < 1e-9 and r['max_normal_error_deg'] < 1e-7, r" ||
+  fail "smooth cube with the file's normals: $(cat "$tmp/cn.json")"
+# normals opposite at an edge's ends (one normal per vertex, no crease) are bad input: exit 1,
+# one line naming the file, not an internal failure
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 -1\nf 1//1 2//1 3//1\nf 1//1 3//1 4//2\n' > "$tmp/opp.obj"
+"$bin" smooth "$tmp/opp.obj" -o "$tmp/opp.step" > "$tmp/out" 2> "$tmp/err"; rc=$?
+[ $rc -eq 1 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "opp.obj: .*normals at its ends are opposite" "$tmp/err" &&
+  [ ! -e "$tmp/opp.step" ] || fail "smooth with opposite normals: exit $rc, $(cat "$tmp/err")"
 # the smooth surface estimates them
 "$bin" smooth "$d/blender_cube.obj" -o "$tmp/cube.step" --estimate-normals > "$tmp/out" || fail "smooth cube"
 grep -q 'triangulated 6 quads' "$tmp/out" && grep -q 'report pass' "$tmp/out" || fail "smooth cube: $(cat "$tmp/out")"

@@ -22,6 +22,23 @@ assert r["crease_edges"] == 0, r
 PY
 "$bin" smooth "$m/cube.off" --crease-angle 60 --scheme pn --json -q > "$tmp/c.json" || fail "cube exit"
 python3 -c "import json; assert json.load(open('$tmp/c.json'))['crease_edges'] == 12" || fail "cube creases"
+"$bin" smooth "$m/cube.off" --no-creases -o "$tmp/c0.obj" --json -q > "$tmp/c0.json" || fail "cube --no-creases exit"
+python3 -c "import json; r = json.load(open('$tmp/c0.json')); assert r['crease_edges'] == 0 and r['g0_crease_edges'] == 0, r" ||
+  fail "cube --no-creases"
+# vc1: the cube's edges are G0 creases (listed, normal jump 90 there, gap at rounding), the
+# max normal jump skips them and says so; the tessellation stays closed; STEP export works
+"$bin" smooth "$m/cube.off" -o "$tmp/cube.obj" --json -q > "$tmp/cv.json" || fail "cube vc1 exit"
+python3 - "$tmp/cv.json" <<'PY' || fail "cube vc1 creases"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["crease_edges"] == 12 and r["g0_crease_edges"] == 12, r
+assert len(r["creases"]) == 12 and all(a != b for a, b in r["creases"]), r
+assert abs(r["max_crease_jump_deg"] - 90) < 1e-9 and abs(r["min_crease_jump_deg"] - 90) < 1e-9, r
+assert r["max_crease_gap"] < 1e-12 and r["max_normal_jump_deg"] < 1e-7, r
+PY
+"$bin" smooth "$m/cube.off" -o "$tmp/cube.step" | grep -q "off 12 crease edges (G0 there: normal jump 90..90 deg" ||
+  fail "cube summary line"
+"$bin" info "$tmp/cube.obj" | grep -Eq '^ +edges +[0-9]+ \(0 on the boundary\)' || fail "cube tessellation open"
 "$bin" smooth "$m/cube.off" --crease-angle 200 -o "$tmp/c.obj" 2>/dev/null; [ $? -eq 2 ] || fail "--crease-angle 200 accepted"
 grep -q '^vn ' "$tmp/s.obj" || fail "no normals in the OBJ"
 # the tessellation of the closed sphere is watertight: one component, no boundary edge

@@ -338,7 +338,11 @@ static bool build_patches(const sk_mesh *m, bool flat, sk_patch_set &out, std::s
     }
     sk_error err;
     sk_smooth *s = nullptr;
-    if (sk_smooth_build(m, nullptr, &s, &err) != SK_OK) {
+    /* G1 across every shared edge is what --max-jump checks: no G0 creases (the icosahedron's
+     * 41.8-degree edges are above the default crease angle) */
+    sk_smooth_opts o = {};
+    o.crease_angle_deg = -1.0;
+    if (sk_smooth_build(m, &o, &s, &err) != SK_OK) {
         why = err.message;
         return false;
     }

@@ -11,10 +11,13 @@
 # (/usr/bin/time), and for xatlas its wasm heap (the browser's own memory is not counted).
 # xatlas-web 0.1.0 runs with xatlas's default options (its generateAtlas takes none: padding 0)
 # and 16-bit input indices: a mesh over 65,536 vertices goes in as pieces (see xatlas_run.js).
+# Columns (bench/atlas_metrics.py): flips = clockwise or degenerate uv triangles; mirrored = charts
+# laid out mirrored as a whole (xatlas does this; a reflection, not a fold); folds = triangles
+# against their own chart's orientation.
 # Usage: bench/atlas.sh [MESH.off ...]   (default: the list below)
 # env: SK_BENCH_ROWS=FILE also appends one machine-readable row per program and mesh to FILE
 #      ("atlas MESH PROGRAM faces charts seam_rel mips area_log flips overlaps util seconds
-#      peak_MB"); SK_ATLAS_PEERS (default "blender xatlas"); SK_ATLAS_BIG=0 skips the 0.8M mesh;
+#      peak_MB mirrored folds"); SK_ATLAS_PEERS (default "blender xatlas"); SK_ATLAS_BIG=0 skips the 0.8M mesh;
 #      XATLAS_TIMEOUT (seconds, default 1800).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -55,21 +58,23 @@ except ValueError:
     print("%-22s %-8s %s" % (name, prog, "failed"))
     sys.exit(0)
 sec = float(sec) if sec else float("nan")
-print("%-22s %-8s %7d %6d %8.2f %8.4f %8.4f %6d %8d %6.3f %8.2f %7s" % (name, prog, js["faces"],
-      js["charts"], js["seam_length_rel"], js["mips_mean"], js["area_log_mean"], js["flipped"],
-      js["overlaps"], js["utilization"], sec, mb or "-"))
+print("%-22s %-8s %7d %6d %8.2f %8.4f %8.4f %6d %8d %5d %8d %6.3f %8.2f %7s" % (name, prog,
+      js["faces"], js["charts"], js["seam_length_rel"], js["mips_mean"], js["area_log_mean"],
+      js["flipped"], js["mirrored_charts"], js["folds"], js["overlaps"], js["utilization"], sec,
+      mb or "-"))
 rows = os.environ.get("SK_BENCH_ROWS")
 if rows:
     with open(rows, "a") as fp:
-        fp.write("atlas %s %s %d %d %.4f %.6f %.6f %d %d %.4f %.4f %s\n" % (name, prog, js["faces"],
-                 js["charts"], js["seam_length_rel"], js["mips_mean"], js["area_log_mean"],
-                 js["flipped"], js["overlaps"], js["utilization"], sec, mb or "-"))
+        fp.write("atlas %s %s %d %d %.4f %.6f %.6f %d %d %.4f %.4f %s %d %d\n" % (name, prog,
+                 js["faces"], js["charts"], js["seam_length_rel"], js["mips_mean"],
+                 js["area_log_mean"], js["flipped"], js["overlaps"], js["utilization"], sec,
+                 mb or "-", js["mirrored_charts"], js["folds"]))
 PY
 }
 peak() { awk '{ printf "%.0f", $1 / 1024 }' "$1"; }
 echo "# load average at start: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores"
-printf '%-22s %-8s %7s %6s %8s %8s %8s %6s %8s %6s %8s %7s\n' mesh program faces charts seam_rel \
-    mips area_log flips overlaps util seconds peak_MB
+printf '%-22s %-8s %7s %6s %8s %8s %8s %6s %8s %5s %8s %6s %8s %7s\n' mesh program faces charts seam_rel \
+    mips area_log flips mirrored folds overlaps util seconds peak_MB
 for f in "${meshes[@]}"; do
     n=$(basename "${f%.*}")
     $sk convert "$f" "$T/$n.obj" >/dev/null

@@ -53,7 +53,7 @@ vlines.forEach((l, i) => {
 // xatlas-web 0.1.0 takes 16-bit indices: a mesh of more than 65,536 vertices goes in as pieces of
 // at most 65,536 vertices each, grown face by face across edges (breadth first), all added to one
 // atlas. Charts cannot cross a piece border, so the pieces add seams (reported by XATLAS_PIECES).
-const MAXV = 65536;
+const MAXV = Math.min(65536, parseInt(process.env.XATLAS_MAX_VERTICES || "65536", 10)); // env: for tests
 function pieces() {
   if (nv <= MAXV) return [Array.from({ length: nf }, (_, f) => f)];
   const vf = new Map(); // vertex -> faces
@@ -120,20 +120,30 @@ const files = {
 };
 let browser = null;
 let done = false;
+function stopBrowser() { // chromium and its helpers run in their own process group
+  if (!browser || browser.exitCode !== null || browser.signalCode !== null) return;
+  try { process.kill(-browser.pid, "SIGTERM"); } catch (e) { /* already gone */ }
+  setTimeout(() => { try { process.kill(-browser.pid, "SIGKILL"); } catch (e) { /* gone */ } }, 3000).unref();
+}
 function finish(code, msg) {
   if (done) return;
   done = true;
   if (msg) console.error("xatlas_run: " + msg);
-  if (browser && browser.exitCode === null) browser.kill("SIGKILL");
-  server.close();
   process.exitCode = code;
-  setTimeout(() => process.exit(code), 200).unref();
+  server.close();
+  if (!browser || browser.exitCode !== null) process.exit(code);
+  browser.on("exit", () => setTimeout(() => process.exit(code), 100));
+  stopBrowser();
 }
 function writeObj(body, query) {
   const u32 = (off, n) => new Uint32Array(body.buffer.slice(body.byteOffset + off, body.byteOffset + off + 4 * n));
   const out = ["# xatlas-web atlas of " + path.basename(src)];
   for (const l of vlines) out.push(l);
   const fl = [];
+  // undo getMeshData's u / width, v / height (see atlasSize in the page): one scale for both axes
+  const W = parseFloat(query.get("width")), H = parseFloat(query.get("height"));
+  if (!(W > 0 && H > 0)) throw new Error("atlas width / height not found: the uvs would be squeezed");
+  const su = W / Math.max(W, H), sv = H / Math.max(W, H);
   let at = 0, base = 0;
   for (const p of parts) {
     const nn = body.readUInt32LE(at), ni = body.readUInt32LE(at + 4);
@@ -141,7 +151,7 @@ function writeObj(body, query) {
     const uv = new Float32Array(body.buffer.slice(body.byteOffset + at + 8 + 4 * nn, body.byteOffset + at + 8 + 12 * nn));
     const idx = u32(at + 8 + 12 * nn, ni);
     if (ni !== 3 * p.faces.length) throw new Error("xatlas returned " + ni + " indices for " + p.faces.length + " triangles");
-    for (let i = 0; i < nn; ++i) out.push("vt " + uv[2 * i] + " " + uv[2 * i + 1]);
+    for (let i = 0; i < nn; ++i) out.push("vt " + su * uv[2 * i] + " " + sv * uv[2 * i + 1]);
     for (let f = 0; f < ni / 3; ++f) {
       const c = [0, 1, 2].map((k) => idx[3 * f + k]);
       if (c.some((j) => j >= nn || xref[j] >= p.verts.length)) throw new Error("xatlas index out of range");
@@ -154,6 +164,7 @@ function writeObj(body, query) {
   console.log("XATLAS_SECONDS " + parseFloat(query.get("seconds")).toFixed(6));
   console.log("XATLAS_HEAP_MB " + parseFloat(query.get("heap_mb")).toFixed(1));
   console.log("XATLAS_PIECES " + parts.length);
+  console.log("XATLAS_ATLAS " + W + "x" + H);
 }
 const server = http.createServer((req, res) => {
   const url = new URL(req.url, "http://127.0.0.1");
@@ -199,10 +210,11 @@ server.listen(0, "127.0.0.1", () => {
   browser = spawn(chromium, ["--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run",
     "--disable-extensions", "--disable-background-networking", "--user-data-dir=" + profile,
     "http://127.0.0.1:" + port + "/index.html"],
-  { stdio: ["ignore", "ignore", "pipe"] });
+  { stdio: ["ignore", "ignore", "pipe"], detached: true });
   let err = "";
   browser.stderr.on("data", (d) => { err = (err + d).slice(-4000); });
   browser.on("exit", (code) => {
+    try { process.kill(-browser.pid, "SIGKILL"); } catch (e) { /* the group is gone */ }
     fs.rmSync(profile, { recursive: true, force: true });
     if (!done) finish(1, "chromium exited (" + code + ") before the atlas came back: " + err.trim().split("\n").pop());
   });

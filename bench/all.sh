@@ -22,7 +22,9 @@
 # Sizes: default the 1M-triangle cases (lion-head Loop-subdivided 3 times, a 1,067,136-triangle
 # disk; armadillo twice, an 832,000-triangle closed mesh; CGAL's mean value on the 1M disk, its
 # other methods on the 267k disk, ARAP on lion-head: it did not finish the 1M disk in 15 minutes);
-# --quick: 267k / 208k meshes and the 67k disk for CGAL, a few minutes.
+# --quick: a 267k-triangle read, the 67k disk for the linear methods (CGAL's four beside them),
+# the 208k closed mesh for hierarchy and VC1, atlases of cow and knot1 (xatlas-web needs minutes
+# from 50k triangles on): about 5 minutes on a quiet 2-core machine, 15-25 with others building.
 # Usage: bench/all.sh [--quick]     env: BUILD (default build-bench), SHARED (default ../shared)
 # Rows stay in BUILD/bench-all/rows.tsv.
 set -uo pipefail
@@ -75,7 +77,7 @@ if [ $quick = 1 ]; then
   DISK=$S/lion-head-s2.off; mk lion-head "$DISK" 2
   CDISK=$S/lion-head-s1.off; mk lion-head "$CDISK" 1
   CLOSED=$S/armadillo-s1.ply; mk armadillo "$CLOSED" 1
-  CGAL_BIG="" MIPS_MESHES="$M/lion-head.off" ATLAS="cow bunny00" EXPORT="cow" FIT="nefertiti"
+  CGAL_BIG="" MIPS_MESHES="$M/lion-head.off" ATLAS="cow knot1" EXPORT="cow" FIT="nefertiti"
 else
   DISK=$S/lion-head-s3.off; mk lion-head "$DISK" 3
   CDISK=$S/lion-head-s2.off; mk lion-head "$CDISK" 2
@@ -128,31 +130,32 @@ cgal_run() { # mesh method -> CG_S/CG_MB/CG_Q[mesh:method]
   [ -n "${CG_S[$key]:-}" ] && return 0
   CG_S[$key]=- CG_MB[$key]=- CG_Q[$key]=""
   [ -x "$BB/cgal_param" ] || return 0
+  local MB WALL cmm cfl
   if timed "$BB/cgal_param" "$1" "$2" "$S/cgal.bin"; then
     CG_S[$key]=$(tail -1 "$S/out.txt") CG_MB[$key]=$MB
-    read -r _ mm fl < <("$BB/bench_param" --uv "$1" "$S/cgal.bin")
-    CG_Q[$key]="CGAL MIPS mean $(printf %.4f "$mm"), flips $fl"
+    read -r _ cmm cfl < <("$BB/bench_param" --uv "$1" "$S/cgal.bin")
+    CG_Q[$key]="CGAL MIPS mean $(printf %.4f "$cmm"), flips $cfl"
   fi
 }
 linear_rows() { # mesh methods cgal-methods
-  local mesh=$1 me solver
+  local mesh=$1 me solver faces total it res mm fl
   for me in $2; do
     for solver in direct hierarchical; do
       timed "$BB/bench_linear" "$mesh" "$me" "$solver" || continue
       read -r _ faces _ _ _ _ _ _ _ _ total _ it res _ mm fl _ _ < "$S/out.txt"
+      local omb=$MB
       local cm peer=- pmb=- pq="" pname="-"
       cm=$(cgal_of "$me")
       if [[ " $3 " == *" $cm "* ]]; then
         cgal_run "$mesh" "$cm"
         peer=${CG_S[$mesh:$cm]} pmb=${CG_MB[$mesh:$cm]} pq="; ${CG_Q[$mesh:$cm]}" pname="CGAL $cm"
       fi
-      row "linear $me $solver" "$(basename "$mesh")" "$faces" "$total" "$MB" "$pname" "$peer" "$pmb" \
+      row "linear $me $solver" "$(basename "$mesh")" "$faces" "$total" "$omb" "$pname" "$peer" "$pmb" \
         "MIPS mean $(printf %.4f "$mm"), flips $fl$([ "$solver" = hierarchical ] && echo ", $it iterations, residual $res")$pq"
     done
   done
 }
-if [ $quick = 1 ]; then
-  linear_rows "$DISK" "tutte floater mvc harmonic lscm" ""
+if [ $quick = 1 ]; then # the 67k disk only, every method beside CGAL's
   linear_rows "$CDISK" "tutte floater mvc harmonic lscm" "tutte mvc harmonic lscm"
 else
   linear_rows "$DISK" "tutte floater mvc harmonic lscm" "$CGAL_BIG"
@@ -181,10 +184,10 @@ done
 # --- atlas (bench/atlas.sh with its machine-readable rows)
 arows=$S/atlas-rows.txt
 : > "$arows"
-SK_BENCH_ROWS=$arows bench/atlas.sh $(for m in $ATLAS; do echo "$M/$m.off"; done) > "$S/atlas.txt" 2>&1 ||
+SK_ATLAS_SCRATCH=$S/atlas SK_BENCH_ROWS=$arows bench/atlas.sh $(for m in $ATLAS; do echo "$M/$m.off"; done) > "$S/atlas.txt" 2>&1 ||
   echo "# bench/atlas.sh failed: $(tail -1 "$S/atlas.txt")"
 if [ $quick = 0 ]; then # the 0.8M closed mesh: Blender only (xatlas-web takes it only in pieces, for hours)
-  SK_BENCH_ROWS=$arows SK_ATLAS_PEERS=blender bench/atlas.sh "$CLOSED" >> "$S/atlas.txt" 2>&1 || true
+  SK_ATLAS_SCRATCH=$S/atlas SK_BENCH_ROWS=$arows SK_ATLAS_PEERS=blender bench/atlas.sh "$CLOSED" >> "$S/atlas.txt" 2>&1 || true
 fi
 awk '$3 == "surfkit" { s[$2] = $0 } $3 != "surfkit" && ($2 in s) {
   split(s[$2], a, " ")

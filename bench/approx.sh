@@ -15,7 +15,9 @@
 # patches, wall and CPU seconds.
 #   bench/approx.sh [SCRATCH_DIR]      env: BUILD (default build-bench), SHARED, GRID (default 60),
 #                                      REL (default 1e-3), MESHES, PARTS (default "fit coarse"),
-#                                      COARSE_MESHES, COARSE_RELS (default "1e-3 1e-4")
+#                                      COARSE_MESHES, COARSE_RELS (default "1e-3 1e-4"),
+#                                      SK_BENCH_ROWS (a file: also one tab-separated row per
+#                                      disk for bench/all.sh)
 set -eu
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${BUILD:-$SRC/build-bench}
@@ -44,13 +46,13 @@ for mesh in $MESHES; do
     in=$SCRATCH/$mesh.off
   fi
   "$SK" param "$in" -o "$SCRATCH/$mesh-uv.obj" --method floater --boundary square -q 2> /dev/null
-  "$SK" fit "$in" -o "$SCRATCH/$mesh.step" --tolerance-rel "$REL" --json -q > "$SCRATCH/$mesh.json" 2> /dev/null || true
+  /usr/bin/time -f %M -o "$SCRATCH/$mesh.fit.kb" "$SK" fit "$in" -o "$SCRATCH/$mesh.step" --tolerance-rel "$REL" --json -q > "$SCRATCH/$mesh.json" 2> /dev/null || true
   tol=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tolerance"])' "$SCRATCH/$mesh.json")
   SK_MESH=$SCRATCH/$mesh-uv.obj SK_STEP=$SCRATCH/$mesh.step SK_TOL=$tol SK_GRID=$GRID \
-    SK_OUT=$SCRATCH/$mesh.occt.json timeout 1800 freecadcmd "$SRC/bench/approx_occt.py" > "$SCRATCH/$mesh.fc.log" 2>&1 || true
-  python3 - "$mesh" "$SCRATCH/$mesh.json" "$SCRATCH/$mesh.occt.json" <<'PY'
-import json, sys
-mesh, ours_p, occ_p = sys.argv[1:]
+    SK_OUT=$SCRATCH/$mesh.occt.json /usr/bin/time -f %M -o "$SCRATCH/$mesh.fc.kb" timeout 1800 freecadcmd "$SRC/bench/approx_occt.py" > "$SCRATCH/$mesh.fc.log" 2>&1 || true
+  python3 - "$mesh" "$SCRATCH/$mesh.json" "$SCRATCH/$mesh.occt.json" "$SCRATCH/$mesh" <<'PY'
+import json, os, sys
+mesh, ours_p, occ_p, base = sys.argv[1:]
 o = json.load(open(ours_p))
 try:
     r = json.load(open(occ_p))
@@ -73,6 +75,25 @@ elif r.get("grid_missing"):
 else:
     row("OCCT approximate, degree %s" % "x".join(map(str, r.get("occt_degrees", []))), r.get("occt"),
         r.get("occt_seconds", 0))
+rows = os.environ.get("SK_BENCH_ROWS")
+if rows:
+    def mb(path):
+        try:
+            return "%d" % (int(open(path).read().split()[-1]) // 1024)
+        except (OSError, ValueError, IndexError):
+            return "-"
+    def desc(m):
+        if not m:
+            return "-"
+        met = max(m["mesh_to_surface_max"], m["surface_to_mesh_max"]) <= tol
+        return "%d control points, max dev %.3g of diag%s" % (m["control_points"], max(
+            m["mesh_to_surface_max"], m["surface_to_mesh_max"]) / d, "" if met else " (NOT met)")
+    occ = r.get("occt")
+    with open(rows, "a") as fp:
+        fp.write("fit (T=%s diag)\t%s.off\t%s\t%.3f\t%s\tOCCT PointsToBSplineSurface\t%s\t%s\tsurfkit %s; OCCT %s\n" % (
+            os.environ.get("REL", "1e-3"), mesh, o.get("faces", "-"), o["seconds_param"] + o["seconds_fit"],
+            mb(base + ".fit.kb"), "%.3f" % r["occt_seconds"] if occ and "occt_seconds" in r else "-",
+            mb(base + ".fc.kb"), desc(r.get("ours")), desc(occ) if occ else r.get("occt_error", "failed")[:60]))
 PY
 done
 fi

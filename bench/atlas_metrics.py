@@ -5,7 +5,8 @@ Reads v / vt / f (triangles; polygons are fanned) and computes, for any program'
 charts (faces joined across an edge whose two ends have the same vt on both sides), seam length
 (3D length of interior edges whose sides differ in vt) / sqrt(3D area), MIPS mean (sigma1/sigma2 +
 sigma2/sigma1 per triangle), area-log mean (mean |log((A_uv / sum A_uv) / (A / sum A))|), flips
-(uv orientation <= 0, exact), overlaps (pairs of uv triangles whose interiors meet: grid buckets,
+(uv orientation <= 0, exact; also mirrored charts, whose triangles are mostly clockwise, and
+folds, triangles against their own chart's orientation), overlaps (pairs of uv triangles whose interiors meet: grid buckets,
 separating-axis test with exact rational orientation), utilization (uv area / unit square).
 Prints one JSON line. Written for this benchmark; shares no code with surfkit.
 """
@@ -114,7 +115,7 @@ def metrics(path):
     nf = len(FV)
     a3s, auvs, mips = [], [], []
     flips = 0
-    tri = []
+    tri, orient = [], []
     for f in range(nf):
         p0, p1, p2 = (V[i] for i in FV[f])
         q = [tuple(T[i]) for i in FT[f]]
@@ -136,7 +137,8 @@ def metrics(path):
         mips.append(fro / abs(det) if det != 0 else math.inf)
         a3s.append(a3)
         auvs.append(abs(auv))
-        if orient_exact(*q) <= 0:
+        orient.append(orient_exact(*q))
+        if orient[-1] <= 0:
             flips += 1
     A3, AUV = sum(a3s), sum(auvs)
     alog = [abs(math.log((u / AUV) / (a / A3))) if u > 0 else math.inf for u, a in zip(auvs, a3s)]
@@ -165,10 +167,19 @@ def metrics(path):
         else:
             seam += norm(sub(V[a], V[b]))
     charts = len({find(f) for f in range(nf)})
+    # a chart laid out mirrored (most of its triangles clockwise) is a reflection, not a fold:
+    # "flipped" counts every clockwise or degenerate uv triangle, "folds" only those whose
+    # orientation differs from their own chart's majority (or is degenerate)
+    balance = {}
+    for f in range(nf):
+        balance[find(f)] = balance.get(find(f), 0) + orient[f]
+    mirrored = sum(1 for b in balance.values() if b < 0)
+    folds = sum(1 for f in range(nf) if orient[f] == 0 or
+                orient[f] * (1 if balance[find(f)] >= 0 else -1) < 0)
     return {
         "file": path, "faces": nf, "charts": charts, "seam_length_rel": seam / math.sqrt(A3),
         "mips_mean": sum(mips) / nf, "area_log_mean": sum(alog) / nf, "flipped": flips,
-        "overlaps": count_overlaps(tri), "utilization": AUV,
+        "mirrored_charts": mirrored, "folds": folds, "overlaps": count_overlaps(tri), "utilization": AUV,
         "uv_in_unit_square": all(0 <= x <= 1 for t in T for x in t),
     }
 

@@ -67,6 +67,8 @@ void json_kint(cli_json *j, const char *key, long long v);
 void json_knum(cli_json *j, const char *key, double v);
 void json_kbool(cli_json *j, const char *key, bool v);
 void json_kstr(cli_json *j, const char *key, const char *s);
+/* "key": the n values of v as an array, or (width > 1) an array of n arrays of width values */
+void json_kuints(cli_json *j, const char *key, const uint32_t *v, size_t n, size_t width);
 
 /* Writes a text file through fn into a temporary beside path, renamed into place when complete;
  * on failure prints the error and returns EXIT_BAD_INPUT. */

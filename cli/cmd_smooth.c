@@ -80,15 +80,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_knum(&j, "max_crease_gap", r->max_crease_gap);
     json_knum(&j, "max_crease_jump_deg", r->max_crease_jump_deg);
     json_knum(&j, "min_crease_jump_deg", r->min_crease_jump_deg);
-    json_key(&j, "creases");
-    json_arr_open(&j);
-    for (size_t i = 0; i < s->num_creases; ++i) {
-        json_arr_open(&j);
-        json_uint(&j, s->creases[2 * i]);
-        json_uint(&j, s->creases[2 * i + 1]);
-        json_arr_close(&j);
-    }
-    json_arr_close(&j);
+    json_kuints(&j, "creases", s->creases, s->num_creases, 2);
     json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
     json_kuint(&j, "split_edges", s->stats.split_edges);
     json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
@@ -96,11 +88,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_knum(&j, "mean_gap", r->mean_gap);
     json_knum(&j, "max_normal_jump_deg", r->max_normal_jump_deg);
     json_knum(&j, "mean_normal_jump_deg", r->mean_normal_jump_deg);
-    json_key(&j, "worst_edge");
-    json_arr_open(&j);
-    json_uint(&j, r->worst_edge_vertices[0]);
-    json_uint(&j, r->worst_edge_vertices[1]);
-    json_arr_close(&j);
+    json_kuints(&j, "worst_edge", r->worst_edge_vertices, 2, 1);
     json_knum(&j, "max_vertex_error", r->max_vertex_error);
     json_knum(&j, "max_normal_error_deg", r->max_normal_error_deg);
     json_kuint(&j, "singular_patches", r->singular_patches);
@@ -108,32 +96,18 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "max_overshoot_patch", r->max_overshoot_patch);
     json_knum(&j, "mean_overshoot", r->mean_overshoot);
     json_kuint(&j, "overshoot_patches", r->overshoot_patches);
-    json_key(&j, "overshoot_patch_examples");
-    json_arr_open(&j);
-    for (size_t i = 0; i < r->num_overshoot_examples; ++i)
-        json_uint(&j, r->overshoot_examples[i]);
-    json_arr_close(&j);
+    json_kuints(&j, "overshoot_patch_examples", r->overshoot_examples,
+                r->num_overshoot_examples, 1);
     json_knum(&j, "max_fairness_deg", r->max_fairness_deg);
     json_kuint(&j, "max_fairness_patch", r->max_fairness_patch);
     json_knum(&j, "mean_fairness_deg", r->mean_fairness_deg);
     json_kuint(&j, "uncertified_patches", r->uncertified_patches);
-    json_key(&j, "singular_patch_examples");
-    json_arr_open(&j);
-    for (size_t i = 0; i < r->num_singular_examples; ++i)
-        json_uint(&j, r->singular_examples[i]);
-    json_arr_close(&j);
+    json_kuints(&j, "singular_patch_examples", r->singular_examples, r->num_singular_examples, 1);
     if (r->intersecting_pairs != SIZE_MAX) {
         json_kuint(&j, "self_intersecting_pairs", r->intersecting_pairs);
         json_kuint(&j, "self_intersecting_patches", r->intersecting_patches);
-        json_key(&j, "self_intersection_examples");
-        json_arr_open(&j);
-        for (size_t i = 0; i < r->num_intersection_examples; ++i) {
-            json_arr_open(&j);
-            json_uint(&j, r->intersection_examples[2 * i]);
-            json_uint(&j, r->intersection_examples[2 * i + 1]);
-            json_arr_close(&j);
-        }
-        json_arr_close(&j);
+        json_kuints(&j, "self_intersection_examples", r->intersection_examples,
+                    r->num_intersection_examples, 2);
     }
     json_kuint(&j, "relaxed_vertices", s->stats.relaxed_vertices);
     json_kuint(&j, "angle_violations", s->stats.angle_violations);

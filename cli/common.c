@@ -213,6 +213,21 @@ void json_kstr(cli_json *j, const char *key, const char *s)
     json_str(j, s);
 }
 
+void json_kuints(cli_json *j, const char *key, const uint32_t *v, size_t n, size_t width)
+{
+    json_key(j, key);
+    json_arr_open(j);
+    for (size_t i = 0; i < n; ++i) {
+        if (width > 1)
+            json_arr_open(j);
+        for (size_t k = 0; k < width; ++k)
+            json_uint(j, v[width * i + k]);
+        if (width > 1)
+            json_arr_close(j);
+    }
+    json_arr_close(j);
+}
+
 typedef struct write_ctx {
     void (*fn)(FILE *, const void *);
     const void *ctx;

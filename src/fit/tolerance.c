@@ -599,323 +599,368 @@ static void keep_better(cut_result *best, cut_result *r, bool *best_refined, boo
     }
 }
 
-sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts,
-                              sk_smooth **out, uint32_t **fine_ids,
-                              sk_tolerance_stats *stats_out, sk_error *err)
-{
-    sk_tolerance_opts o = {0};
-    if (opts)
-        o = *opts;
-    *out = NULL;
-    if (fine_ids)
-        *fine_ids = NULL;
-    sk_tolerance_stats stats_local, *stats = stats_out ? stats_out : &stats_local;
-    memset(stats, 0, sizeof *stats);
+/* One run of the tolerance route: the context, the best surface so far and the scratch of the
+ * refinement rounds. */
+typedef struct tol_run {
+    sk_tolerance_opts o;
+    sk_tolerance_stats *stats;
+    unsigned refine_levels, max_rounds;
     tol_ctx c;
-    memset(&c, 0, sizeof c);
-    cut_result best, r;
-    memset(&best, 0, sizeof best);
-    memset(&r, 0, sizeof r);
-    best.max = r.max = INFINITY;
-    bool best_refined = false;
-    uint8_t *alive = NULL, *bad = NULL;
-    uint32_t *stack = NULL, *stamp = NULL, stamp_value = 0;
-    check_buf b = {0};
-    sk_soup *fine_soup = NULL, *ts = NULL;
-    sk_status st = SK_OK;
+    cut_result best, r, at_hi;
+    bool best_refined;
+    uint8_t *alive, *bad, *fresh;
+    uint32_t *stack, *stamp, stamp_value;
+    check_buf b;
+    sk_soup *fine_soup, *ts;
+} tol_run;
 
-    if (!mesh || mesh->num_faces == 0) {
-        st = sk__fail(err, SK_ERR_ARG, "no mesh");
-        goto done;
-    }
-    if (o.smooth.scheme != SK_SMOOTH_VC1) {
-        st = sk__fail(err, SK_ERR_ARG, "the tolerance route builds VC1 surfaces only");
-        goto done;
-    }
-    if (!(o.tolerance >= 0) || !(o.tolerance_rel >= 0) || o.face_samples < 0 ||
-        o.face_samples > 64 || o.tess > 64) {
-        st = sk__fail(err, SK_ERR_ARG, "bad tolerance options (tolerance %g, relative %g, face "
-                      "samples %d, tessellation %u)", o.tolerance, o.tolerance_rel,
-                      o.face_samples, o.tess);
-        goto done;
-    }
-    if (mesh->num_deleted_vertices || mesh->num_deleted_faces) {
-        st = sk__fail(err, SK_ERR_ARG, "the mesh has deleted elements (compact it first)");
-        goto done;
-    }
+static void run_free(tol_run *t)
+{
+    cut_result_free(&t->best);
+    cut_result_free(&t->r);
+    cut_result_free(&t->at_hi);
+    check_buf_free(&t->b);
+    sk__free(t->alive);
+    sk__free(t->bad);
+    sk__free(t->fresh);
+    sk__free(t->stack);
+    sk__free(t->stamp);
+    sk_soup_destroy(&t->ts);
+    sk_soup_destroy(&t->fine_soup);
+    ctx_free(&t->c);
+}
+
+static sk_status check_input(const sk_mesh *mesh, const sk_tolerance_opts *o, sk_error *err)
+{
+    if (!mesh || mesh->num_faces == 0)
+        return sk__fail(err, SK_ERR_ARG, "no mesh");
+    if (o->smooth.scheme != SK_SMOOTH_VC1)
+        return sk__fail(err, SK_ERR_ARG, "the tolerance route builds VC1 surfaces only");
+    if (!(o->tolerance >= 0) || !(o->tolerance_rel >= 0) || o->face_samples < 0 ||
+        o->face_samples > 64 || o->tess > 64)
+        return sk__fail(err, SK_ERR_ARG, "bad tolerance options (tolerance %g, relative %g, face "
+                        "samples %d, tessellation %u)", o->tolerance, o->tolerance_rel,
+                        o->face_samples, o->tess);
+    if (mesh->num_deleted_vertices || mesh->num_deleted_faces)
+        return sk__fail(err, SK_ERR_ARG, "the mesh has deleted elements (compact it first)");
     for (size_t f = 0; f < mesh->num_faces; ++f)
-        if (sk_mesh_face_size(mesh, (uint32_t)f) != 3) {
-            st = sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle (the tolerance route "
-                          "needs a triangle mesh)", f);
-            goto done;
+        if (sk_mesh_face_size(mesh, (uint32_t)f) != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle (the tolerance "
+                            "route needs a triangle mesh)", f);
+    return SK_OK;
+}
+
+/* The face samples of the deviation check: c->n x c->n sub-triangle centroids per face. */
+static void sample_pattern(tol_ctx *c)
+{
+    size_t k = 0;
+    for (int i = 0; i < c->n; ++i)
+        for (int j = 0; i + j < c->n; ++j, ++k) {
+            c->bary[k][0] = (i + 1.0 / 3.0) / c->n;
+            c->bary[k][1] = (j + 1.0 / 3.0) / c->n;
         }
-    c.fine = mesh;
-    c.nv = mesh->num_vertices;
-    c.nf = mesh->num_faces;
-    c.so = o.smooth;
-    c.so.progress = NULL;
-    c.so.progress_user = NULL;
-    c.so.estimate_normals = false; /* every cut carries the fine normals */
-    c.so.allow_split = true;       /* only where no split of the hierarchy evens a closed component */
-    c.n = o.face_samples ? o.face_samples : 2;
-    c.tess = o.tess ? o.tess : 4;
-    {
-        size_t k = 0;
-        for (int i = 0; i < c.n; ++i)
-            for (int j = 0; i + j < c.n; ++j, ++k) {
-                c.bary[k][0] = (i + 1.0 / 3.0) / c.n;
-                c.bary[k][1] = (j + 1.0 / 3.0) / c.n;
-            }
-        for (int i = 0; i + 1 < c.n; ++i)
-            for (int j = 0; i + j + 1 < c.n; ++j, ++k) {
-                c.bary[k][0] = (i + 2.0 / 3.0) / c.n;
-                c.bary[k][1] = (j + 2.0 / 3.0) / c.n;
-            }
-    }
-    stats->diagonal = sk_mesh_diagonal(mesh);
-    c.tol = o.tolerance > 0 ? o.tolerance
-                            : (o.tolerance_rel > 0 ? o.tolerance_rel : 1e-3) * stats->diagonal;
-    stats->tolerance = c.tol;
-    stats->input_faces = c.nf;
-    unsigned refine_levels = o.refine_levels ? o.refine_levels : 2;
-    unsigned max_rounds = o.max_rounds ? o.max_rounds : 32;
+    for (int i = 0; i + 1 < c->n; ++i)
+        for (int j = 0; i + j + 1 < c->n; ++j, ++k) {
+            c->bary[k][0] = (i + 2.0 / 3.0) / c->n;
+            c->bary[k][1] = (j + 2.0 / 3.0) / c->n;
+        }
+}
+
+/* The context: options, samples, tolerance, fine normals, the hierarchy and its indexes, the
+ * input's BVH. */
+static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
+{
+    sk_status st = SK_OK;
+    t->refine_levels = t->o.refine_levels ? t->o.refine_levels : 2;
+    t->max_rounds = t->o.max_rounds ? t->o.max_rounds : 32;
+    t->c.fine = mesh;
+    t->c.nv = mesh->num_vertices;
+    t->c.nf = mesh->num_faces;
+    t->c.so = t->o.smooth;
+    t->c.so.progress = NULL;
+    t->c.so.progress_user = NULL;
+    t->c.so.estimate_normals = false; /* every cut carries the fine normals */
+    t->c.so.allow_split = true; /* only where no split of the hierarchy evens a closed component */
+    t->c.n = t->o.face_samples ? t->o.face_samples : 2;
+    t->c.tess = t->o.tess ? t->o.tess : 4;
+    sample_pattern(&t->c);
+    t->stats->diagonal = sk_mesh_diagonal(mesh);
+    double rel = t->o.tolerance_rel > 0 ? t->o.tolerance_rel : 1e-3;
+    t->c.tol = t->o.tolerance > 0 ? t->o.tolerance : rel * t->stats->diagonal;
+    t->stats->tolerance = t->c.tol;
+    t->stats->input_faces = t->c.nf;
 
     /* fine normals */
-    c.normals = sk__malloc_array(3 * c.nv, sizeof *c.normals);
-    uint32_t *tri = sk__malloc_array(3 * c.nf, sizeof *tri);
-    c.tri = tri;
-    c.f2m = sk__malloc_array(c.nv, sizeof *c.f2m);
-    alive = sk__malloc_array(c.nv, 1);
-    bad = sk__calloc_array(c.nv, 1);
-    stack = sk__malloc_array(c.nv, sizeof *stack);
-    stamp = sk__calloc_array(c.nv, sizeof *stamp);
-    b.fd = sk__malloc_array(c.nf, sizeof *b.fd);
-    b.vd = sk__malloc_array(c.nv, sizeof *b.vd);
-    if (!c.normals || !tri || !c.f2m || !alive || !bad || !stack || !stamp || !b.fd || !b.vd) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    for (size_t f = 0; f < c.nf; ++f) {
+    t->c.normals = sk__malloc_array(3 * t->c.nv, sizeof *t->c.normals);
+    uint32_t *tri = sk__malloc_array(3 * t->c.nf, sizeof *tri);
+    t->c.tri = tri;
+    t->c.f2m = sk__malloc_array(t->c.nv, sizeof *t->c.f2m);
+    t->alive = sk__malloc_array(t->c.nv, 1);
+    t->bad = sk__calloc_array(t->c.nv, 1);
+    t->stack = sk__malloc_array(t->c.nv, sizeof *t->stack);
+    t->stamp = sk__calloc_array(t->c.nv, sizeof *t->stamp);
+    t->b.fd = sk__malloc_array(t->c.nf, sizeof *t->b.fd);
+    t->b.vd = sk__malloc_array(t->c.nv, sizeof *t->b.vd);
+    if (!t->c.normals || !tri || !t->c.f2m || !t->alive || !t->bad || !t->stack || !t->stamp ||
+        !t->b.fd || !t->b.vd)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t f = 0; f < t->c.nf; ++f) {
         uint32_t h = mesh->f_halfedge[f];
         for (int q = 0; q < 3; ++q, h = mesh->h_next[h])
             tri[3 * f + q] = mesh->h_vertex[h ^ 1u];
     }
     double ta = sk_seconds();
-    if (mesh->normals && !o.smooth.estimate_normals)
-        memcpy(c.normals, mesh->normals, 3 * c.nv * sizeof *c.normals);
-    else if ((st = sk_mesh_vertex_normals(mesh, o.smooth.normals, c.normals, err)))
-        goto done;
+    if (mesh->normals && !t->o.smooth.estimate_normals)
+        memcpy(t->c.normals, mesh->normals, 3 * t->c.nv * sizeof *t->c.normals);
+    else if ((st = sk_mesh_vertex_normals(mesh, t->o.smooth.normals, t->c.normals, err)))
+        return st;
     double tb = sk_seconds();
-    stats->seconds_normals = tb - ta;
+    t->stats->seconds_normals = tb - ta;
 
     /* the hierarchy down to a handful of faces */
     sk_hierarchy_opts ho = {0};
-    ho.seed = o.seed ? o.seed : 1;
+    ho.seed = t->o.seed ? t->o.seed : 1;
     ho.target_faces = 8;
     /* coarse triangles that stay close to the fine normals and no valence-3 vertices: VC1 over
      * them has far fewer singular patches and spikes (measured on the sphere at 1e-2 of the
      * diagonal: 79 patches, against 210 with the hierarchy's defaults of 90 degrees and 3) */
     ho.collapse.max_normal_deviation_deg =
-        o.collapse.max_normal_deviation_deg > 0 ? o.collapse.max_normal_deviation_deg : 15;
-    ho.collapse.min_valence = o.collapse.min_valence ? o.collapse.min_valence : 4;
-    if ((st = sk_hierarchy_build(mesh, &ho, &c.hier, err)))
-        goto done;
-    c.levels = sk_hierarchy_num_levels(c.hier);
-    stats->levels = c.levels;
-    if ((st = index_hierarchy(&c, err)) || (st = index_mesh(&c, err)))
-        goto done;
-    if ((st = sk_mesh_to_soup(mesh, &fine_soup, err)) || (st = sk_bvh_build(fine_soup, &c.mesh_bvh, err)))
-        goto done;
-    double tc = sk_seconds();
-    stats->seconds_hierarchy = tc - tb;
+        t->o.collapse.max_normal_deviation_deg > 0 ? t->o.collapse.max_normal_deviation_deg : 15;
+    ho.collapse.min_valence = t->o.collapse.min_valence ? t->o.collapse.min_valence : 4;
+    if ((st = sk_hierarchy_build(mesh, &ho, &t->c.hier, err)))
+        return st;
+    t->c.levels = sk_hierarchy_num_levels(t->c.hier);
+    t->stats->levels = t->c.levels;
+    if ((st = index_hierarchy(&t->c, err)) || (st = index_mesh(&t->c, err)))
+        return st;
+    if ((st = sk_mesh_to_soup(mesh, &t->fine_soup, err)) ||
+        (st = sk_bvh_build(t->fine_soup, &t->c.mesh_bvh, err)))
+        return st;
+    t->stats->seconds_hierarchy = sk_seconds() - tb;
+    return SK_OK;
+}
 
-    /* search: the coarsest level that meets T, assuming finer levels are closer. Invariant:
-     * the levels below lo miss T (or have no VC1 surface); hi meets T when hi_met. */
-    size_t L = c.levels, lo = 0, hi = L - 1;
+/* The search: the coarsest level that meets T (*coarsest_met; the number of levels when none
+ * does), assuming finer levels are closer; the best surface seen is kept in t->best. */
+static sk_status search_levels(tol_run *t, size_t *coarsest_met, sk_error *err)
+{
+    sk_status st = SK_OK;
+    /* invariant: the levels below lo miss T (or have no VC1 surface); hi meets T when hi_met */
+    size_t L = t->c.levels, lo = 0, hi = L - 1;
     bool hi_met = false;
-    cut_result at_hi;
-    memset(&at_hi, 0, sizeof at_hi);
-    at_hi.max = INFINITY;
+    cut_result *at_hi = &t->at_hi; /* the surface of the met level hi */
     for (;;) {
-        bool last = lo >= hi;           /* only hi is left: the input itself (or a met level) */
+        bool last = lo >= hi; /* only hi is left: the input itself (or a met level) */
         if (last && hi_met)
             break;
         size_t j = last ? hi : lo + (hi - lo) / 2, end = last ? hi + 1 : hi;
         sk_status vs = SK_OK;
         /* from the middle upwards to the first level where VC1 can be built */
         for (; j < end; ++j) {
-            level_cut(&c, j, alive);
+            level_cut(&t->c, j, t->alive);
             size_t nvert = 0;
-            if ((st = build_surface(&c, alive, &b, NULL, &r, &vs, &nvert, stats, err)))
-                goto done;
-            stats->levels_tried++;
-            record_try(stats, j, false, vs, nvert, &r);
-            if ((st = sk__progress(o.progress, o.progress_user,
-                                   0.5 * (double)stats->levels_tried / (double)(L + 1), err)))
-                goto done;
+            if ((st = build_surface(&t->c, t->alive, &t->b, NULL, &t->r, &vs, &nvert, t->stats,
+                                    err)))
+                return st;
+            t->stats->levels_tried++;
+            record_try(t->stats, j, false, vs, nvert, &t->r);
+            if ((st = sk__progress(t->o.progress, t->o.progress_user,
+                                   0.5 * (double)t->stats->levels_tried / (double)(L + 1), err)))
+                return st;
             if (vs == SK_OK)
                 break;
-            stats->failed_levels++;
+            t->stats->failed_levels++;
         }
-        if (j >= end) {                 /* nothing builds in [mid, end) */
+        if (j >= end) { /* nothing builds in [mid, end) */
             if (last)
                 break;
             lo = hi;
             continue;
         }
-        stats->singular_levels += r.singular > 0;
-        if (r.met) {
+        t->stats->singular_levels += t->r.singular > 0;
+        if (t->r.met) {
             hi = j;
             hi_met = true;
-            cut_result_free(&at_hi);
-            at_hi = r;
-            memset(&r, 0, sizeof r);
-            r.max = INFINITY;
+            cut_result_free(at_hi);
+            *at_hi = t->r;
+            memset(&t->r, 0, sizeof t->r);
+            t->r.max = INFINITY;
         } else {
-            keep_better(&best, &r, &best_refined, false);
+            keep_better(&t->best, &t->r, &t->best_refined, false);
             if (last)
-                break;                  /* the input itself misses T */
+                break; /* the input itself misses T */
             lo = j + 1;
         }
     }
-    size_t coarsest_met = hi_met ? hi : L;
-    if (at_hi.s)
-        keep_better(&best, &at_hi, &best_refined, false);
-    cut_result_free(&at_hi);
-    stats->coarsest_met = coarsest_met < L ? coarsest_met : L - 1;
-    stats->level_met = hi_met;
-    double td = sk_seconds();
-    stats->seconds_search = td - tc;
+    *coarsest_met = hi_met ? hi : L;
+    if (at_hi->s)
+        keep_better(&t->best, at_hi, &t->best_refined, false);
+    t->stats->coarsest_met = *coarsest_met < L ? *coarsest_met : L - 1;
+    t->stats->level_met = hi_met;
+    return SK_OK;
+}
 
-    /* local refinement from a few levels below: split back where T is exceeded */
-    if (coarsest_met < L && coarsest_met > 0) {
-        size_t base = coarsest_met > refine_levels ? coarsest_met - refine_levels : 0;
-        stats->base_level = base;
-        level_cut(&c, base, alive);
-        size_t failures = 0;
-        uint8_t *fresh = NULL; /* vertices made alive by the last round (to widen after a failure) */
-        fresh = sk__calloc_array(c.nv, 1);
-        if (!fresh) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
-        }
-        for (unsigned round = 0; round < max_rounds; ++round) {
-            sk_status vs = SK_OK;
-            size_t nvert = 0;
-            memset(bad, 0, c.nv);
-            if ((st = build_surface(&c, alive, &b, bad, &r, &vs, &nvert, stats, err))) {
-                sk__free(fresh);
-                goto done;
-            }
-            stats->rounds++;
-            record_try(stats, base, true, vs, nvert, &r);
-            if ((st = sk__progress(o.progress, o.progress_user,
-                                   0.5 + 0.5 * (double)(round + 1) / max_rounds, err))) {
-                sk__free(fresh);
-                goto done;
-            }
-            size_t added = 0;
-            if (vs != SK_OK) {
-                stats->failed_rounds++;
-                if (++failures > MAX_FAILED_ROUNDS)
-                    break;
-                bool any = false;
-                for (size_t v = 0; v < c.nv && !any; ++v)
-                    any = fresh[v];
-                if (!any) { /* the base itself has no VC1 surface: a finer base */
-                    if (base + 1 >= coarsest_met)
-                        break;
-                    stats->base_level = ++base;
-                    level_cut(&c, base, alive);
-                    continue;
-                }
-                /* widen: the neighbours of what the last round added */
-                for (size_t v = 0; v < c.nv; ++v)
-                    if (fresh[v])
-                        for (uint32_t k = c.ring_off[v]; k < c.ring_off[v + 1]; ++k)
-                            bad[c.ring[k]] = 1;
-            } else {
-                bool met = r.met;
-                bool worse = best.met && r.patches >= best.patches;
-                keep_better(&best, &r, &best_refined, true);
-                if (met || worse)
-                    break;
-            }
-            ++stamp_value;
-            for (size_t v = 0; v < c.nv; ++v)
-                if (bad[v] && !alive[v])
-                    added += want_step(&c, alive, (uint32_t)v, stack, stamp, stamp_value);
-            if (added == 0) {
-                /* the out-of-tolerance faces are all there: refine around them */
-                ++stamp_value;
-                for (size_t v = 0; v < c.nv; ++v)
-                    if (bad[v])
-                        for (uint32_t k = c.ring_off[v]; k < c.ring_off[v + 1]; ++k)
-                            if (!alive[c.ring[k]])
-                                added += want_step(&c, alive, c.ring[k], stack, stamp,
-                                                   stamp_value);
-            }
-            memset(fresh, 0, c.nv);
-            for (size_t v = 0; v < c.nv; ++v)
-                if (alive[v] == 2) {
-                    alive[v] = 1;
-                    fresh[v] = 1;
-                }
-            if (added == 0)
-                break; /* the input mesh around every offending face */
-        }
-        sk__free(fresh);
+/* Marks alive (2, then 1) the splits that bring back the bad vertices, or where they are all
+ * there, their neighbours; t->fresh := what was added. Returns how many. */
+static size_t split_back(tol_run *t)
+{
+    size_t added = 0;
+    tol_ctx *c = &t->c;
+    ++t->stamp_value;
+    for (size_t v = 0; v < c->nv; ++v)
+        if (t->bad[v] && !t->alive[v])
+            added += want_step(c, t->alive, (uint32_t)v, t->stack, t->stamp, t->stamp_value);
+    if (added == 0) {
+        /* the out-of-tolerance faces are all there: refine around them */
+        ++t->stamp_value;
+        for (size_t v = 0; v < c->nv; ++v)
+            if (t->bad[v])
+                for (uint32_t k = c->ring_off[v]; k < c->ring_off[v + 1]; ++k)
+                    if (!t->alive[c->ring[k]])
+                        added += want_step(c, t->alive, c->ring[k], t->stack, t->stamp,
+                                           t->stamp_value);
     }
+    memset(t->fresh, 0, c->nv);
+    for (size_t v = 0; v < c->nv; ++v)
+        if (t->alive[v] == 2) {
+            t->alive[v] = 1;
+            t->fresh[v] = 1;
+        }
+    return added;
+}
+
+/* Local refinement from a few levels below the coarsest met: split back where T is exceeded,
+ * one collapse level at a time, until T holds, nothing is left to split or it stops paying. */
+static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
+{
+    size_t base = coarsest_met > t->refine_levels ? coarsest_met - t->refine_levels : 0;
+    t->stats->base_level = base;
+    level_cut(&t->c, base, t->alive);
+    size_t failures = 0;
+    sk_status st = SK_OK;
+    uint8_t *fresh = t->fresh; /* vertices made alive by the last round (to widen after a failure) */
+    for (unsigned round = 0; round < t->max_rounds; ++round) {
+        sk_status vs = SK_OK;
+        size_t nvert = 0;
+        memset(t->bad, 0, t->c.nv);
+        if ((st = build_surface(&t->c, t->alive, &t->b, t->bad, &t->r, &vs, &nvert, t->stats,
+                                err)))
+            return st;
+        t->stats->rounds++;
+        record_try(t->stats, base, true, vs, nvert, &t->r);
+        if ((st = sk__progress(t->o.progress, t->o.progress_user,
+                               0.5 + 0.5 * (double)(round + 1) / t->max_rounds, err)))
+            return st;
+        if (vs != SK_OK) {
+            t->stats->failed_rounds++;
+            if (++failures > MAX_FAILED_ROUNDS)
+                break;
+            bool any = false;
+            for (size_t v = 0; v < t->c.nv && !any; ++v)
+                any = fresh[v];
+            if (!any) { /* the base itself has no VC1 surface: a finer base */
+                if (base + 1 >= coarsest_met)
+                    break;
+                t->stats->base_level = ++base;
+                level_cut(&t->c, base, t->alive);
+                continue;
+            }
+            /* widen: the neighbours of what the last round added */
+            for (size_t v = 0; v < t->c.nv; ++v)
+                if (fresh[v])
+                    for (uint32_t k = t->c.ring_off[v]; k < t->c.ring_off[v + 1]; ++k)
+                        t->bad[t->c.ring[k]] = 1;
+        } else {
+            bool met = t->r.met;
+            bool worse = t->best.met && t->r.patches >= t->best.patches;
+            keep_better(&t->best, &t->r, &t->best_refined, true);
+            if (met || worse)
+                break;
+        }
+        size_t added = split_back(t);
+        if (added == 0)
+            break; /* the input mesh around every offending face */
+    }
+    return st;
+}
+
+/* The result against the input, as sk_deviation measures it; *out and *fine_ids handed out. */
+static sk_status finish(tol_run *t, sk_smooth **out, uint32_t **fine_ids, sk_error *err)
+{
+    if (!t->best.s)
+        return sk__fail(err, t->c.last_fail ? t->c.last_fail : SK_ERR_NUMERIC,
+                        "no level of the hierarchy has a VC1 surface (the last failure: %.160s)",
+                        t->c.last_msg);
     double te = sk_seconds();
-    stats->seconds_refine = te - td;
-
-    if (!best.s) {
-        st = sk__fail(err, c.last_fail ? c.last_fail : SK_ERR_NUMERIC,
-                      "no level of the hierarchy has a VC1 surface (the last failure: %.160s)",
-                      c.last_msg);
-        goto done;
-    }
+    sk_status st = SK_OK;
     /* the result against the input, as sk_deviation measures it */
     sk_deviation_opts dop = {0};
-    dop.face_samples = c.n;
-    if ((st = sk_patch_set_tessellate(&best.s->surface, c.tess, &ts, err)) ||
-        (st = sk_deviation(ts, fine_soup, &dop, &stats->deviation, NULL, err)))
-        goto done;
-    stats->seconds_deviation = sk_seconds() - te;
-    stats->refined = best_refined;
-    stats->vertices = best.s->config->num_vertices;
-    stats->patches = best.s->surface.count;
-    stats->met = stats->deviation.hausdorff <= c.tol;
+    dop.face_samples = t->c.n;
+    if ((st = sk_patch_set_tessellate(&t->best.s->surface, t->c.tess, &t->ts, err)) ||
+        (st = sk_deviation(t->ts, t->fine_soup, &dop, &t->stats->deviation, NULL, err)))
+        return st;
+    t->stats->seconds_deviation = sk_seconds() - te;
+    t->stats->refined = t->best_refined;
+    t->stats->vertices = t->best.s->config->num_vertices;
+    t->stats->patches = t->best.s->surface.count;
+    t->stats->met = t->stats->deviation.hausdorff <= t->c.tol;
     if (fine_ids) {
-        size_t nc = best.s->config->num_vertices;
+        size_t nc = t->best.s->config->num_vertices;
         uint32_t *ids = sk__malloc_array(nc ? nc : 1, sizeof *ids);
-        if (!ids) {
+        if (!ids)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        size_t built = t->stats->vertices - t->best.s->stats.split_edges;
+        for (size_t k = 0; k < nc; ++k)
+            ids[k] = k < built ? t->best.m2f[k] : SK_INVALID;
+        *fine_ids = ids;
+    }
+    *out = t->best.s;
+    t->best.s = NULL;
+    if (!t->stats->met)
+        return sk__fail(err, SK_WARN_TOLERANCE, "the tolerance %g is not met: the closest surface "
+                      "found is %g from the mesh (%zu patches)", t->c.tol,
+                      t->stats->deviation.hausdorff, t->stats->patches);
+    sk__ok(err);
+    return SK_OK;
+}
+
+sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts,
+                              sk_smooth **out, uint32_t **fine_ids,
+                              sk_tolerance_stats *stats_out, sk_error *err)
+{
+    tol_run t;
+    memset(&t, 0, sizeof t);
+    if (opts)
+        t.o = *opts;
+    *out = NULL;
+    if (fine_ids)
+        *fine_ids = NULL;
+    sk_tolerance_stats stats_local;
+    t.stats = stats_out ? stats_out : &stats_local;
+    memset(t.stats, 0, sizeof *t.stats);
+    t.best.max = t.r.max = t.at_hi.max = INFINITY;
+    sk_status st = check_input(mesh, &t.o, err);
+    if (st)
+        return st;
+    size_t coarsest_met = 0;
+    if ((st = setup(&t, mesh, err)))
+        goto done;
+    double tc = sk_seconds();
+    if ((st = search_levels(&t, &coarsest_met, err)))
+        goto done;
+    double td = sk_seconds();
+    t.stats->seconds_search = td - tc;
+    if (coarsest_met < t.c.levels && coarsest_met > 0) {
+        if (!(t.fresh = sk__calloc_array(t.c.nv, 1))) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
             goto done;
         }
-        size_t built = stats->vertices - best.s->stats.split_edges;
-        for (size_t k = 0; k < nc; ++k)
-            ids[k] = k < built ? best.m2f[k] : SK_INVALID;
-        *fine_ids = ids;
+        if ((st = refine(&t, coarsest_met, err)))
+            goto done;
     }
-    *out = best.s;
-    best.s = NULL;
-    if (!stats->met)
-        st = sk__fail(err, SK_WARN_TOLERANCE, "the tolerance %g is not met: the closest surface "
-                      "found is %g from the mesh (%zu patches)", c.tol,
-                      stats->deviation.hausdorff, stats->patches);
-    else
-        sk__ok(err);
+    t.stats->seconds_refine = sk_seconds() - td;
+    st = finish(&t, out, fine_ids, err);
 done:
-    cut_result_free(&best);
-    cut_result_free(&r);
-    check_buf_free(&b);
-    sk__free(alive);
-    sk__free(bad);
-    sk__free(stack);
-    sk__free(stamp);
-    sk_soup_destroy(&ts);
-    sk_soup_destroy(&fine_soup);
-    ctx_free(&c);
+    run_free(&t);
     return st;
 }

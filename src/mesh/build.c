@@ -179,6 +179,30 @@ done:
     return st;
 }
 
+/* The soup's per-corner wedge indices (of uvs, or of normals) as the mesh's per-half-edge ones:
+ * soup corner c of face f is the half-edge leaving face_indices[c] (build order). */
+static sk_status corner_wedges(sk_mesh *m, const sk_soup *s, const uint32_t *corner, bool normals,
+                               sk_error *err)
+{
+    uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
+    if (!hw)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t h = 0; h < m->num_halfedges; ++h)
+        hw[h] = SK_INVALID;
+    for (size_t f = 0; f < s->num_faces; ++f) {
+        uint32_t h = m->f_halfedge[f];
+        for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
+            hw[h] = corner[c];
+            h = m->h_next[h];
+        }
+    }
+    sk_status st = normals
+                       ? sk_mesh_set_wedge_normals(m, s->num_wedge_normals, s->wedge_normals, hw, err)
+                       : sk_mesh_set_wedge_uvs(m, s->num_wedge_uvs, s->wedge_uvs, hw, err);
+    sk__free(hw);
+    return st;
+}
+
 sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
 {
     sk_status st = sk_mesh_from_faces(s->num_vertices, s->positions, s->num_faces, s->face_offsets,
@@ -190,52 +214,12 @@ sk_status sk_mesh_from_soup(const sk_soup *s, sk_mesh **out, sk_error *err)
         sk_mesh_destroy(out);
         return SK_ERR_NOMEM;
     }
-    if (s->corner_uv) {
-        /* soup corner c of face f is the half-edge leaving face_indices[c] (build order) */
-        uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
-        if (!hw) {
-            sk_mesh_destroy(out);
-            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        }
-        for (size_t h = 0; h < m->num_halfedges; ++h)
-            hw[h] = SK_INVALID;
-        for (size_t f = 0; f < s->num_faces; ++f) {
-            uint32_t h = m->f_halfedge[f];
-            for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
-                hw[h] = s->corner_uv[c];
-                h = m->h_next[h];
-            }
-        }
-        sk_status ws = sk_mesh_set_wedge_uvs(m, s->num_wedge_uvs, s->wedge_uvs, hw, err);
-        sk__free(hw);
-        if (ws) {
-            sk_mesh_destroy(out);
-            return ws;
-        }
-    }
-    if (s->corner_normal) {
-        /* the same for the per-corner normals */
-        uint32_t *hw = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
-        if (!hw) {
-            sk_mesh_destroy(out);
-            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        }
-        for (size_t h = 0; h < m->num_halfedges; ++h)
-            hw[h] = SK_INVALID;
-        for (size_t f = 0; f < s->num_faces; ++f) {
-            uint32_t h = m->f_halfedge[f];
-            for (uint32_t c = s->face_offsets[f]; c < s->face_offsets[f + 1]; ++c) {
-                hw[h] = s->corner_normal[c];
-                h = m->h_next[h];
-            }
-        }
-        sk_status ws =
-            sk_mesh_set_wedge_normals(m, s->num_wedge_normals, s->wedge_normals, hw, err);
-        sk__free(hw);
-        if (ws) {
-            sk_mesh_destroy(out);
-            return ws;
-        }
-    }
-    return SK_OK;
+    sk_status st2 = SK_OK;
+    if (s->corner_uv)
+        st2 = corner_wedges(m, s, s->corner_uv, false, err);
+    if (!st2 && s->corner_normal)
+        st2 = corner_wedges(m, s, s->corner_normal, true, err);
+    if (st2)
+        sk_mesh_destroy(out);
+    return st2;
 }

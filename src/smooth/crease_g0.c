@@ -64,20 +64,6 @@ static int sectors_of(const sk_mesh *m, const uint8_t *ce, uint32_t v, uint32_t 
     return len;
 }
 
-/* half-edge a -> b of m, or SK_INVALID */
-static uint32_t find_halfedge(const sk_mesh *m, uint32_t a, uint32_t b)
-{
-    uint32_t h0 = m->v_halfedge[a], h = h0;
-    if (h0 == SK_INVALID)
-        return SK_INVALID;
-    do {
-        if (sk_to(m, h) == b)
-            return h;
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return SK_INVALID;
-}
-
 size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, uint8_t *flags)
 {
     size_t n = 0;
@@ -86,7 +72,7 @@ size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, 
         uint32_t a = pairs[2 * i], b = pairs[2 * i + 1];
         if (a >= m->num_vertices || b >= m->num_vertices)
             continue;
-        uint32_t h = find_halfedge(m, a, b);
+        uint32_t h = sk__find_halfedge(m, a, b);
         if (h == SK_INVALID || sk_is_boundary_e(m, sk_edge(h)) || flags[sk_edge(h)])
             continue;
         flags[sk_edge(h)] = 1;
@@ -97,7 +83,7 @@ size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, 
 
 static bool has_edge(const sk_mesh *m, uint32_t a, uint32_t b)
 {
-    return find_halfedge(m, a, b) != SK_INVALID;
+    return sk__find_halfedge(m, a, b) != SK_INVALID;
 }
 
 static size_t face_count(const sk_mesh *m, uint32_t v)
@@ -268,7 +254,7 @@ static bool file_corner_normal(const sk_mesh *file, const sk_mesh *m, uint32_t h
     uint32_t a = sk_from(m, h), b = sk_to(m, h);
     if (!file || !file->h_wedge_normal || a >= file->num_vertices || b >= file->num_vertices)
         return false;
-    uint32_t g = find_halfedge(file, a, b);
+    uint32_t g = sk__find_halfedge(file, a, b);
     if (g == SK_INVALID || file->h_face[g] == SK_INVALID || file->h_wedge_normal[g] == SK_INVALID)
         return false;
     memcpy(out, file->wedge_normals + 3 * (size_t)file->h_wedge_normal[g], 3 * sizeof(double));
@@ -326,7 +312,7 @@ sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mes
         if (!src_crease[e])
             continue;
         uint32_t a = sk_from(src, 2 * e), b = sk_to(src, 2 * e);
-        uint32_t h = a < nv && b < nv ? find_halfedge(m, a, b) : SK_INVALID;
+        uint32_t h = a < nv && b < nv ? sk__find_halfedge(m, a, b) : SK_INVALID;
         if (h != SK_INVALID && !sk_is_boundary_e(m, sk_edge(h)) && !ce[sk_edge(h)]) {
             ce[sk_edge(h)] = 1;
             ++found;

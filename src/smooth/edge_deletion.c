@@ -69,24 +69,10 @@ static int ps_close_path(path_store *ps)
     return 1;
 }
 
-/* Half-edge from a to b, or SK_INVALID. */
-static uint32_t find_halfedge(const sk_mesh *m, uint32_t a, uint32_t b)
-{
-    uint32_t h0 = m->v_halfedge[a], h = h0;
-    if (h0 == SK_INVALID)
-        return SK_INVALID;
-    do {
-        if (sk_to(m, h) == b)
-            return h;
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return SK_INVALID;
-}
-
 /* True when a, b, c are the corners of one (triangle) face. */
 static bool is_face(const sk_mesh *m, uint32_t a, uint32_t b, uint32_t c)
 {
-    uint32_t h = find_halfedge(m, a, b);
+    uint32_t h = sk__find_halfedge(m, a, b);
     if (h == SK_INVALID)
         return false;
     if (m->h_face[h] != SK_INVALID && sk_to(m, m->h_next[h]) == c)
@@ -98,7 +84,7 @@ static bool is_face(const sk_mesh *m, uint32_t a, uint32_t b, uint32_t c)
 /* the edge a - b exists and is flagged in mflag */
 static bool matched_edge(const sk_mesh *m, const uint8_t *mflag, uint32_t a, uint32_t b)
 {
-    uint32_t h = find_halfedge(m, a, b);
+    uint32_t h = sk__find_halfedge(m, a, b);
     return h != SK_INVALID && mflag[sk_edge(h)];
 }
 
@@ -127,7 +113,7 @@ static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, const uint8_t
     for (size_t i = 0; i < n; ++i) {
         p[k++] = p[i];
         while (k >= 3 && is_face(m, p[k - 3], p[k - 2], p[k - 1])) {
-            uint32_t h = find_halfedge(m, p[k - 3], p[k - 1]);
+            uint32_t h = sk__find_halfedge(m, p[k - 3], p[k - 1]);
             if (h == SK_INVALID || sk_is_boundary_e(m, sk_edge(h)) || forbid[sk_edge(h)])
                 break;
             /* a path that crosses a matched edge removes it: a short cut there would keep it
@@ -730,7 +716,7 @@ static sk_status match_adjacent(ed_state *S, sk_error *err)
         S->medge[v] = w;
         if (v > w)
             continue;
-        S->mflag[sk_edge(find_halfedge(S->m, v, w))] = 1;
+        S->mflag[sk_edge(sk__find_halfedge(S->m, v, w))] = 1;
         if (!ps_push_vertex(&S->ps, v) || !ps_push_vertex(&S->ps, w) || !ps_close_path(&S->ps)) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
             goto done;
@@ -790,7 +776,7 @@ static sk_status reduce_paths(ed_state *S, sk_error *err)
         size_t n = reduce_path(m, S->forbid, S->mflag, pv, ps->start[p + 1] - ps->start[p],
                                &S->st.reductions);
         for (size_t i = 0; i + 1 < n; ++i) {
-            uint32_t h = find_halfedge(m, pv[i], pv[i + 1]);
+            uint32_t h = sk__find_halfedge(m, pv[i], pv[i + 1]);
             if (h == SK_INVALID)
                 return sk__fail(err, SK_ERR_NUMERIC, "edge deletion: internal error, broken path");
             uint32_t e = sk_edge(h);

@@ -550,6 +550,8 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
                     status[v] < 2 && !(W->crease_v && W->crease_v[v]);
     /* (a crease vertex has one tangent plane per sector and fixed crease tangents: one linear
      * map of all its tangents would break both, so it keeps its least-squares points) */
+    for (uint32_t v = 0; v < nv; ++v)
+        active[v] = active[v] && region[v]; /* the first sweep too */
     /* later sweeps visit the vertices that moved by more than FAIR_ACTIVE_STEP in the sweep
      * before, and their neighbours, within the region */
     for (int sweep = 0; sweep < sweeps; ++sweep) {

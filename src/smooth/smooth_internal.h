@@ -51,6 +51,20 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
                                     sk_error *err);
 
 /* The normal at corner i of patch p: its sector's (s->corner_normals) or the vertex normal. */
+/* The half-edge from a to b in m, or SK_INVALID. */
+static inline uint32_t sk__find_halfedge(const sk_mesh *m, uint32_t a, uint32_t b)
+{
+    uint32_t h0 = m->v_halfedge[a], h = h0;
+    if (h0 == SK_INVALID)
+        return SK_INVALID;
+    do {
+        if (sk_to(m, h) == b)
+            return h;
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return SK_INVALID;
+}
+
 static inline const double *sk__corner_normal(const sk_smooth *s, size_t p, unsigned i)
 {
     const sk_patch *pa = &s->surface.patches[p];

@@ -316,6 +316,102 @@ static sk_status crease_flags_of(const sk_smooth *s, const sk_mesh *m, uint8_t *
     return SK_OK;
 }
 
+static sk_status check_input(const sk_mesh *mesh, sk_error *err)
+{
+    for (uint32_t f = 0; f < mesh->num_faces; ++f)
+        if (!mesh->f_deleted[f] && sk_mesh_face_size(mesh, f) != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY,
+                            "face %u has %zu sides: a triangle mesh is needed", f,
+                            sk_mesh_face_size(mesh, f));
+    for (size_t i = 0; i < 3 * mesh->num_vertices; ++i)
+        if (!isfinite(mesh->positions[i]))
+            return sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", i / 3);
+    return sk_mesh_check_scale(mesh, err);
+}
+
+/* The unit normals the surface interpolates: the file's (checked), or estimated. */
+static sk_status input_normals(const sk_mesh *mesh, const sk_smooth_opts *opts, double **out,
+                               sk_error *err)
+{
+    size_t nv = mesh->num_vertices;
+    double *normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
+    if (!normals)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    *out = normals;
+    if (!mesh->normals || opts->estimate_normals)
+        return sk_mesh_vertex_normals(mesh, opts->normals, normals, err);
+    for (size_t v = 0; v < nv; ++v) {
+        double *n = normals + 3 * v;
+        memcpy(n, mesh->normals + 3 * v, 3 * sizeof(double));
+        if (mesh->v_halfedge[v] != SK_INVALID &&
+            (!isfinite(n[0] + n[1] + n[2]) || sk__normalize3(n) == 0.0))
+            return sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a zero or non-finite normal", v);
+    }
+    return SK_OK;
+}
+
+/* Back to the state before a build round: no configuration, surface or creases. */
+static void forget_build(sk_smooth *s, const sk_smooth_stats *saved)
+{
+    sk_mesh_destroy(&s->config);
+    sk_patch_set_free(&s->surface);
+    sk__free(s->deleted);
+    sk__free(s->problems);
+    sk__free(s->crease_edge);
+    sk__free(s->corner_normals);
+    s->deleted = s->problems = NULL;
+    s->crease_edge = NULL;
+    s->corner_normals = NULL;
+    s->num_deleted = s->num_problems = 0;
+    s->stats = *saved;
+}
+
+/* Edge deletion and the VC1 construction over base, with the creases keep (may be NULL); crease
+ * lines whose sectors cannot be built are dropped from keep and the round is done again (at most
+ * SK_CREASE_ROUNDS times). */
+static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *base,
+                              uint8_t *keep, bool file_normals, double alpha, double max_nu,
+                              const sk_smooth_opts *opts, double t0, sk_error *err)
+{
+    sk_status st = SK_OK;
+    sk_smooth_stats saved = s->stats;
+    for (int round = 0;; ++round) {
+        if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted,
+                                            &s->stats.deletion, err)) != SK_OK)
+            return st;
+        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep,
+                                           file_normals ? mesh : NULL, &s->crease_edge,
+                                           &s->corner_normals, err)) != SK_OK)
+            return st;
+        s->num_deleted = s->stats.deletion.deleted_edges;
+        s->stats.seconds_deletion = sk_seconds() - t0;
+        if (round == 0 && (st = sk__progress(opts->progress, opts->progress_user, 0.3, err)) != SK_OK)
+            return st;
+        uint32_t failed_v = SK_INVALID;
+        st = vc1_build(s, alpha, max_nu, opts->free_points, &failed_v, err);
+        if (st != SK_OK && st != SK_ERR_NUMERIC)
+            return st;
+        /* creases whose sectors cannot be built (a vertex system that fails or misses its angle
+         * bounds at a crease vertex: on scans, mostly bands of sharp edges that are no feature
+         * line) are dropped, whole lines, and the surface is built again without them */
+        size_t dropped = 0;
+        if (keep && round < SK_CREASE_ROUNDS) {
+            if (st == SK_ERR_NUMERIC && failed_v != SK_INVALID)
+                dropped += sk__crease_drop_at(base, keep, failed_v);
+            for (size_t i = 0; st == SK_OK && i < s->num_problems; ++i)
+                dropped += sk__crease_drop_at(base, keep, s->problems[i]);
+        }
+        if (dropped == 0) {
+            if (st != SK_OK)
+                return st;
+            break;
+        }
+        forget_build(s, &saved);
+        t0 = sk_seconds();
+    }
+    return SK_OK;
+}
+
 sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
                           sk_error *err)
 {
@@ -338,40 +434,10 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     int blas_threads = sk__blas_serial_begin(); /* per-vertex and per-patch dense solves */
     s->scheme = opts.scheme;
-    size_t nv = mesh->num_vertices;
-    for (uint32_t f = 0; f < mesh->num_faces; ++f)
-        if (!mesh->f_deleted[f] && sk_mesh_face_size(mesh, f) != 3) {
-            st = sk__fail(err, SK_ERR_TOPOLOGY, "face %u has %zu sides: a triangle mesh is needed",
-                          f, sk_mesh_face_size(mesh, f));
-            goto fail;
-        }
-    for (size_t i = 0; i < 3 * nv; ++i)
-        if (!isfinite(mesh->positions[i])) {
-            st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a non-finite coordinate", i / 3);
-            goto fail;
-        }
-    if ((st = sk_mesh_check_scale(mesh, err)) != SK_OK)
-        goto fail;
-    /* normals */
     double t0 = sk_seconds();
-    normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
-    if (!normals) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if ((st = check_input(mesh, err)) != SK_OK ||
+        (st = input_normals(mesh, &opts, &normals, err)) != SK_OK)
         goto fail;
-    }
-    if (mesh->normals && !opts.estimate_normals) {
-        for (size_t v = 0; v < nv; ++v) {
-            double *n = normals + 3 * v;
-            memcpy(n, mesh->normals + 3 * v, 3 * sizeof(double));
-            if (mesh->v_halfedge[v] != SK_INVALID &&
-                (!isfinite(n[0] + n[1] + n[2]) || sk__normalize3(n) == 0.0)) {
-                st = sk__fail(err, SK_ERR_NUMERIC, "vertex %zu has a zero or non-finite normal", v);
-                goto fail;
-            }
-        }
-    } else if ((st = sk_mesh_vertex_normals(mesh, opts.normals, normals, err)) != SK_OK) {
-        goto fail;
-    }
     s->stats.seconds_normals = sk_seconds() - t0;
     bool file_normals = mesh->normals && !opts.estimate_normals;
     if (opts.crease_angle_deg >= 0.0 &&
@@ -436,55 +502,11 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         sk__crease_validate(base, keep);
     s->normals = normals;
     normals = NULL;
-    sk_smooth_stats saved = s->stats;
-    for (int round = 0;; ++round) {
-        if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted,
-                                            &s->stats.deletion, err)) != SK_OK)
-            goto fail;
-        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep,
-                                           file_normals ? mesh : NULL, &s->crease_edge,
-                                           &s->corner_normals, err)) != SK_OK)
-            goto fail;
-        s->num_deleted = s->stats.deletion.deleted_edges;
-        s->stats.seconds_deletion = sk_seconds() - t0;
-        if (round == 0 && (st = sk__progress(opts.progress, opts.progress_user, 0.3, err)) != SK_OK)
-            goto fail;
-        uint32_t failed_v = SK_INVALID;
-        st = vc1_build(s, alpha, max_nu, opts.free_points, &failed_v, err);
-        if (st != SK_OK && st != SK_ERR_NUMERIC)
-            goto fail;
-        /* creases whose sectors cannot be built (a vertex system that fails or misses its angle
-         * bounds at a crease vertex: on scans, mostly bands of sharp edges that are no feature
-         * line) are dropped, whole lines, and the surface is built again without them */
-        size_t dropped = 0;
-        if (keep && round < SK_CREASE_ROUNDS) {
-            if (st == SK_ERR_NUMERIC && failed_v != SK_INVALID)
-                dropped += sk__crease_drop_at(base, keep, failed_v);
-            for (size_t i = 0; st == SK_OK && i < s->num_problems; ++i)
-                dropped += sk__crease_drop_at(base, keep, s->problems[i]);
-        }
-        if (dropped == 0) {
-            if (st != SK_OK)
-                goto fail;
-            break;
-        }
-        sk_mesh_destroy(&s->config);
-        sk_patch_set_free(&s->surface);
-        sk__free(s->deleted);
-        sk__free(s->problems);
-        sk__free(s->crease_edge);
-        sk__free(s->corner_normals);
-        s->deleted = s->problems = NULL;
-        s->crease_edge = NULL;
-        s->corner_normals = NULL;
-        s->num_deleted = s->num_problems = 0;
-        s->stats = saved;
-        t0 = sk_seconds();
-    }
+    if ((st = build_rounds(s, mesh, base, keep, file_normals, alpha, max_nu, &opts, t0, err)) !=
+        SK_OK)
+        goto fail;
     sk__free(keep);
-    keep = NULL;
     sk_mesh_destroy(&work);
-    sk__free(keep);
     *out = s;
     sk__ok(err);
     sk__blas_serial_end(blas_threads);

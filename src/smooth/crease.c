@@ -17,13 +17,13 @@
  *      of the normals reduced to its two limits (weight 1 below the threshold, 0 above): a crease
  *      of a CAD model has a flat or gently curved face on each side, while on the thin parts of a
  *      coarse scan (ears, horns, hooves, mane grooves: bands a few triangles wide) the smooth
- *      neighbourhood of a sharp edge is itself bent by far more than a face of a part is;
- *      Step 3 works as a hysteresis: the edges of steps 1-2 meeting at vertices form groups,
+ *      neighbourhood of a sharp edge is itself bent by far more than a face of a part is. Step 3
+ *      works as the paper's hysteresis: the edges of steps 1-2 meeting at vertices form groups,
  *      and a group is kept whole when 3 of 5 of its edges pass it;
- *   4. crease edges must form lines (the paper's hysteresis, simplified): the edges of steps 1-2
- *      are joined into chains through the vertices with exactly two of them; a chain of fewer
- *      than SK_CREASE_MIN_CHAIN edges is dropped, unless both its ends are corners (three or
- *      more such edges meet there: the cube's feature lines are single edges). */
+ *   4. crease edges must form lines: the edges kept are joined into chains through the vertices
+ *      with exactly two of them; a chain of fewer than SK_CREASE_MIN_CHAIN edges is dropped,
+ *      unless both its ends are corners (three or more such edges meet there: the cube's feature
+ *      lines are single edges). */
 #include "surfkit/smooth.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -149,7 +149,7 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
     double *dih = sk__malloc_array(ne + 1, sizeof(double));        /* face dihedral per edge */
     uint32_t *mark = sk__calloc_array(nf + 1, sizeof(uint32_t));   /* step 3: region stamps */
     uint32_t *queue = sk__malloc_array(nf + 1, sizeof(uint32_t));  /* step 3: region faces */
-    uint32_t *vpar = sk__malloc_array(nv + 1, sizeof(uint32_t));     /* step 3: groups */
+    uint32_t *vpar = sk__malloc_array(nv + 1, sizeof(uint32_t));   /* step 3: groups */
     uint32_t *nall = sk__calloc_array(nv + 1, sizeof(uint32_t));
     uint32_t *nstrong = sk__calloc_array(nv + 1, sizeof(uint32_t));
     uint32_t stamp = 0;

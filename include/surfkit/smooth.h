@@ -71,11 +71,13 @@ typedef struct sk_crease_opts {
 
 /* Marks the sharp interior edges of mesh: crease[e] = 1 for edge e (sk_num_edges(mesh) entries,
  * written in full) when the dihedral angle of its two faces and that of their area-weighted side
- * normals (each face with its neighbours across its other edges) both reach A, and the edge lies
- * on a line of at least 3 such edges (chained through vertices with exactly two) or joins two
- * corners (vertices with three or more); after Belyaev & Anoshkina's detection: smooth the
- * normals, keep the lines. *count (may be NULL) receives the
- * number of crease edges. SK_ERR_ARG for an angle outside (0, 180). */
+ * normals (each face with its neighbours across its other edges) both reach A, its group (such
+ * edges meeting at vertices) has at least 3 of 5 edges with smooth sides (the faces within 3 rings
+ * of each side, across edges below A, lie within A / 2 of their mean normal, or within a third of
+ * the jump), and the edge lies on a line of at least 3 such edges (chained through vertices with
+ * exactly two) or joins two corners (vertices with three or more); after Belyaev & Anoshkina's
+ * detection: smooth the normals, keep the lines (docs/creases.md). *count (may be NULL) receives
+ * the number of crease edges. SK_ERR_ARG for an angle outside (0, 180). */
 SK_API sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts,
                                       uint8_t *crease, size_t *count, sk_error *err);
 

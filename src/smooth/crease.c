@@ -1,5 +1,5 @@
 /* Crease edges: sharp edges of a triangle mesh, the G0 boundaries a VC1 surface with creases
- * needs (design in docs/creases.md; the construction itself is not built yet).
+ * needs (docs/creases.md; the G0 construction is src/smooth/crease_g0.c).
  *
  * A plain dihedral threshold is fooled by scans: a sliver's normal is unreliable and a noisy or
  * coarse mesh has many single sharp edges. After Belyaev & Anoshkina (Mathematics of Surfaces XI,
@@ -9,10 +9,21 @@
  *   2. so must the angle between the two side normals, each the area-weighted normal of a face
  *      and its neighbours across its two other edges (one smoothing step per side, not across
  *      the edge tested): a sliver weighs by its area, so its own normal hardly counts;
- *   3. crease edges must form lines (the paper's hysteresis, simplified): the edges of steps 1-2
- *      are joined into chains through the vertices with exactly two of them; a chain of fewer
- *      than SK_CREASE_MIN_CHAIN edges is dropped, unless both its ends are corners (three or
- *      more such edges meet there: the cube's feature lines are single edges). */
+ *   3. both sides must be smooth surface pieces, not a thin band of sharp edges: the faces
+ *      reached from each side's face within SK_CREASE_RINGS rings, crossing only edges whose
+ *      dihedral stays below A (never the edge tested, never the other side's face), must all lie
+ *      within A / 2 of their area-weighted mean normal (or within a third of the jump across the
+ *      edge: a plane meeting a coarse cylinder). This is the paper's nonlinear diffusion
+ *      of the normals reduced to its two limits (weight 1 below the threshold, 0 above): a crease
+ *      of a CAD model has a flat or gently curved face on each side, while on the thin parts of a
+ *      coarse scan (ears, horns, hooves, mane grooves: bands a few triangles wide) the smooth
+ *      neighbourhood of a sharp edge is itself bent by far more than a face of a part is. Step 3
+ *      works as the paper's hysteresis: the edges of steps 1-2 meeting at vertices form groups,
+ *      and a group is kept whole when 3 of 5 of its edges pass it;
+ *   4. crease edges must form lines: the edges kept are joined into chains through the vertices
+ *      with exactly two of them; a chain of fewer than SK_CREASE_MIN_CHAIN edges is dropped,
+ *      unless both its ends are corners (three or more such edges meet there: the cube's feature
+ *      lines are single edges). */
 #include "surfkit/smooth.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -58,8 +69,58 @@ static void side_normal(const sk_mesh *m, const double *fa, uint32_t h, double o
     }
 }
 
-/* shortest line of crease edges kept (step 3) */
+/* shortest line of crease edges kept (step 4) */
 #define SK_CREASE_MIN_CHAIN 3
+/* rings of the smooth side region of step 3 */
+#define SK_CREASE_RINGS 3
+/* step 3: a side bent more than A / 2 still counts when the jump is this many times its bend */
+#define SK_CREASE_JUMP_PER_BEND 3.0
+/* step 3's hysteresis: a group is kept when this share of its edges passes (3 of 5) */
+#define SK_CREASE_GROUP_NUM 3
+#define SK_CREASE_GROUP_DEN 5
+
+/* step 3 for side face f of edge e (other = the face across e): the bend of f's smooth region,
+ * the largest angle in degrees between one of its faces and the region's mean normal. mark and
+ * queue hold nf entries; stamp is unique per call. */
+static double side_bend(const sk_mesh *m, const double *fa, const double *dih, double A,
+                        uint32_t e, uint32_t f, uint32_t other, uint32_t *mark, uint32_t *queue,
+                        uint32_t stamp)
+{
+    size_t head = 0, tail = 0;
+    double sum[3];
+    mark[f] = stamp;
+    if (other != SK_INVALID)
+        mark[other] = stamp;
+    queue[tail++] = f;
+    for (int ring = 0; ring < SK_CREASE_RINGS; ++ring) {
+        size_t end = tail;
+        for (; head < end; ++head) {
+            uint32_t h0 = m->f_halfedge[queue[head]], g = h0;
+            do {
+                uint32_t ge = sk_edge(g), y = m->h_face[sk_opp(g)];
+                if (ge != e && dih[ge] < A && y != SK_INVALID && mark[y] != stamp) {
+                    mark[y] = stamp;
+                    queue[tail++] = y;
+                }
+                g = m->h_next[g];
+            } while (g != h0);
+        }
+    }
+    sum[0] = sum[1] = sum[2] = 0.0;
+    for (size_t i = 0; i < tail; ++i)
+        sk__add3(sum, sum, fa + 3 * (size_t)queue[i]);
+    double bend = 0.0;
+    for (size_t i = 0; i < tail; ++i)
+        bend = fmax(bend, angle_deg(fa + 3 * (size_t)queue[i], sum));
+    return bend;
+}
+
+/* step 3 for one side: its region bends by at most A / 2, or by less than a third of the jump
+ * across the edge (a crease between a plane and a coarse cylinder or a sliver fan) */
+static bool side_is_smooth(double bend, double jump, double A)
+{
+    return bend <= 0.5 * A || SK_CREASE_JUMP_PER_BEND * bend <= jump;
+}
 
 static uint32_t uf_find(uint32_t *parent, uint32_t x)
 {
@@ -85,9 +146,17 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
     uint32_t *first = sk__malloc_array(nv + 1, sizeof(uint32_t)); /* a crease edge at v */
     uint32_t *parent = sk__malloc_array(ne + 1, sizeof(uint32_t)); /* chains (union-find) */
     uint32_t *size = sk__calloc_array(ne + 1, sizeof(uint32_t));
+    double *dih = sk__malloc_array(ne + 1, sizeof(double));        /* face dihedral per edge */
+    uint32_t *mark = sk__calloc_array(nf + 1, sizeof(uint32_t));   /* step 3: region stamps */
+    uint32_t *queue = sk__malloc_array(nf + 1, sizeof(uint32_t));  /* step 3: region faces */
+    uint32_t *vpar = sk__malloc_array(nv + 1, sizeof(uint32_t));   /* step 3: groups */
+    uint32_t *nall = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    uint32_t *nstrong = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    uint32_t stamp = 0;
     sk_status st = SK_OK;
     memset(crease, 0, ne);
-    if (!fa || !deg || !first || !parent || !size) {
+    if (!fa || !deg || !first || !parent || !size || !dih || !mark || !queue || !vpar || !nall ||
+        !nstrong) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory detecting creases");
         goto done;
     }
@@ -96,18 +165,54 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
             face_area_vector(m, f, fa + 3 * (size_t)f);
     for (uint32_t e = 0; e < ne; ++e) {
         uint32_t h = 2 * e, o = h + 1;
+        dih[e] = 180.0; /* a boundary edge is never crossed by a smooth region */
+        if (!m->e_deleted[e] && m->h_face[h] != SK_INVALID && m->h_face[o] != SK_INVALID)
+            dih[e] = angle_deg(fa + 3 * (size_t)m->h_face[h], fa + 3 * (size_t)m->h_face[o]);
+    }
+    for (uint32_t e = 0; e < ne; ++e) {
+        uint32_t h = 2 * e, o = h + 1;
         if (m->e_deleted[e] || m->h_face[h] == SK_INVALID || m->h_face[o] == SK_INVALID)
             continue;
-        if (angle_deg(fa + 3 * (size_t)m->h_face[h], fa + 3 * (size_t)m->h_face[o]) < A)
+        if (dih[e] < A)
             continue;
         double sh[3], so[3];
         side_normal(m, fa, h, sh);
         side_normal(m, fa, o, so);
-        if (angle_deg(sh, so) < A)
+        double jump = angle_deg(sh, so);
+        if (jump < A)
             continue;
+        uint32_t fh = m->h_face[h], fo = m->h_face[o];
+        crease[e] = 1; /* steps 1-2 */
+        if (side_is_smooth(side_bend(m, fa, dih, A, e, fh, fo, mark, queue, ++stamp), jump, A) &&
+            side_is_smooth(side_bend(m, fa, dih, A, e, fo, fh, mark, queue, ++stamp), jump, A))
+            crease[e] = 2; /* and step 3 */
+    }
+    /* step 3's hysteresis: the edges of steps 1-2 that meet at vertices form groups; a group is
+     * kept whole if 3 of 5 of its edges pass step 3 (a feature line, with its few edges next to
+     * a gentle blend whose smooth region bends more), dropped otherwise (a band of a thin part,
+     * where most sides are bent) */
+    for (uint32_t v = 0; v < nv; ++v)
+        vpar[v] = v;
+    for (uint32_t e = 0; e < ne; ++e)
+        if (crease[e])
+            vpar[uf_find(vpar, sk_from(m, 2 * e))] = uf_find(vpar, sk_to(m, 2 * e));
+    for (uint32_t e = 0; e < ne; ++e)
+        if (crease[e]) {
+            uint32_t r = uf_find(vpar, sk_from(m, 2 * e));
+            nall[r]++;
+            nstrong[r] += crease[e] == 2;
+        }
+    for (uint32_t e = 0; e < ne; ++e) {
+        if (!crease[e])
+            continue;
+        uint32_t r = uf_find(vpar, sk_from(m, 2 * e));
+        if (SK_CREASE_GROUP_DEN * (size_t)nstrong[r] < SK_CREASE_GROUP_NUM * (size_t)nall[r]) {
+            crease[e] = 0;
+            continue;
+        }
         crease[e] = 1;
-        deg[sk_from(m, h)]++;
-        deg[sk_to(m, h)]++;
+        deg[sk_from(m, 2 * e)]++;
+        deg[sk_to(m, 2 * e)]++;
     }
     /* chains: the two crease edges of a vertex with exactly two are one line */
     for (uint32_t e = 0; e < ne; ++e)
@@ -149,5 +254,11 @@ done:
     sk__free(first);
     sk__free(parent);
     sk__free(size);
+    sk__free(dih);
+    sk__free(mark);
+    sk__free(queue);
+    sk__free(vpar);
+    sk__free(nall);
+    sk__free(nstrong);
     return st;
 }

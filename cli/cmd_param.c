@@ -181,6 +181,9 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
         OPT_DOUBLE("--max-stretch", a->ao.max_stretch, 1, 0, CLI_LO_OPEN, "S",
                    "atlas: per chart, exp of the area-weighted mean |log area scale / chart's\n"
                    "mean| (default 1.25)"),
+        OPT_DOUBLE("--area-theta", a->ao.area_theta, -1, 8, 0, "T",
+                   "atlas: each chart refined by MIPS times (area scale + 1/area scale)^T\n"
+                   "(default 1; negative: off)"),
         OPT_INT("--resolution", a->ao.resolution, 16, 1u << 20, "R",
                 "atlas: texels across, for --padding (default 1024)"),
         OPT_DOUBLE("--padding", a->ao.padding, 0, 64, 0, "P",
@@ -229,7 +232,7 @@ static int parse_args(int argc, char **argv, param_args *a)
         return cli_usage("param", "%s cannot hold texture coordinates ('%s'): write .obj or .ply",
                          sk_format_name(ofmt), a->out);
     /* the atlas: asked for by its options, else taken when the input is not one disk */
-    static const char *const atlas_only[] = {"--max-distortion", "--max-stretch",
+    static const char *const atlas_only[] = {"--max-distortion", "--max-stretch", "--area-theta",
                                              "--resolution", "--padding", "--split-seams",
                                              "--mips-charts", "--charts"};
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)

@@ -45,6 +45,10 @@ typedef struct sk_atlas_opts {
      * layout is flip-free, overlap-free and within both bounds; stats.charts says whether the
      * target was met. 0 = no target. */
     unsigned max_charts;
+    /* Area term: every accepted chart layout is refined by MIPS with the area factor
+     * (sk_mips_opts.area_theta), kept when it stays flip-free and overlap-free and lowers the
+     * chart's area distortion. 0 = the default (1.0); negative = off (plain MIPS / LSCM). */
+    double area_theta;
     uint64_t seed;
     sk_progress_fn progress;
     void *progress_user;

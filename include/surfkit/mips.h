@@ -46,6 +46,11 @@ typedef struct sk_mips_opts {
                                  up to 3 steps (sooner when a line search had to cut one): cheap, and
                                  good when the start is close to the optimum (after an insertion);
                                  default: a new factorization every global step */
+    /* Area term (Degener et al. 2003): minimise sum_t (sigma1/sigma2 + sigma2/sigma1) *
+     * (d_t + 1/d_t)^area_theta, d_t = det J_t times the mesh's 3D area / uv area at the start, so
+     * that angle distortion is traded for area distortion; flip-free as plain MIPS. 0 (the
+     * default) = plain MIPS; 1 is a balanced choice. Negative: SK_ERR_ARG. */
+    double area_theta;
 } sk_mips_opts;
 
 /* What sk_param_mips did (plain values, nothing to free). */

@@ -68,6 +68,15 @@ typedef struct sk__chart_quality {
 sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__chart_quality *q,
                           sk_error *err);
 
+/* The atlas's default sk_atlas_opts.area_theta (bench/atlas.sh). */
+#define SK__ATLAS_AREA_THETA 1.0
+
+/* MIPS with the area term (sk_mips_opts.area_theta = theta, free boundary) from the layout in uv,
+ * scaled and measured into q; *ok false (uv then undefined) when it failed or flipped. Errors are
+ * out of memory and cancellation only. */
+sk_status sk__chart_area(const sk_mesh *chart, uint64_t seed, double theta, double *uv,
+                         sk__chart_quality *q, bool *ok, sk_error *err);
+
 /* The cheap prediction of sk__chart_param's quality: LSCM (one linear solve) into uv, scaled and
  * measured into q. *ok is false when LSCM failed or flipped (no prediction). Errors are out of
  * memory and cancellation only. */

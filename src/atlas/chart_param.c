@@ -3,6 +3,7 @@
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "surfkit/mips.h"
 #include "surfkit/parametrize.h"
 
 #include <math.h>
@@ -30,6 +31,9 @@ void sk__tri_distortion(const double *p0, const double *p1, const double *p2, co
     double k = det != 0 ? frob2 / (2.0 * fabs(det)) : INFINITY;
     *conformal = isfinite(k) ? k + sqrt(fmax(k * k - 1.0, 0.0)) : INFINITY;
 }
+
+/* Sweeps of the area-term refinement at most (bench/atlas.sh). */
+#define SK__CHART_AREA_SWEEPS 20
 
 /* The one call into the parametrization module. */
 static sk_status parametrize(const sk_mesh *chart, uint64_t seed, double *uv, sk_error *err)
@@ -154,6 +158,33 @@ sk_status sk__chart_predict(const sk_mesh *chart, double *uv, sk__chart_quality 
     }
     if (st != SK_OK)
         return SK_OK; /* flipped or failed: no prediction */
+    if ((st = scale_measure(chart, uv, q, err)))
+        return st;
+    *ok = isfinite(q->area_log_dev) && isfinite(q->conformal_mean) && q->flipped == 0;
+    return SK_OK;
+}
+
+sk_status sk__chart_area(const sk_mesh *chart, uint64_t seed, double theta, double *uv,
+                         sk__chart_quality *q, bool *ok, sk_error *err)
+{
+    *ok = false;
+    sk_mips_opts o = {0};
+    o.boundary = SK_BOUNDARY_FREE;
+    o.seed = seed;
+    o.area_theta = theta;
+    o.max_sweeps = SK__CHART_AREA_SWEEPS;
+    o.tolerance = 1e-5;
+    o.global_steps = chart->num_vertices > 64 ? SK__CHART_AREA_SWEEPS : 0;
+    o.frozen_model = true;
+    sk_error lerr = {0};
+    sk_status st = sk_param_mips(chart, &o, uv, NULL, &lerr);
+    if (st == SK_ERR_NOMEM || st == SK_ERR_CANCELLED) {
+        if (err)
+            *err = lerr;
+        return st;
+    }
+    if (st != SK_OK)
+        return SK_OK;
     if ((st = scale_measure(chart, uv, q, err)))
         return st;
     *ok = isfinite(q->area_log_dev) && isfinite(q->conformal_mean) && q->flipped == 0;

@@ -6,6 +6,7 @@
 #include "core/internal.h"
 #include "param/mips_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -113,6 +114,9 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         o.boundary != SK_BOUNDARY_GIVEN)
         return sk__fail(err, SK_ERR_ARG, "MIPS steps keep a %s boundary where the start has it: "
                         "pass SK_BOUNDARY_GIVEN", sk_boundary_shape_name(o.boundary));
+    if (!(o.area_theta >= 0.0) || !isfinite(o.area_theta))
+        return sk__fail(err, SK_ERR_ARG, "area_theta must be finite and >= 0, not %g",
+                        o.area_theta);
     bool free_scale = o.boundary != SK_BOUNDARY_GIVEN;
     sk_mips_stats s = {0};
     sk__mips_ctx c;
@@ -124,6 +128,8 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     if (st)
         return st;
     s.triangles = c.nt;
+    if (o.area_theta > 0.0)
+        sk__mips_area_setup(&c, o.area_theta, uv);
     s.energy_start = s.energy = sk__mips_total_energy(&c, uv, &inverted);
     if (inverted) {
         st = sk__fail(err, SK_ERR_ARG, "the start parametrization has %zu inverted or "
@@ -144,8 +150,8 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         use_global = true;
         s.global_seconds += sk_seconds() - tg;
     }
-    if (free_scale)
-        sk__mips_renormalize(&c, uv);
+    if (free_scale) /* (the area term's k follows the exact rescale: energies unchanged) */
+        c.area_k = ldexp(c.area_k, -2 * sk__mips_renormalize(&c, uv));
     bool budget_left = true;
     ran = true;
     double block_start = s.energy;
@@ -165,6 +171,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         s.sweeps++;
         if (free_scale) {
             int e = sk__mips_renormalize(&c, uv);
+            c.area_k = ldexp(c.area_k, -2 * e);
             if (use_global)
                 G.scale_exp += e;
         }

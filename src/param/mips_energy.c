@@ -25,6 +25,7 @@ void sk__mips_ctx_free(sk__mips_ctx *c)
     sk__free(c->vt_start);
     sk__free(c->rec);
     sk__free(c->movable);
+    sk__free(c->s3);
 }
 
 sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
@@ -46,7 +47,8 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
     c->vt_start = sk__calloc_array(nv + 1, sizeof(uint32_t));
     c->rec = sk__malloc_array(3 * nt, sizeof(sk__mips_corner));
     c->movable = sk__malloc_array(nv, 1);
-    if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable) {
+    c->s3 = sk__malloc_array(nt ? nt : 1, sizeof(double));
+    if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable || !c->s3) {
         sk__mips_ctx_free(c);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
@@ -73,6 +75,7 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
             goto degenerate;
         for (int k = 0; k < 3; ++k) /* corner k: edges e[k] and -e[k+2] */
             c->cot[3 * t + k] = -sk__dot3(e[k], e[(k + 2) % 3]) / s;
+        c->s3[t] = 1.0 / s;
         for (int k = 0; k < 3; ++k)
             c->vt_start[c->tri[3 * t + k] + 1]++;
         ++t;
@@ -94,7 +97,7 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
     for (size_t i = 0; i < 3 * nt; ++i) {
         size_t t3 = i - i % 3, k = i % 3;
         sk__mips_corner r = {c->tri[t3 + (k + 1) % 3], c->tri[t3 + (k + 2) % 3], c->cot[t3 + k],
-                        c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3]};
+                        c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3], c->s3[t3 / 3]};
         c->rec[fill[c->tri[i]]++] = r;
     }
     sk__free(fill);
@@ -107,6 +110,8 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
 /* Energy (*) of triangle t; +inf if its parameter triangle is not positively oriented. */
 static double tri_energy(const sk__mips_ctx *c, size_t t, const double *uv)
 {
+    if (c->area_theta > 0.0)
+        return sk__mips_area_tri_energy(c, t, uv);
     const uint32_t *v = c->tri + 3 * t;
     const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *d = uv + 2 * (size_t)v[2];
     double ab[2] = {b[0] - a[0], b[1] - a[1]}, ad[2] = {d[0] - a[0], d[1] - a[1]};
@@ -123,6 +128,8 @@ static double tri_energy(const sk__mips_ctx *c, size_t t, const double *uv)
 double sk__mips_ring_energy(const sk__mips_ctx *c, uint32_t v, const double *uv, const double x[2],
                           double g[2], double H[3])
 {
+    if (c->area_theta > 0.0)
+        return sk__mips_area_ring_energy(c, v, uv, x, g, H);
     double e = 0.0;
     if (g) {
         g[0] = g[1] = 0.0;

@@ -29,6 +29,7 @@ static inline bool sk__mips_corner_ok(const double x[2], const double qj[2], con
 typedef struct sk__mips_corner {
     uint32_t j, k;     /* the other two vertices, counter-clockwise */
     double ci, cj, ck; /* cotangents of the 3D angles at i, j, k */
+    double s3;         /* 1 / (2 A) of the triangle's 3D area A (the area term, mips_area.c) */
 } sk__mips_corner;
 
 /* The mesh as the optimizer sees it: triangles, 3D cotangents, per-vertex corner records. */
@@ -39,6 +40,10 @@ typedef struct sk__mips_ctx {
     uint32_t *vt_start; /* vertex -> its corner records (CSR) */
     sk__mips_corner *rec;
     uint8_t *movable;
+    double *s3;         /* per triangle 1 / (2 A) of its 3D area */
+    double area_theta;  /* exponent of the area factor (mips_area.c); 0: plain MIPS */
+    double area_k;      /* chart normalization: 3D area / uv area of the whole mesh at the start
+                           (times 4^-e after each renormalization by 2^e) */
 } sk__mips_ctx;
 
 /* Global-step state: the model's pattern and factorization and the work arrays. */
@@ -76,6 +81,18 @@ double sk__mips_total_energy_strict(const sk__mips_ctx *c, const double *uv);
 /* Rescales uv by a power of two 2^e so that the larger side of the bounding box lies in [1, 2)
  * (and moves a far-off box to the origin); returns e. */
 int sk__mips_renormalize(const sk__mips_ctx *c, double *uv);
+
+/* --- mips_area.c ----------------------------------------------------------------------------- */
+
+/* MIPS with an area term (Degener, Meseth, Klein 2003; Hormann & Greiner's later MIPS work):
+ * E_t = (sigma1/sigma2 + sigma2/sigma1) * (d + 1/d)^theta with d = det J * area_k the area scale
+ * of t relative to the whole mesh's. Sets c->area_theta and c->area_k (from uv). */
+void sk__mips_area_setup(sk__mips_ctx *c, double theta, const double *uv);
+/* (*) times the area factor of triangle t; +inf if t is not positively oriented. */
+double sk__mips_area_tri_energy(const sk__mips_ctx *c, size_t t, const double *uv);
+/* As sk__mips_ring_energy, with the area factor. */
+double sk__mips_area_ring_energy(const sk__mips_ctx *c, uint32_t v, const double *uv,
+                                 const double x[2], double g[2], double H[3]);
 
 /* --- mips_global.c ---------------------------------------------------------------------------- */
 

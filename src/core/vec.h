@@ -76,6 +76,18 @@ static inline double sk__normalize3(double a[3])
     return n;
 }
 
+/* A tangent basis of the unit normal n: e1, e2 orthonormal with e1 x e2 = n (e1 from the axis
+ * farthest from n). */
+static inline void sk__tangent_basis(const double n[3], double e1[3], double e2[3])
+{
+    double a[3] = {1, 0, 0};
+    if (fabs(n[0]) > 0.6)
+        a[0] = 0, a[1] = 1;
+    sk__cross3(e1, a, n);
+    sk__normalize3(e1);
+    sk__cross3(e2, n, e1);
+}
+
 /* Angle between a and b in [0, pi], robust near 0 and pi (atan2 of |a x b| and a.b). */
 static inline double sk__angle3(const double a[3], const double b[3])
 {

@@ -256,13 +256,9 @@ static sk_status build_cut(tol_ctx *c, uint8_t *alive, sk_mesh **out, uint32_t *
         return st;
     sk__free(m->normals);
     sk__free(m->uvs);
-    sk__free(m->wedge_uvs);
-    sk__free(m->h_wedge_uv);
     m->normals = NULL;
     m->uvs = NULL;
-    m->wedge_uvs = NULL;
-    m->h_wedge_uv = NULL;
-    m->num_wedge_uvs = 0;
+    sk_mesh_set_wedge_uvs(m, 0, NULL, NULL, NULL);
     size_t na = 0;
     for (size_t v = 0; v < c->nv; ++v)
         na += alive[v];

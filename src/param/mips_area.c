@@ -49,17 +49,9 @@ static double area_factor(double d, double theta, double *f1, double *f2)
 
 double sk__mips_area_tri_energy(const sk__mips_ctx *c, size_t t, const double *uv)
 {
-    const uint32_t *v = c->tri + 3 * t;
-    const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *d = uv + 2 * (size_t)v[2];
-    double ab[2] = {b[0] - a[0], b[1] - a[1]}, ad[2] = {d[0] - a[0], d[1] - a[1]};
-    double bd[2] = {d[0] - b[0], d[1] - b[1]};
-    double twice = sk__cross2(ab, ad);
-    if (!(twice > 0.0))
-        return INFINITY;
-    const double *ct = c->cot + 3 * t;
-    double m = (ct[0] * sk__dot2(bd, bd) + ct[1] * sk__dot2(ad, ad) + ct[2] * sk__dot2(ab, ab)) /
-               twice;
-    double f1, f2;
+    double twice, m = sk__mips_tri_terms(c, t, uv, &twice), f1, f2;
+    if (!isfinite(m))
+        return m;
     return m * area_factor(twice * c->s3[t] * c->area_k, c->area_theta, &f1, &f2);
 }
 
@@ -73,26 +65,13 @@ double sk__mips_area_ring_energy(const sk__mips_ctx *c, uint32_t v, const double
     }
     for (uint32_t i = c->vt_start[v]; i < c->vt_start[v + 1]; ++i) {
         const sk__mips_corner *r = c->rec + i;
-        const double *qj = uv + 2 * (size_t)r->j, *qk = uv + 2 * (size_t)r->k;
-        double ci = r->ci, cj = r->cj, ck = r->ck;
-        double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
-        double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
-        if (!sk__mips_corner_ok(x, qj, qk))
+        double m, b, gm[2], gb[2], hm[3];
+        if (!sk__mips_corner_terms(r, uv, x, g != NULL, &m, &b, gm, gb, hm))
             return INFINITY;
-        double b = sk__cross2(dj, dk);
-        double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
         double s = r->s3 * k, f1, f2;
-        double f = area_factor(s * b, theta, &f1, &f2), m = a / b;
+        double f = area_factor(s * b, theta, &f1, &f2);
         e += m * f;
         if (g) {
-            double ga[2] = {2.0 * (ck * dj[0] + cj * dk[0]), 2.0 * (ck * dj[1] + cj * dk[1])};
-            double gb[2] = {-jk[1], jk[0]};
-            double ha = 2.0 * (cj + ck);
-            double ib = 1.0 / b, ib2 = ib * ib, ib3 = ib2 * ib;
-            double gm[2] = {ga[0] * ib - a * gb[0] * ib2, ga[1] * ib - a * gb[1] * ib2};
-            double hm[3] = {ha * ib - 2.0 * ga[0] * gb[0] * ib2 + 2.0 * a * gb[0] * gb[0] * ib3,
-                            -(ga[0] * gb[1] + gb[0] * ga[1]) * ib2 + 2.0 * a * gb[0] * gb[1] * ib3,
-                            ha * ib - 2.0 * ga[1] * gb[1] * ib2 + 2.0 * a * gb[1] * gb[1] * ib3};
             double p = f1 * s, q = m * f2 * s * s;
             g[0] += f * gm[0] + m * p * gb[0];
             g[1] += f * gm[1] + m * p * gb[1];

@@ -107,20 +107,58 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
     return SK_OK;
 }
 
+double sk__mips_tri_terms(const sk__mips_ctx *c, size_t t, const double *uv, double *twice)
+{
+    const uint32_t *v = c->tri + 3 * t;
+    const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *d = uv + 2 * (size_t)v[2];
+    double ab[2] = {b[0] - a[0], b[1] - a[1]}, ad[2] = {d[0] - a[0], d[1] - a[1]};
+    double bd[2] = {d[0] - b[0], d[1] - b[1]};
+    *twice = sk__cross2(ab, ad);
+    if (!(*twice > 0.0))
+        return INFINITY;
+    const double *ct = c->cot + 3 * t;
+    return (ct[0] * sk__dot2(bd, bd) + ct[1] * sk__dot2(ad, ad) + ct[2] * sk__dot2(ab, ab)) /
+           *twice;
+}
+
 /* Energy (*) of triangle t; +inf if its parameter triangle is not positively oriented. */
 static double tri_energy(const sk__mips_ctx *c, size_t t, const double *uv)
 {
     if (c->area_theta > 0.0)
         return sk__mips_area_tri_energy(c, t, uv);
-    const uint32_t *v = c->tri + 3 * t;
-    const double *a = uv + 2 * (size_t)v[0], *b = uv + 2 * (size_t)v[1], *d = uv + 2 * (size_t)v[2];
-    double ab[2] = {b[0] - a[0], b[1] - a[1]}, ad[2] = {d[0] - a[0], d[1] - a[1]};
-    double bd[2] = {d[0] - b[0], d[1] - b[1]};
-    double twice = sk__cross2(ab, ad);
-    if (!(twice > 0.0))
-        return INFINITY;
-    const double *ct = c->cot + 3 * t;
-    return (ct[0] * sk__dot2(bd, bd) + ct[1] * sk__dot2(ad, ad) + ct[2] * sk__dot2(ab, ab)) / twice;
+    double twice;
+    return sk__mips_tri_terms(c, t, uv, &twice);
+}
+
+bool sk__mips_corner_terms(const sk__mips_corner *r, const double *uv, const double x[2],
+                           bool derivs, double *m, double *b, double gm[2], double gb[2],
+                           double hm[3])
+{
+    const double *qj = uv + 2 * (size_t)r->j, *qk = uv + 2 * (size_t)r->k;
+    double ci = r->ci, cj = r->cj, ck = r->ck;
+    double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
+    double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
+    /* b = 2 A_uv = (qj - x) x (qk - x), linear in x with gradient perp(qk - qj) */
+    if (!sk__mips_corner_ok(x, qj, qk))
+        return false;
+    *b = sk__cross2(dj, dk);
+    /* a = ck |x - qj|^2 + cj |x - qk|^2 + ci |qj - qk|^2 (edge opposite each corner) */
+    double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
+    *m = a / *b;
+    if (!derivs)
+        return true;
+    double ga[2] = {2.0 * (ck * dj[0] + cj * dk[0]), 2.0 * (ck * dj[1] + cj * dk[1])};
+    gb[0] = -jk[1];
+    gb[1] = jk[0];
+    double ha = 2.0 * (cj + ck);
+    double ib = 1.0 / *b, ib2 = ib * ib, ib3 = ib2 * ib;
+    gm[0] = ga[0] * ib - a * gb[0] * ib2;
+    gm[1] = ga[1] * ib - a * gb[1] * ib2;
+    /* H = Ha / b - (ga gb^T + gb ga^T) / b^2 + 2 a gb gb^T / b^3 */
+    hm[0] = ha * ib - 2.0 * ga[0] * gb[0] * ib2 + 2.0 * a * gb[0] * gb[0] * ib3;
+    hm[1] = -(ga[0] * gb[1] + gb[0] * ga[1]) * ib2 + 2.0 * a * gb[0] * gb[1] * ib3;
+    hm[2] = ha * ib - 2.0 * ga[1] * gb[1] * ib2 + 2.0 * a * gb[1] * gb[1] * ib3;
+    return true;
 }
 
 /* Sum of (*) over the triangles around v with v at position x; +inf outside the kernel.
@@ -136,29 +174,16 @@ double sk__mips_ring_energy(const sk__mips_ctx *c, uint32_t v, const double *uv,
         H[0] = H[1] = H[2] = 0.0;
     }
     for (uint32_t i = c->vt_start[v]; i < c->vt_start[v + 1]; ++i) {
-        const sk__mips_corner *r = c->rec + i;
-        const double *qj = uv + 2 * (size_t)r->j, *qk = uv + 2 * (size_t)r->k;
-        double ci = r->ci, cj = r->cj, ck = r->ck;
-        double dj[2] = {x[0] - qj[0], x[1] - qj[1]}, dk[2] = {x[0] - qk[0], x[1] - qk[1]};
-        double jk[2] = {qk[0] - qj[0], qk[1] - qj[1]};
-        /* b = 2 A_uv = (qj - x) x (qk - x), linear in x with gradient perp(qk - qj) */
-        if (!sk__mips_corner_ok(x, qj, qk))
+        double m, b, gm[2], gb[2], hm[3];
+        if (!sk__mips_corner_terms(c->rec + i, uv, x, g != NULL, &m, &b, gm, gb, hm))
             return INFINITY;
-        double b = sk__cross2(dj, dk);
-        /* a = ck |x - qj|^2 + cj |x - qk|^2 + ci |qj - qk|^2 (edge opposite each corner) */
-        double a = ck * sk__dot2(dj, dj) + cj * sk__dot2(dk, dk) + ci * sk__dot2(jk, jk);
-        e += a / b;
+        e += m;
         if (g) {
-            double ga[2] = {2.0 * (ck * dj[0] + cj * dk[0]), 2.0 * (ck * dj[1] + cj * dk[1])};
-            double gb[2] = {-jk[1], jk[0]};
-            double ha = 2.0 * (cj + ck);
-            double ib = 1.0 / b, ib2 = ib * ib, ib3 = ib2 * ib;
-            g[0] += ga[0] * ib - a * gb[0] * ib2;
-            g[1] += ga[1] * ib - a * gb[1] * ib2;
-            /* H = Ha / b - (ga gb^T + gb ga^T) / b^2 + 2 a gb gb^T / b^3 */
-            H[0] += ha * ib - 2.0 * ga[0] * gb[0] * ib2 + 2.0 * a * gb[0] * gb[0] * ib3;
-            H[1] += -(ga[0] * gb[1] + gb[0] * ga[1]) * ib2 + 2.0 * a * gb[0] * gb[1] * ib3;
-            H[2] += ha * ib - 2.0 * ga[1] * gb[1] * ib2 + 2.0 * a * gb[1] * gb[1] * ib3;
+            g[0] += gm[0];
+            g[1] += gm[1];
+            H[0] += hm[0];
+            H[1] += hm[1];
+            H[2] += hm[2];
         }
     }
     return e;

@@ -87,6 +87,17 @@ int sk__mips_renormalize(const sk__mips_ctx *c, double *uv);
 /* MIPS with an area term (Degener, Meseth, Klein 2003; Hormann & Greiner's later MIPS work):
  * E_t = (sigma1/sigma2 + sigma2/sigma1) * (d + 1/d)^theta with d = det J * area_k the area scale
  * of t relative to the whole mesh's. Sets c->area_theta and c->area_k (from uv). */
+/* (*) of triangle t, M = (sum of cot-weighted squared uv edges) / 2 A_uv, and *twice = 2 A_uv;
+ * +inf when the uv triangle is not positively oriented (mips_energy.c). */
+double sk__mips_tri_terms(const sk__mips_ctx *c, size_t t, const double *uv, double *twice);
+
+/* One corner record of a ring with the moving vertex at x: M = a / b of its triangle and b = 2 A_uv,
+ * and (derivs) the gradient gm and Hessian hm of M and the gradient gb of b in x. False outside
+ * the kernel (sk__mips_corner_ok). */
+bool sk__mips_corner_terms(const sk__mips_corner *r, const double *uv, const double x[2],
+                           bool derivs, double *m, double *b, double gm[2], double gb[2],
+                           double hm[3]);
+
 void sk__mips_area_setup(sk__mips_ctx *c, double theta, const double *uv);
 /* (*) times the area factor of triangle t; +inf if t is not positively oriented. */
 double sk__mips_area_tri_energy(const sk__mips_ctx *c, size_t t, const double *uv);

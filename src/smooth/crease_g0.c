@@ -119,12 +119,8 @@ size_t sk__crease_split_sectors(sk_mesh *m, const uint8_t *crease)
             if (k != 2 || w == v || has_edge(m, v, w) || face_count(m, a) <= 2 ||
                 face_count(m, b) <= 2)
                 continue;
-            if (flips == 0) { /* per-corner uvs do not survive a flip (not used by VC1) */
-                sk__free(m->h_wedge_uv);
-                sk__free(m->wedge_uvs);
-                m->h_wedge_uv = NULL;
-                m->wedge_uvs = NULL;
-                m->num_wedge_uvs = 0;
+            if (flips == 0) { /* per-corner values do not survive a flip (not used by VC1) */
+                sk_mesh_set_wedge_uvs(m, 0, NULL, NULL, NULL);
                 sk_mesh_set_wedge_normals(m, 0, NULL, NULL, NULL);
             }
             sk__flip_edge(m, third);
@@ -488,17 +484,6 @@ size_t sk__crease_tangent_ratios(sk__vc1_work *W, double *r, double *target)
     return conflicts;
 }
 
-/* tangent basis e1, e2 with e1 x e2 = n */
-static void tangent_basis(const double n[3], double e1[3], double e2[3])
-{
-    double a[3] = {1, 0, 0};
-    if (fabs(n[0]) > 0.6)
-        a[0] = 0, a[1] = 1;
-    sk__cross3(e1, a, n);
-    sk__normalize3(e1);
-    sk__cross3(e2, n, e1);
-}
-
 static int bad_angles(const sk__vsys *q, double alpha)
 {
     double lo, hi;
@@ -566,7 +551,7 @@ int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, doub
         const uint32_t *E = L + S[s].first;
         const double *nrm = W->cn + 3 * (size_t)E[0]; /* face(E[0]) is in the sector */
         double e1[3], e2[3], orig[2 * SK_VSYS_MAX];
-        tangent_basis(nrm, e1, e2);
+        sk__tangent_basis(nrm, e1, e2);
         q.n_edges = n;
         q.closed = 0;
         q.fixed_first = S[s].fix_first;

@@ -178,13 +178,10 @@ sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, cons
         sk__free(queued);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory improving the triangulation");
     }
-    /* per-corner uvs do not survive a flip (the VC1 construction does not use them): dropped */
-    sk__free(m->h_wedge_uv);
-    sk__free(m->wedge_uvs);
-    m->h_wedge_uv = NULL;
-    m->wedge_uvs = NULL;
-    m->num_wedge_uvs = 0;
-    sk_mesh_set_wedge_normals(m, 0, NULL, NULL, NULL); /* nor do per-corner normals */
+    /* per-corner uvs and normals do not survive a flip (the VC1 construction reads the corner
+     * normals before, through the creases): dropped */
+    sk_mesh_set_wedge_uvs(m, 0, NULL, NULL, NULL);
+    sk_mesh_set_wedge_normals(m, 0, NULL, NULL, NULL);
     size_t top = 0;
     for (size_t e = ne; e-- > 0;) {
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, (uint32_t)e)) {

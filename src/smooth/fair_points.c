@@ -318,12 +318,8 @@ static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uin
     if (n < 2 || !gather(m, v, S))
         return false;
     const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
-    double e[2][3], a0[3] = {1, 0, 0};
-    if (fabs(nv[0]) > 0.6)
-        a0[0] = 0, a0[1] = 1;
-    sk__cross3(e[0], a0, nv);
-    sk__normalize3(e[0]);
-    sk__cross3(e[1], nv, e[0]);
+    double e[2][3];
+    sk__tangent_basis(nv, e[0], e[1]);
     double p[2 * SK_VSYS_MAX], t[2 * SK_VSYS_MAX], off[3 * SK_VSYS_MAX];
     for (int k = 0; k < n; ++k) {
         double d[3];

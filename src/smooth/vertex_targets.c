@@ -7,17 +7,6 @@
 
 #include <string.h>
 
-/* Tangent basis e1, e2 with e1 x e2 = n. */
-static void tangent_basis(const double n[3], double e1[3], double e2[3])
-{
-    double a[3] = {1, 0, 0};
-    if (fabs(n[0]) > 0.6)
-        a[0] = 0, a[1] = 1;
-    sk__cross3(e1, a, n);
-    sk__normalize3(e1);
-    sk__cross3(e2, n, e1);
-}
-
 int sk__vc1_ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed)
 {
     uint32_t h0 = m->v_halfedge[v];
@@ -80,7 +69,7 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
     sys->fixed_first = sys->fixed_last = 0;
     const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
     double e1[3], e2[3];
-    tangent_basis(nv, e1, e2);
+    sk__tangent_basis(nv, e1, e2);
     sys->n_edges = n;
     sys->closed = closed;
     sys->relaxed = blend > 0.0 || lscale != 1.0;

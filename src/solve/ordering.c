@@ -17,6 +17,8 @@
 
 /* Parts of at most this many points are not split further (their fill is negligible). */
 #define SK_ND_LEAF 256
+/* Candidate cut planes per direction (see plane_position). */
+#define SK_ND_BINS 256
 
 typedef struct nd_ctx {
     const double *xyz;   /* 3 per point */
@@ -27,6 +29,8 @@ typedef struct nd_ctx {
     double *key;         /* scratch, per point of the current part */
     uint32_t *tmp;       /* scratch, per point of the current part */
     uint32_t *level;     /* per point: breadth-first level */
+    uint16_t *first;     /* SK_ND_DIRECTIONS per point: its first plane above (plane_positions) */
+    size_t *hist;        /* 2 SK_ND_DIRECTIONS (SK_ND_BINS + 1) counts: points, cut edges */
     int *cmember;        /* per point: its constraint set (leaf or separator, postorder) */
     int ncomp;
 } nd_ctx;
@@ -114,27 +118,142 @@ static void mark_touching(nd_ctx *c, const uint32_t *v, uint8_t *flag, size_t n,
     }
 }
 
-/* The split directions: the three axes and the four diagonals of the cube. */
-#define SK_ND_DIRECTIONS 7
-static double along(const double *p, int dir)
+/* The split directions: the part's principal axis and the three coordinate axes. */
+#define SK_ND_DIRECTIONS 4
+static double along(const double *p, const double *d)
 {
-    static const double d[SK_ND_DIRECTIONS][3] = {
-        {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
-    return d[dir][0] * p[0] + d[dir][1] * p[1] + d[dir][2] * p[2];
+    return d[0] * p[0] + d[1] * p[1] + d[2] * p[2];
 }
 
-static size_t split(nd_ctx *c, const uint32_t *v, uint8_t *flag, size_t n, int dir, bool find,
-                    double *med, size_t touch[2])
+/* The principal axis of the part's points (largest eigenvector of their covariance, by power
+ * iteration from the longest bounding-box axis). */
+static void principal_axis(const nd_ctx *c, const uint32_t *v, size_t n, double d[3])
 {
-    if (find) {
-        /* median by selection on a copy of the keys (v keeps its order) */
-        for (size_t i = 0; i < n; ++i) {
-            c->key[i] = along(c->xyz + 3 * (size_t)v[i], dir);
-            c->tmp[i] = v[i];
-        }
-        select_kth(c->tmp, c->key, n, n / 2);
-        *med = c->key[n / 2];
+    double mean[3] = {0, 0, 0}, cov[6] = {0, 0, 0, 0, 0, 0}, lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = INFINITY;
+        hi[k] = -INFINITY;
     }
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+            double x = c->xyz[3 * (size_t)v[i] + k];
+            mean[k] += x;
+            lo[k] = fmin(lo[k], x);
+            hi[k] = fmax(hi[k], x);
+        }
+    for (int k = 0; k < 3; ++k)
+        mean[k] /= (double)n;
+    for (size_t i = 0; i < n; ++i) {
+        const double *p = c->xyz + 3 * (size_t)v[i];
+        double x = p[0] - mean[0], y = p[1] - mean[1], z = p[2] - mean[2];
+        cov[0] += x * x;
+        cov[1] += x * y;
+        cov[2] += x * z;
+        cov[3] += y * y;
+        cov[4] += y * z;
+        cov[5] += z * z;
+    }
+    int axis = hi[1] - lo[1] > hi[0] - lo[0] ? 1 : 0;
+    axis = hi[2] - lo[2] > hi[axis] - lo[axis] ? 2 : axis;
+    d[0] = axis == 0;
+    d[1] = axis == 1;
+    d[2] = axis == 2;
+    for (int it = 0; it < 30; ++it) {
+        double e[3] = {cov[0] * d[0] + cov[1] * d[1] + cov[2] * d[2],
+                       cov[1] * d[0] + cov[3] * d[1] + cov[4] * d[2],
+                       cov[2] * d[0] + cov[4] * d[1] + cov[5] * d[2]};
+        double len = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        if (!(len > 0))
+            return;
+        for (int k = 0; k < 3; ++k)
+            d[k] = e[k] / len;
+    }
+}
+
+/* Where to cut the part v[0..n) across each of the SK_ND_DIRECTIONS directions dirs (one pass
+ * over the part's edges for all of them): of SK_ND_BINS planes evenly spaced over the part's
+ * extent, the one between its 35% and 65% quantiles that cuts the fewest edges of the part
+ * relative to its balance (cut edges / (4 nl nr / n^2): a cut through a sparser region of a
+ * non-uniform mesh beats the median's). at[d]: the plane's position, score[d] its score
+ * (INFINITY when no plane is in that range; at[d] is the median then). */
+static void plane_positions(nd_ctx *c, const uint32_t *v, size_t n,
+                            double dirs[SK_ND_DIRECTIONS][3], double at[SK_ND_DIRECTIONS],
+                            double score[SK_ND_DIRECTIONS])
+{
+    enum { D = SK_ND_DIRECTIONS, B = SK_ND_BINS };
+    uint32_t part = c->stamp++;
+    double lo[D], h[D];
+    for (int d = 0; d < D; ++d) {
+        lo[d] = INFINITY;
+        h[d] = -INFINITY; /* the largest key, then the spacing */
+    }
+    for (size_t i = 0; i < n; ++i) {
+        c->label[v[i]] = part;
+        for (int d = 0; d < D; ++d) {
+            double x = along(c->xyz + 3 * (size_t)v[i], dirs[d]);
+            lo[d] = fmin(lo[d], x);
+            h[d] = fmax(h[d], x);
+        }
+    }
+    for (int d = 0; d < D; ++d)
+        h[d] = (h[d] - lo[d]) / B;
+    /* plane j at lo + j h (j = 1..B - 1); first[p]: the first plane above p; below[j]: the
+     * points whose first plane is j; cut[j] by differences: an edge is cut by the planes from
+     * its lower end's first plane up to (not including) its upper end's */
+    uint16_t *first = c->first;
+    size_t(*below)[B + 1] = (size_t(*)[B + 1])c->hist, (*cut)[B + 1] = below + D;
+    memset(c->hist, 0, 2 * D * (B + 1) * sizeof *c->hist);
+    for (size_t i = 0; i < n; ++i)
+        for (int d = 0; d < D; ++d) {
+            double x = along(c->xyz + 3 * (size_t)v[i], dirs[d]);
+            double f = h[d] > 0 ? floor((x - lo[d]) / h[d]) + 1 : 1;
+            first[D * (size_t)v[i] + d] = f < 1 ? 1 : f > B ? B : (uint16_t)f;
+        }
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t p = v[i];
+        const uint16_t *fp = first + D * (size_t)p;
+        for (int d = 0; d < D; ++d)
+            below[d][fp[d]]++;
+        for (size_t e = c->adj_ptr[p]; e < c->adj_ptr[p + 1]; ++e) {
+            uint32_t q = c->adj[e];
+            if (c->label[q] != part)
+                continue;
+            const uint16_t *fq = first + D * (size_t)q;
+            for (int d = 0; d < D; ++d)
+                if (fq[d] > fp[d]) {
+                    cut[d][fp[d]]++;
+                    cut[d][fq[d]]--;
+                }
+        }
+    }
+    for (int d = 0; d < D; ++d) {
+        score[d] = INFINITY;
+        size_t nl = 0, nc = 0;
+        for (size_t j = 1; j < B; ++j) {
+            nl += below[d][j];
+            nc += cut[d][j];
+            if (20 * nl < 7 * n || 20 * nl > 13 * n)
+                continue;
+            double sc = (double)nc * (double)n * (double)n / (4.0 * (double)nl * (double)(n - nl));
+            if (sc < score[d]) {
+                score[d] = sc;
+                at[d] = lo[d] + (double)j * h[d];
+            }
+        }
+        if (score[d] == INFINITY) { /* the median by selection */
+            for (size_t i = 0; i < n; ++i) {
+                c->key[i] = along(c->xyz + 3 * (size_t)v[i], dirs[d]);
+                c->tmp[i] = v[i];
+            }
+            select_kth(c->tmp, c->key, n, n / 2);
+            at[d] = c->key[n / 2];
+        }
+    }
+}
+
+static size_t split(nd_ctx *c, const uint32_t *v, uint8_t *flag, size_t n, const double *dir,
+                    const double *med, size_t touch[2])
+{
     size_t below = 0;
     for (size_t i = 0; i < n; ++i)
         below += along(c->xyz + 3 * (size_t)v[i], dir) < *med;
@@ -199,21 +318,21 @@ static void nested_dissection(nd_ctx *c, uint32_t *v, uint8_t *flag, size_t n, i
         emit(c, v, n);
         return;
     }
-    /* the split direction: the one with the smallest separator */
-    int best = -1;
-    size_t best_size = SIZE_MAX;
-    double best_med = 0;
-    for (int dir = 0; dir < SK_ND_DIRECTIONS; ++dir) {
-        double med;
-        size_t touch[2];
-        size_t nleft = split(c, v, flag, n, dir, true, &med, touch);
-        size_t size = touch[0] < touch[1] ? touch[0] : touch[1];
-        if (nleft > 0 && nleft < n && size < best_size) {
-            best_size = size;
-            best = dir;
-            best_med = med;
-        }
-    }
+    /* the split direction: the one whose plane scores best */
+    double dirs[SK_ND_DIRECTIONS][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    principal_axis(c, v, n, dirs[0]);
+    double at[SK_ND_DIRECTIONS], score[SK_ND_DIRECTIONS];
+    plane_positions(c, v, n, dirs, at, score);
+    int best = 0;
+    for (int d = 1; d < SK_ND_DIRECTIONS; ++d)
+        if (score[d] < score[best])
+            best = d;
+    double best_med = at[best];
+    size_t touch[2];
+    size_t nleft = split(c, v, flag, n, dirs[best], &best_med, touch);
+    size_t best_size = touch[0] < touch[1] ? touch[0] : touch[1];
+    if (nleft == 0 || nleft == n)
+        best = -1;
     if (best < 0) { /* every point at one spot */
         emit(c, v, n);
         return;
@@ -221,13 +340,13 @@ static void nested_dissection(nd_ctx *c, uint32_t *v, uint8_t *flag, size_t n, i
     /* and breadth-first levels from the extreme point along the best direction */
     uint32_t start = v[0];
     for (size_t i = 1; i < n; ++i)
-        if (along(c->xyz + 3 * (size_t)v[i], best) < along(c->xyz + 3 * (size_t)start, best))
+        if (along(c->xyz + 3 * (size_t)v[i], dirs[best]) <
+            along(c->xyz + 3 * (size_t)start, dirs[best]))
             start = v[i];
-    size_t touch[2];
-    size_t nleft = split_bfs(c, v, flag, n, start, touch);
+    nleft = split_bfs(c, v, flag, n, start, touch);
     size_t size = touch[0] < touch[1] ? touch[0] : touch[1];
     if (!(nleft > 0 && nleft < n && size < best_size))
-        split(c, v, flag, n, best, false, &best_med, touch);
+        split(c, v, flag, n, dirs[best], &best_med, touch);
     /* the separator: the touching points of the side with fewer of them; the others rejoin
      * their side */
     uint8_t sep = touch[0] <= touch[1] ? 2 : 3;
@@ -347,7 +466,9 @@ static sk_status dissect(const double *xyz, size_t np, const size_t *ptr, const 
     double *key = sk__malloc_array(np ? np : 1, sizeof *key);
     uint32_t *tmp = sk__malloc_array(np ? np : 1, sizeof *tmp);
     uint32_t *level = sk__malloc_array(np ? np : 1, sizeof *level);
-    if (!v || !label || !flag || !key || !tmp || !level) {
+    uint16_t *first = sk__malloc_array(np ? SK_ND_DIRECTIONS * np : 1, sizeof *first);
+    size_t hist[2 * SK_ND_DIRECTIONS * (SK_ND_BINS + 1)];
+    if (!v || !label || !flag || !key || !tmp || !level || !first) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory for an ordering");
         goto done;
     }
@@ -358,7 +479,7 @@ static sk_status dissect(const double *xyz, size_t np, const size_t *ptr, const 
             goto done;
         }
     }
-    nd_ctx c = {xyz, ptr, adj, label, 1, key, tmp, level, cmember, 0};
+    nd_ctx c = {xyz, ptr, adj, label, 1, key, tmp, level, first, hist, cmember, 0};
     nested_dissection(&c, v, flag, np, 0);
 done:
     sk__free(v);
@@ -367,6 +488,7 @@ done:
     sk__free(key);
     sk__free(tmp);
     sk__free(level);
+    sk__free(first);
     return st;
 }
 

@@ -53,6 +53,7 @@ typedef struct run_info {
     sk_triangulate_stats tri;
     sk_parametrize_stats ps;
     sk_param_metrics pm;
+    double read_seconds, metrics_seconds, write_seconds; /* the process's own stages */
 } run_info;
 
 static void write_json(FILE *fp, const void *ctx)
@@ -83,12 +84,15 @@ static void write_json(FILE *fp, const void *ctx)
         json_kuint(&j, "interior", ps->interior);
         json_key(&j, "stage_seconds");
         json_obj_open(&j);
+        json_knum(&j, "read", r->read_seconds);
         json_knum(&j, "check", ps->check_seconds);
         json_knum(&j, "boundary", ps->boundary_seconds);
         json_knum(&j, "weights_and_assembly", ps->weights_seconds);
         json_knum(&j, "analyse", ps->solve.analyse_seconds);
         json_knum(&j, "factor", ps->solve.factor_seconds);
         json_knum(&j, "solve", ps->solve.solve_seconds);
+        json_knum(&j, "metrics", r->metrics_seconds);
+        json_knum(&j, "write", r->write_seconds);
         json_obj_close(&j);
         json_key(&j, "solver");
         json_obj_open(&j);
@@ -303,7 +307,7 @@ static void print_summary(const void *ctx)
 }
 
 /* The disk path: one sk_parametrize call, metrics, output, pictures. */
-static int run_disk(param_args *a, sk_mesh *input)
+static int run_disk(param_args *a, sk_mesh *input, double read_seconds)
 {
     cli_progress bar;
     cli_progress_init(&bar, "param", a->quiet);
@@ -314,6 +318,7 @@ static int run_disk(param_args *a, sk_mesh *input)
     memset(&r, 0, sizeof r);
     r.in = a->in;
     r.tri = a->tri;
+    r.read_seconds = read_seconds;
     double *uv = calloc(2 * input->num_vertices + 1, sizeof *uv);
     sk_status st = uv ? sk_parametrize(input, &a->po, uv, &r.ps, &err) : SK_ERR_NOMEM;
     if (!uv)
@@ -331,10 +336,14 @@ static int run_disk(param_args *a, sk_mesh *input)
     }
     if (st == SK_OK && !r.ps.split_mesh && !(st = sk_mesh_add_uvs(mesh, &err)))
         memcpy(mesh->uvs, uv, 2 * mesh->num_vertices * sizeof *uv);
+    double t0 = sk_seconds();
     if (st == SK_OK)
         st = sk_param_metrics_compute(mesh, mesh->uvs, &r.pm, &err);
+    double t1 = sk_seconds();
     if (st == SK_OK)
         st = sk_mesh_write(a->out, mesh, &a->wo, &err);
+    r.metrics_seconds = t1 - t0;
+    r.write_seconds = sk_seconds() - t1;
     char title[256];
     if (st == SK_OK) {
         snprintf(title, sizeof title, "%s: %s, %s boundary, MIPS mean %.4f, flipped %zu", a->in,
@@ -368,7 +377,7 @@ int cmd_param(int argc, char **argv)
         sk_error derr;
         a.atlas = sk_param_check_disk(mesh, &derr) != SK_OK;
     }
-    rc = a.atlas ? param_run_atlas(&a, mesh, t_read) : run_disk(&a, mesh);
+    rc = a.atlas ? param_run_atlas(&a, mesh, t_read) : run_disk(&a, mesh, t_read);
     sk_mesh_destroy(&mesh);
     return rc;
 }

@@ -110,7 +110,8 @@ typedef struct sk_solver_opts {
  * expanded so that a point's unknowns stay together (for LSCM's interleaved u, v: half the
  * graph, wider supernodes). method: SK_ORDERING_METIS, SK_ORDERING_AMD, or
  * SK_ORDERING_GEOMETRIC: nested dissection with plane / breadth-first separators of the points
- * xyz (3 coordinates per point; split where the separator is smallest, separators last), the
+ * xyz (3 coordinates per point; planes across the part's principal or a coordinate axis, placed
+ * where they cut fewest edges for their balance; separators last), the
  * order within each part and separator by constrained minimum degree (CAMD). perm gets a->n
  * entries, for SK_ORDERING_GIVEN. xyz may be NULL unless geometric. */
 SK_API sk_status sk_sparse_point_ordering(const sk_sparse *a, unsigned dim, const double *xyz,

@@ -277,9 +277,18 @@ static unsigned interior_slot(int corners, int k)
     return sk_tensor_index(3, inner[k][0], inner[k][1]);
 }
 
+/* the interior slots of a control net with `corners` corners, as bits */
+static unsigned interior_mask(int corners)
+{
+    unsigned mask = 0;
+    for (int k = 0; k < corners; ++k)
+        mask |= 1u << interior_slot(corners, k);
+    return mask;
+}
+
 /* out = the local patches after a change of v's tangents, minus S->base: system (4) again at v
  * and its neighbours; the faces around v assembled again, the others differ from base only in
- * their interior points (their sides do not touch v), the rest of them is exactly zero. */
+ * their interior points (their sides do not touch v: exactly zero there, left unwritten). */
 static void local_difference(sk__vc1_work *W, const fair_scratch *S, double *out)
 {
     const sk_mesh *m = W->m;
@@ -294,7 +303,6 @@ static void local_difference(sk__vc1_work *W, const fair_scratch *S, double *out
                 o[x] -= b[x];
             continue;
         }
-        memset(o, 0, 48 * sizeof(double));
         uint32_t h = m->f_halfedge[S->faces[i]];
         for (int k = 0; k < S->corners[i]; ++k, h = m->h_next[h]) {
             unsigned slot = interior_slot(S->corners[i], k);
@@ -399,7 +407,10 @@ static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uin
     for (size_t i = 0; i < S->nfaces; ++i) {
         int nc = S->corners[i] == 3 ? 15 : 16, idx[16], ni = 0;
         const double *Q = nc == 15 ? qt : qq, *b0 = S->base + 48 * i;
+        unsigned cand = i < S->nfaces_v ? 0xffffu : interior_mask(S->corners[i]);
         for (int c = 0; c < nc; ++c) {
+            if (!(cand >> c & 1u))
+                continue; /* exactly zero in every direction (local_difference) */
             bool nz = false;
             for (int a = 0; a < 4 && !nz; ++a) {
                 const double *J = S->dir[a] + 48 * i + 3 * c;

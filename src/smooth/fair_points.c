@@ -26,6 +26,14 @@
  * map keeps the winding only while det(I + D) > 0) is halved until it keeps them, else skipped.
  * The VC1 property holds exactly after every step: (8) and (4) are met by construction.
  *
+ * Cost of a step: the four directions are found by moving the tangents and solving system (4)
+ * again at the vertex and its neighbours; only the patches around the vertex are assembled again,
+ * those around a neighbour differ only in their interior points (their sides do not touch the
+ * vertex), and the rest of their nets is never written nor read (exact zeros; the normal equations
+ * run over the nonzero rows). The patches as they stand are taken from W (system (4) is kept
+ * solved after every step). The same arithmetic as assembling every patch whole: the control nets
+ * are byte-identical to that.
+ *
  * The energy matrices are built from Bernstein integrals by Gauss quadrature (exact: the
  * integrands are polynomials of degree 4 on the triangle, 2 x 6 on the square), not from the
  * printed formulas (which divide by zero at n = 4, see the papers' errata). For the triangle the

@@ -88,25 +88,28 @@ static bool matched_edge(const sk_mesh *m, const uint8_t *mflag, uint32_t a, uin
     return h != SK_INVALID && mflag[sk_edge(h)];
 }
 
-/* Reduce Path on the vertex list p[0..n): returns the new length. */
+/* Reduce Path on the vertex list p[0..n): returns the new length. where (per vertex, SK_INVALID
+ * on entry and on return): the position of a vertex in the kept part (paths at 1M triangles are
+ * long enough that a linear scan for loops was most of the edge deletion). */
 static size_t reduce_path(const sk_mesh *m, const uint8_t *forbid, const uint8_t *mflag,
-                          uint32_t *p, size_t n, size_t *reductions)
+                          uint32_t *p, size_t n, uint32_t *where, size_t *reductions)
 {
     /* (1) loops: keep the first occurrence, drop everything up to the last occurrence */
     size_t k = 0;
     for (size_t i = 0; i < n; ++i) {
-        uint32_t v = p[i];
-        size_t j;
-        for (j = 0; j < k; ++j) /* paths are short; a linear scan beats a hash */
-            if (p[j] == v)
-                break;
-        if (j < k) {
+        uint32_t v = p[i], j = where[v];
+        if (j != SK_INVALID) {
+            for (size_t t = j + 1; t < k; ++t)
+                where[p[t]] = SK_INVALID;
             k = j + 1; /* cut the loop p[j] .. p[i] */
             ++*reductions;
             continue;
         }
+        where[v] = (uint32_t)k;
         p[k++] = v;
     }
+    for (size_t t = 0; t < k; ++t)
+        where[p[t]] = SK_INVALID;
     n = k;
     /* (2) two consecutive edges of one triangle -> its third edge */
     k = 0;
@@ -771,10 +774,13 @@ static sk_status reduce_paths(ed_state *S, sk_error *err)
 {
     const sk_mesh *m = S->m;
     const path_store *ps = &S->ps;
+    uint32_t *where = S->queue; /* free by now (the parity check's and the matching's queue) */
+    for (size_t v = 0; v < S->nv; ++v)
+        where[v] = SK_INVALID;
     for (size_t p = 0; p < ps->np; ++p) {
         uint32_t *pv = ps->v + ps->start[p];
         size_t n = reduce_path(m, S->forbid, S->mflag, pv, ps->start[p + 1] - ps->start[p],
-                               &S->st.reductions);
+                               where, &S->st.reductions);
         for (size_t i = 0; i + 1 < n; ++i) {
             uint32_t h = sk__find_halfedge(m, pv[i], pv[i + 1]);
             if (h == SK_INVALID)

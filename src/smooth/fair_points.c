@@ -26,6 +26,14 @@
  * map keeps the winding only while det(I + D) > 0) is halved until it keeps them, else skipped.
  * The VC1 property holds exactly after every step: (8) and (4) are met by construction.
  *
+ * Cost of a step: the four directions are found by moving the tangents and solving system (4)
+ * again at the vertex and its neighbours; only the patches around the vertex are assembled again,
+ * those around a neighbour differ only in their interior points (their sides do not touch the
+ * vertex), and the rest of their nets is never written nor read (exact zeros; the normal equations
+ * run over the nonzero rows). The patches as they stand are taken from W (system (4) is kept
+ * solved after every step). The same arithmetic as assembling every patch whole: the control nets
+ * are byte-identical to that.
+ *
  * The energy matrices are built from Bernstein integrals by Gauss quadrature (exact: the
  * integrands are polynomials of degree 4 on the triangle, 2 x 6 on the square), not from the
  * printed formulas (which divide by zero at n = 4, see the papers' errata). For the triangle the
@@ -190,6 +198,7 @@ typedef struct fair_scratch {
     uint32_t faces[FAIR_LOCAL_FACES];
     int corners[FAIR_LOCAL_FACES];
     size_t nfaces;
+    size_t nfaces_v; /* faces[0 .. nfaces_v) are the faces around v (gathered first) */
     double base[FAIR_LOCAL_FACES * 48];
     double dir[4][FAIR_LOCAL_FACES * 48];
     double savedC[FAIR_LOCAL_VERTS][3 * SK_VSYS_MAX];
@@ -219,6 +228,8 @@ static bool gather_marked(const sk_mesh *m, uint32_t v, fair_scratch *S)
         h = sk_cw_out(m, h);
     } while (h != h0);
     for (size_t i = 0; i < S->nverts; ++i) {
+        if (i == 1)
+            S->nfaces_v = S->nfaces;
         uint32_t g0 = m->v_halfedge[S->verts[i]], g = g0;
         int deg = 0;
         do {
@@ -235,6 +246,8 @@ static bool gather_marked(const sk_mesh *m, uint32_t v, fair_scratch *S)
             g = sk_cw_out(m, g);
         } while (g != g0);
     }
+    if (S->nverts == 1)
+        S->nfaces_v = S->nfaces;
     return true;
 }
 
@@ -254,12 +267,57 @@ static void save_restore_C(sk__vc1_work *W, fair_scratch *S, bool restore)
     }
 }
 
-static void assemble_local(sk__vc1_work *W, const fair_scratch *S, double *out)
+/* The local patches as they stand (W->C is kept consistent with W->P: system (4) of every star
+ * is solved again after each step, so it need not be solved here). */
+static void assemble_local(const sk__vc1_work *W, const fair_scratch *S, double *out)
 {
-    for (size_t i = 0; i < S->nverts; ++i)
-        sk__vc1_interior_points(W, S->verts[i]);
     for (size_t i = 0; i < S->nfaces; ++i)
         sk__vc1_assemble_patch(W, S->faces[i], out + 48 * i);
+}
+
+/* Position in face f's control net of the interior point W->C[h] of its k-th half-edge h (the
+ * layout of sk__vc1_assemble_patch). */
+static unsigned interior_slot(int corners, int k)
+{
+    static const unsigned inner[4][2] = {{1, 1}, {2, 1}, {2, 2}, {1, 2}};
+    if (corners == 3)
+        return k == 0 ? sk_tri_index(4, 1, 1) : k == 1 ? sk_tri_index(4, 2, 1) : sk_tri_index(4, 1, 2);
+    return sk_tensor_index(3, inner[k][0], inner[k][1]);
+}
+
+/* the interior slots of a control net with `corners` corners, as bits */
+static unsigned interior_mask(int corners)
+{
+    unsigned mask = 0;
+    for (int k = 0; k < corners; ++k)
+        mask |= 1u << interior_slot(corners, k);
+    return mask;
+}
+
+/* out = the local patches after a change of v's tangents, minus S->base: system (4) again at v
+ * and its neighbours; the faces around v assembled again, the others differ from base only in
+ * their interior points (their sides do not touch v: exactly zero there, left unwritten). */
+static void local_difference(sk__vc1_work *W, const fair_scratch *S, double *out)
+{
+    const sk_mesh *m = W->m;
+    for (size_t i = 0; i < S->nverts; ++i)
+        sk__vc1_interior_points(W, S->verts[i]);
+    for (size_t i = 0; i < S->nfaces; ++i) {
+        double *o = out + 48 * i;
+        const double *b = S->base + 48 * i;
+        if (i < S->nfaces_v) {
+            sk__vc1_assemble_patch(W, S->faces[i], o);
+            for (int x = 0; x < 48; ++x)
+                o[x] -= b[x];
+            continue;
+        }
+        uint32_t h = m->f_halfedge[S->faces[i]];
+        for (int k = 0; k < S->corners[i]; ++k, h = m->h_next[h]) {
+            unsigned slot = interior_slot(S->corners[i], k);
+            for (int x = 0; x < 3; ++x)
+                o[3 * slot + x] = W->C[3 * (size_t)h + x] - b[3 * slot + x];
+        }
+    }
 }
 
 /* 4 x 4 symmetric positive definite solve by Cholesky; false when not positive definite */
@@ -346,11 +404,9 @@ static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uin
             for (int x = 0; x < 3; ++x)
                 P[x] += s * e[dirs[d][0]][x];
         }
-        assemble_local(W, S, S->dir[d]);
+        local_difference(W, S, S->dir[d]);
         for (int k = 0; k < n; ++k) /* restored exactly */
             memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
-        for (size_t i = 0; i < 48 * S->nfaces; ++i)
-            S->dir[d][i] -= S->base[i];
     }
     save_restore_C(W, S, true);
     /* normal equations H x = -g; the directions move only a few control points of each patch
@@ -359,7 +415,10 @@ static bool fair_vertex(sk__vc1_work *W, const double *qt, const double *qq, uin
     for (size_t i = 0; i < S->nfaces; ++i) {
         int nc = S->corners[i] == 3 ? 15 : 16, idx[16], ni = 0;
         const double *Q = nc == 15 ? qt : qq, *b0 = S->base + 48 * i;
+        unsigned cand = i < S->nfaces_v ? 0xffffu : interior_mask(S->corners[i]);
         for (int c = 0; c < nc; ++c) {
+            if (!(cand >> c & 1u))
+                continue; /* exactly zero in every direction (local_difference) */
             bool nz = false;
             for (int a = 0; a < 4 && !nz; ++a) {
                 const double *J = S->dir[a] + 48 * i + 3 * c;

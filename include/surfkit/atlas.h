@@ -87,6 +87,7 @@ typedef struct sk_atlas_stats {
     size_t splits_predicted; /* of splits_distortion: decided by the LSCM predictor, no MIPS run */
     size_t lscm_charts;      /* charts laid out by LSCM (the others by hierarchical MIPS) */
     size_t merges;           /* pairs of charts merged for max_charts */
+    size_t area_refinements; /* charts the area term refined (kept or not), final or split later */
     size_t crease_regions;   /* first charts: the crease regions (the components when no crease
                                 cuts them) */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;

@@ -395,6 +395,16 @@ static void test_area_term(void **state)
     assert_true(on.mips_mean < off.mips_mean + 0.02);
     assert_int_equal(on.flipped + on.overlaps + off.flipped + off.overlaps, 0);
     check_chart_bounds("cow area term", m, a, 1.25, 1.25);
+    /* the refinement runs on every final chart and hardly on charts split later (a chart above
+     * the angle bound is split without it) */
+    size_t multi = 0;
+    for (size_t c = 0; c < a->num_charts; ++c)
+        multi += a->chart_faces[c] >= 2;
+    print_message("cow: %zu area refinements for %zu charts (%zu of 2 triangles or more)\n",
+                  on.area_refinements, on.charts, multi);
+    assert_true(on.area_refinements >= multi);
+    assert_true(on.area_refinements <= on.charts + on.charts / 20);
+    assert_int_equal(off.area_refinements, 0);
     sk_atlas_destroy(&a);
     sk_atlas_destroy(&b);
     sk_mesh_destroy(&m);

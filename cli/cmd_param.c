@@ -188,6 +188,9 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
         OPT_DOUBLE("--area-theta", a->ao.area_theta, -1, 8, 0, "T",
                    "atlas: each chart refined by MIPS times (area scale + 1/area scale)^T\n"
                    "(default 1; negative: off)"),
+        OPT_DOUBLE("--crease-angle", a->ao.crease_angle, -1, 180, 0, "DEG",
+                   "atlas: charts follow edges with a dihedral angle >= DEG (default 40;\n"
+                   "negative: off), regions under 2% of the area aside"),
         OPT_INT("--resolution", a->ao.resolution, 16, 1u << 20, "R",
                 "atlas: texels across, for --padding (default 1024)"),
         OPT_DOUBLE("--padding", a->ao.padding, 0, 64, 0, "P",
@@ -237,7 +240,8 @@ static int parse_args(int argc, char **argv, param_args *a)
                          sk_format_name(ofmt), a->out);
     /* the atlas: asked for by its options, else taken when the input is not one disk */
     static const char *const atlas_only[] = {"--max-distortion", "--max-stretch", "--area-theta",
-                                             "--resolution", "--padding", "--split-seams",
+                                             "--crease-angle", "--resolution", "--padding",
+                                             "--split-seams",
                                              "--mips-charts", "--charts"};
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
         a->atlas |= cli_given(&args, atlas_only[k]);

@@ -57,6 +57,8 @@ static void write_json(FILE *fp, const void *ctx)
     json_kuint(&j, "predicted", s->splits_predicted);
     json_obj_close(&j);
     json_kuint(&j, "lscm_charts", s->lscm_charts);
+    json_kuint(&j, "crease_regions", s->crease_regions);
+    json_kuint(&j, "area_refinements", s->area_refinements);
     json_kuint(&j, "merges", s->merges);
     if (r->charts_target) {
         json_kuint(&j, "charts_target", r->charts_target);

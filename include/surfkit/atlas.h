@@ -49,6 +49,12 @@ typedef struct sk_atlas_opts {
      * (sk_mips_opts.area_theta), kept when it stays flip-free and overlap-free and lowers the
      * chart's area distortion. 0 = the default (1.0); negative = off (plain MIPS / LSCM). */
     double area_theta;
+    /* Charts follow sharp edges: the first charts are the regions of faces joined across edges
+     * whose dihedral angle (between the face normals) is below crease_angle degrees, a region
+     * with less than 2% of its component's area (the scattered sharp edges of a scan) merged into
+     * its neighbour; the cube gets its 6 squares. 0 = 40 (the smooth pipeline's crease angle);
+     * negative = off (the components are the first charts). */
+    double crease_angle;
     uint64_t seed;
     sk_progress_fn progress;
     void *progress_user;
@@ -81,6 +87,9 @@ typedef struct sk_atlas_stats {
     size_t splits_predicted; /* of splits_distortion: decided by the LSCM predictor, no MIPS run */
     size_t lscm_charts;      /* charts laid out by LSCM (the others by hierarchical MIPS) */
     size_t merges;           /* pairs of charts merged for max_charts */
+    size_t area_refinements; /* charts the area term refined (kept or not), final or split later */
+    size_t crease_regions;   /* first charts: the crease regions (the components when no crease
+                                cuts them) */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;
 } sk_atlas_stats;
 

@@ -217,25 +217,44 @@ static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s,
     return st;
 }
 
-/* The components are the first charts: faces grouped by component in faces[], one range per
- * component pushed on stack (the first component on top). */
-static sk_status seed_components(const sk_mesh *m, uint32_t *comp, uint32_t *faces, range *stack,
-                                 size_t *top, sk_error *err)
+/* Crease regions under this fraction of their component's area join a neighbour (cow, pig,
+ * elephant, lion, armadillo: every region cut by their scattered sharp edges is below 1.5%). */
+#define CREASE_MIN_AREA 0.02
+
+/* The crease regions (the components when crease_angle < 0) are the first charts: faces grouped
+ * by region in faces[], one range per region pushed on stack (the first region on top). */
+static sk_status seed_regions(const sk_mesh *m, double crease_angle, uint32_t *comp,
+                              uint32_t *faces, range *stack, size_t *top, size_t *nregions,
+                              sk_error *err)
 {
-    size_t nf = m->num_faces, ncomp = sk__face_components(m, comp, faces);
-    uint32_t *start = sk__calloc_array(ncomp + 1, sizeof(uint32_t));
+    size_t nf = m->num_faces, nreg = sk__face_components(m, comp, faces);
+    sk_status st = SK_OK;
+    if (crease_angle > 0) {
+        uint32_t *region = sk__malloc_array(nf, sizeof(uint32_t));
+        if (!region)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        st = sk__crease_regions(m, crease_angle, CREASE_MIN_AREA, comp, nreg, region, &nreg,
+                                err);
+        if (!st)
+            memcpy(comp, region, nf * sizeof(uint32_t));
+        sk__free(region);
+        if (st)
+            return st;
+    }
+    uint32_t *start = sk__calloc_array(nreg + 1, sizeof(uint32_t));
     if (!start)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t f = 0; f < nf; ++f)
         start[comp[f] + 1]++;
-    for (size_t c = 0; c < ncomp; ++c)
+    for (size_t c = 0; c < nreg; ++c)
         start[c + 1] += start[c];
-    for (size_t c = 0; c < ncomp; ++c)
-        stack[c] = (range){start[ncomp - 1 - c], start[ncomp - c]};
+    for (size_t c = 0; c < nreg; ++c)
+        stack[c] = (range){start[nreg - 1 - c], start[nreg - c]};
     for (size_t f = 0; f < nf; ++f)
         faces[start[comp[f]]++] = (uint32_t)f;
     sk__free(start);
-    *top = ncomp;
+    *top = nreg;
+    *nregions = nreg;
     return SK_OK;
 }
 
@@ -337,6 +356,8 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
             size_t ov = 0;
             if ((st = chart_overlaps(chart, *cuv, &ov, err)))
                 return st;
+            if (ov == 0 && area_theta > 0 && n >= 2)
+                s->area_refinements++;
             if (ov == 0 &&
                 (st = refine_area(chart, seed, area_theta, max_conf, *cuv, q, err)))
                 return st;
@@ -372,7 +393,12 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
     sk_status st = chart_overlaps(chart, *cuv, &ov, err);
     if (st)
         return st;
-    if (!ov && (st = refine_area(chart, seed, area_theta, max_conf, *cuv, q, err)))
+    /* above the angle bound it is split whatever the area term does (that raises the angle
+     * distortion): no refinement (cow: 174 refinements for 167 charts, 192 before) */
+    bool angle_split = n >= MIN_SPLIT_FACES && max_conf > 0 && q->conformal_mean > max_conf;
+    if (!ov && !angle_split && area_theta > 0 && n >= 2)
+        s->area_refinements++;
+    if (!ov && !angle_split && (st = refine_area(chart, seed, area_theta, max_conf, *cuv, q, err)))
         return st;
     if (ov) {
         *split = true;
@@ -578,6 +604,7 @@ static sk_status merge_charts(const sk_mesh *m, sk__chart_work *w, accepted *acc
                 goto done;
             }
             uint32_t c0 = p->pair[0], c1 = p->pair[1];
+            s->area_refinements += p->s.area_refinements;
             if (!p->split) {
                 if (acc->charts + 1 > g->cap) {
                     size_t cap = 2 * (acc->charts + 1);
@@ -685,7 +712,7 @@ typedef struct builder {
     sk_atlas_stats s;
 } builder;
 
-static sk_status builder_init(builder *b, const sk_mesh *m, sk_error *err)
+static sk_status builder_init(builder *b, const sk_mesh *m, double crease_angle, sk_error *err)
 {
     size_t nf = m->num_faces;
     b->m = m;
@@ -707,7 +734,8 @@ static sk_status builder_init(builder *b, const sk_mesh *m, sk_error *err)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t h = 0; h < m->num_halfedges; ++h)
         b->a->corner_uv[h] = SK_INVALID;
-    return seed_components(m, b->comp, b->faces, b->stack, &b->top, err);
+    return seed_regions(m, crease_angle, b->comp, b->faces, b->stack, &b->top,
+                        &b->s.crease_regions, err);
 }
 
 static void builder_free(builder *b)
@@ -814,6 +842,7 @@ static sk_status settle_wave(builder *b, sk_error *err)
         b->s.splits_overlap += p->s.splits_overlap;
         b->s.splits_distortion += p->s.splits_distortion;
         b->s.splits_predicted += p->s.splits_predicted;
+        b->s.area_refinements += p->s.area_refinements;
         size_t n = p->r.hi - p->r.lo;
         if (!p->split) {
             st = accept_chart(&b->acc, b->m, b->faces + p->r.lo, n, p->chart, p->cuv,
@@ -918,7 +947,8 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     b.max_stretch = o.max_stretch == 0 ? 1.25 : o.max_stretch;
     b.area_theta = o.area_theta == 0 ? SK__ATLAS_AREA_THETA : o.area_theta < 0 ? 0 : o.area_theta;
     sk_atlas_stats *s = &b.s;
-    if ((st = builder_init(&b, m, err)) || (st = make_charts(&b, &o, err)))
+    double crease = o.crease_angle == 0 ? 40.0 : o.crease_angle;
+    if ((st = builder_init(&b, m, crease, err)) || (st = make_charts(&b, &o, err)))
         goto done;
     for (size_t c = 0; c < b.acc.charts; ++c)
         s->lscm_charts += b.acc.lscm[c];

@@ -54,6 +54,16 @@ sk_status sk__chart_grow_disk(const sk_mesh *m, uint32_t *faces, size_t nf, uint
 size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
                             sk__chart_work *w, uint32_t *sizes);
 
+/* ---- creases.c ---- */
+
+/* Regions of the faces that touch across edges with a dihedral angle below angle_deg (degrees),
+ * a region under min_frac of its component's area merged into the neighbour it shares the most
+ * sharp edge length with: region[f] (nf entries) receives ids numbered by their first face, the
+ * components' ids (comp, ncomp of them) when no crease cuts; *nregions their number. */
+sk_status sk__crease_regions(const sk_mesh *m, double angle_deg, double min_frac,
+                             const uint32_t *comp, size_t ncomp, uint32_t *region,
+                             size_t *nregions, sk_error *err);
+
 /* ---- chart_param.c ---- */
 
 typedef struct sk__chart_quality {

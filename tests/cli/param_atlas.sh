@@ -62,6 +62,14 @@ grep -q -- '--charts 10 cannot be met within the bounds' "$TMP/c10.txt" || fail 
 [ "$(val lscm_charts "$TMP/sm.json")" = 0 ] || fail "--mips-charts kept an LSCM layout"
 [ "$(val lscm_charts "$TMP/s3.json")" -gt 0 ] || fail "no LSCM layout by default"
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --charts 0 2>/dev/null; [ $? = 2 ] || fail "--charts 0"
+# charts follow sharp edges: the cube's six squares; --crease-angle -1: the component only
+"$BIN" param "$M/cube.off" -o "$TMP/cube.obj" --report "$TMP/cube.json" -q || fail "cube"
+[ "$(val charts "$TMP/cube.json")" = 6 ] || fail "cube: $(val charts "$TMP/cube.json") charts"
+[ "$(val crease_regions "$TMP/cube.json")" = 6 ] || fail "cube crease regions"
+"$BIN" param "$M/cube.off" -o "$TMP/cube1.obj" --crease-angle -1 --report "$TMP/cube1.json" -q \
+    || fail "cube --crease-angle -1"
+[ "$(val crease_regions "$TMP/cube1.json")" = 1 ] || fail "--crease-angle -1 cut"
+[ "$(val charts "$TMP/cube1.json")" -lt 6 ] || fail "--crease-angle -1: still 6 charts"
 # usage errors and refusals
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --atlas --method floater 2>/dev/null; [ $? = 2 ] || fail "--atlas with floater"
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --max-stretch 0.5 2>/dev/null; [ $? = 2 ] || fail "bad --max-stretch"

@@ -395,6 +395,16 @@ static void test_area_term(void **state)
     assert_true(on.mips_mean < off.mips_mean + 0.02);
     assert_int_equal(on.flipped + on.overlaps + off.flipped + off.overlaps, 0);
     check_chart_bounds("cow area term", m, a, 1.25, 1.25);
+    /* the refinement runs on every final chart and hardly on charts split later (a chart above
+     * the angle bound is split without it) */
+    size_t multi = 0;
+    for (size_t c = 0; c < a->num_charts; ++c)
+        multi += a->chart_faces[c] >= 2;
+    print_message("cow: %zu area refinements for %zu charts (%zu of 2 triangles or more)\n",
+                  on.area_refinements, on.charts, multi);
+    assert_true(on.area_refinements >= multi);
+    assert_true(on.area_refinements <= on.charts + on.charts / 20);
+    assert_int_equal(off.area_refinements, 0);
     sk_atlas_destroy(&a);
     sk_atlas_destroy(&b);
     sk_mesh_destroy(&m);
@@ -505,6 +515,55 @@ static void test_max_charts(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* Charts follow sharp edges: the cube's six squares (flat, so MIPS exactly 2 and no area
+ * distortion); with the crease cut off, fewer distorted charts; a scan (cow: its scattered sharp
+ * edges bound regions under 2% of the area) gets the very same charts either way. */
+static void test_creases(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("cube.off"));
+    sk_atlas *a = NULL, *b = NULL;
+    sk_atlas_stats on, off;
+    sk_atlas_opts o = {0};
+    assert_int_equal(sk_atlas_build(m, &o, &a, &on, NULL), SK_OK);
+    print_message("cube: %zu charts, mips %.9f, area-log %.3g\n", on.charts, on.mips_mean,
+                  on.area_log_mean);
+    assert_int_equal(on.crease_regions, 6);
+    assert_int_equal(on.charts, 6);
+    assert_true(fabs(on.mips_mean - 2.0) < 1e-6);
+    assert_true(on.area_log_mean < 1e-6);
+    assert_int_equal(on.flipped + on.overlaps, 0);
+    check_charts_are_disks(m, a, "cube");
+    /* every chart is one face of the cube: its triangles share one normal */
+    for (size_t f = 0; f < m->num_faces; ++f)
+        for (size_t g = 0; g < m->num_faces; ++g) {
+            double nf[3], ng[3];
+            sk_mesh_face_normal(m, (uint32_t)f, nf);
+            sk_mesh_face_normal(m, (uint32_t)g, ng);
+            bool same = nf[0] * ng[0] + nf[1] * ng[1] + nf[2] * ng[2] > 1 - 1e-9;
+            assert_int_equal(a->face_chart[f] == a->face_chart[g], same);
+        }
+    o.crease_angle = -1;
+    assert_int_equal(sk_atlas_build(m, &o, &b, &off, NULL), SK_OK);
+    assert_int_equal(off.crease_regions, 1);
+    assert_true(off.charts < 6 && off.mips_mean > 2.0 + 1e-3);
+    sk_atlas_destroy(&a);
+    sk_atlas_destroy(&b);
+    sk_mesh_destroy(&m);
+    m = skt_read_mesh(skt_shared_mesh("cow.off"));
+    o.crease_angle = 0;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &on, NULL), SK_OK);
+    o.crease_angle = -1;
+    assert_int_equal(sk_atlas_build(m, &o, &b, &off, NULL), SK_OK);
+    assert_int_equal(on.crease_regions, 1);
+    assert_int_equal(on.charts, off.charts);
+    assert_memory_equal(a->face_chart, b->face_chart, m->num_faces * sizeof(uint32_t));
+    assert_int_equal(on.area_log_mean == off.area_log_mean, 1);
+    sk_atlas_destroy(&a);
+    sk_atlas_destroy(&b);
+    sk_mesh_destroy(&m);
+}
+
 /* The library's overlap count on small cases, each decided by hand. */
 static void test_uv_overlaps_cases(void **state)
 {
@@ -556,6 +615,7 @@ int main(void)
         cmocka_unit_test(test_area_term),
         cmocka_unit_test(test_predictor_needs_bounds),
         cmocka_unit_test(test_max_charts),
+        cmocka_unit_test(test_creases),
         cmocka_unit_test(test_shared_meshes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

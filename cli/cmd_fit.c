@@ -162,6 +162,9 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
                    "largest distance between surface and mesh, model units"),
         OPT_DOUBLE("--tolerance-rel", a->fo.tolerance_rel, 0, 1, CLI_LO_OPEN, "R",
                    "the tolerance as R times the bounding-box diagonal (default 1e-3)"),
+        OPT_DOUBLE("--refine-share", a->fo.refine_share, 0, 1, CLI_LO_OPEN, "S",
+                   "share of the knot spans above the tolerance split per round and direction,\n"
+                   "the worst first (default 0.1; 1 bisects all of them)"),
         OPT_INT("--degree", degree, 2, 5, "D", "degree in both directions (default 3, bicubic)"),
         OPT_STRING("--corners", a->corners, "I,J,K,L",
                    "the boundary vertices mapped to (0,0), (1,0), (1,1), (0,1), in\n"

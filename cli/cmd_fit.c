@@ -11,8 +11,9 @@ static const char about[] =
     "the unit square (Floater's shape-preserving map; the four corners are the four sharpest\n"
     "turns of the boundary, spread apart, or --corners), fits the control points to the vertices\n"
     "and to points of every face by least squares with a thin-plate smoothing term, corrects the\n"
-    "parameters towards the foot points, and inserts knots in the spans where the surface is\n"
-    "farther than the tolerance from the mesh, until it holds both ways or the data runs out.\n";
+    "parameters towards the foot points, and inserts knots in the worst of the spans where the\n"
+    "surface is farther than the tolerance from the mesh (--refine-share of them per round and\n"
+    "direction), until it holds both ways or the data runs out.\n";
 
 static const char more[] =
     "The summary gives the control points, the tolerance, and the deviation between the surface\n"

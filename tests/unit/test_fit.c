@@ -135,7 +135,7 @@ static void refinement_share(void **state)
         assert_int_equal(sk_fit_bspline(m, &o, &s, &st, NULL), SK_OK);
         double chord = 0, h = independent_deviation(s, m, st.tolerance, &chord);
         print_message("refine share %s: %zu control points in %zu rounds, fit max %.3g, "
-                      "independent %.3g (tol %.3g, chord %.2g)\n", k ? "1/4" : "1",
+                      "independent %.3g (tol %.3g, chord %.2g)\n", k ? "default" : "1",
                       st.control_points, st.rounds, fmax(st.max_error, st.surface_to_mesh), h,
                       st.tolerance, chord);
         assert_true(st.met);

@@ -15,10 +15,10 @@
 
 enum { MAX_DEG = 5, MAX_CTRL_1D = 1024, CORRECTIONS = 3 };
 /* The share of the spans above the tolerance that a round splits (the worst ones, per
- * direction): 1 bisects all of them (the grid about doubles where the error is), a quarter adds
- * knots only along the worst rows and columns and lets the next fit show whether the others
- * still need one; measured in bench/approx.sh (paraboloid-patch at 1e-3: 575 control points
- * with 1, 378 with 1/2, 288 with 1/4). */
+ * direction, at least one): 1 bisects all of them (the grid about doubles where the error is),
+ * a tenth adds knots only along the worst rows and columns and lets the next fit show whether
+ * the others still need one (paraboloid-patch at 1e-3 of the diagonal: 575 control points with
+ * 1, 378 with 1/2, 288 with 1/4, 225 with 1/10; more rounds, each a few small solves). */
 #define REFINE_SHARE 0.1
 
 /* ---------------------------------------------------------------------------------------------

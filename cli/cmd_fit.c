@@ -11,8 +11,9 @@ static const char about[] =
     "the unit square (Floater's shape-preserving map; the four corners are the four sharpest\n"
     "turns of the boundary, spread apart, or --corners), fits the control points to the vertices\n"
     "and to points of every face by least squares with a thin-plate smoothing term, corrects the\n"
-    "parameters towards the foot points, and inserts knots in the spans where the surface is\n"
-    "farther than the tolerance from the mesh, until it holds both ways or the data runs out.\n";
+    "parameters towards the foot points, and inserts knots in the worst of the spans where the\n"
+    "surface is farther than the tolerance from the mesh (--refine-share of them per round and\n"
+    "direction), until it holds both ways or the data runs out.\n";
 
 static const char more[] =
     "The summary gives the control points, the tolerance, and the deviation between the surface\n"
@@ -162,6 +163,9 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
                    "largest distance between surface and mesh, model units"),
         OPT_DOUBLE("--tolerance-rel", a->fo.tolerance_rel, 0, 1, CLI_LO_OPEN, "R",
                    "the tolerance as R times the bounding-box diagonal (default 1e-3)"),
+        OPT_DOUBLE("--refine-share", a->fo.refine_share, 0, 1, CLI_LO_OPEN, "S",
+                   "share of the knot spans above the tolerance split per round and direction,\n"
+                   "the worst first (default 0.1; 1 bisects all of them)"),
         OPT_INT("--degree", degree, 2, 5, "D", "degree in both directions (default 3, bicubic)"),
         OPT_STRING("--corners", a->corners, "I,J,K,L",
                    "the boundary vertices mapped to (0,0), (1,0), (1,1), (0,1), in\n"

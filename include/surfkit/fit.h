@@ -4,8 +4,9 @@
  * boundary vertices: given, or the four sharpest turns of the boundary), then a cubic B-spline is
  * fitted to the vertices by least squares with a thin-plate smoothing term, and knots are
  * inserted in the spans where a vertex is farther than the tolerance from its surface point,
- * hierarchically (each round halves the offending spans), as in the hierarchical B-spline fitting
- * the hierarchical parametrization paper names as its first use (its reference [8]). */
+ * hierarchically (each round halves the worst quarter of the offending spans per direction),
+ * as in the hierarchical B-spline fitting the hierarchical parametrization paper names as its
+ * first use (its reference [8]). */
 #ifndef SURFKIT_FIT_H
 #define SURFKIT_FIT_H
 
@@ -26,9 +27,13 @@ typedef struct sk_fit_opts {
     double tolerance_rel;    /* used when tolerance is 0; 0 = 1e-3 */
     int degree;              /* 0 = 3 (bicubic) */
     double smoothing;        /* weight of the thin-plate energy relative to the data term
-                                (scale free: both are normalized by their traces); 0 = 1e-6 */
+                                (scale free: both are normalized by their traces); 0 = each
+                                round tries 1e-6 and 1e-3 and keeps the closer fit */
     unsigned initial_spans;  /* knot spans per direction to start from; 0 = 4 */
-    unsigned max_rounds;     /* refinement rounds; 0 = 12 */
+    unsigned max_rounds;     /* refinement rounds; 0 = 40 */
+    double refine_share;     /* share of the knot spans above the tolerance split per round and
+                                direction, the worst first (at least one): 0 = 1/4; 1 = all of
+                                them (about doubling the grid where the error is) */
     sk_param_method method;  /* the square map: 0 = Floater (shape preserving, linear);
                                 SK_PARAM_MIPS = hierarchical MIPS with the square boundary fixed
                                 (the same corners and spacing); others as sk_parametrize */

@@ -1,6 +1,7 @@
 /* B-spline basis and fitting: partition of unity and derivatives against finite differences, a
  * plane reproduced exactly, a shared disk within 1e-3 of its diagonal both ways (vertices to the
- * tessellated surface, and the surface's own check of its distance to the mesh), bad input. */
+ * tessellated surface, and the surface's own check of its distance to the mesh), refining the
+ * worst spans first needs no more control points than bisecting all, bad input. */
 #include "testutil.h"
 #include "surfkit/fit.h"
 #include "surfkit/deviation.h"
@@ -70,7 +71,9 @@ static void shared_disk(void **state)
         sk_error err;
         assert_int_equal(sk_fit_bspline(m, NULL, &s, &st, &err), SK_OK);
         sk_soup *tess = NULL, *ms = NULL;
-        assert_int_equal(sk_bspline_tessellate(s, 128, &tess, NULL), SK_OK);
+        double chord = 0; /* the grid whose chord error is below tol / 20 (as surfkit fit's) */
+        unsigned grid = sk_bspline_tessellation_grid(s, st.tolerance, &chord);
+        assert_int_equal(sk_bspline_tessellate(s, grid, &tess, NULL), SK_OK);
         assert_int_equal(sk_mesh_to_soup(m, &ms, NULL), SK_OK);
         sk_deviation_report r;
         assert_int_equal(sk_deviation(tess, ms, NULL, &r, NULL, NULL), SK_OK);
@@ -84,7 +87,7 @@ static void shared_disk(void **state)
         assert_true(r.surface_to_mesh.max <= 1.05 * st.tolerance);
         assert_true(st.control_points < st.samples);
         /* every vertex is within the tolerance of the (tessellated) surface, up to the chord
-         * error of the 128 x 128 tessellation */
+         * error of the tessellation */
         sk_bvh *b = NULL;
         assert_int_equal(sk_bvh_build(tess, &b, NULL), SK_OK);
         for (size_t v = 0; v < m->num_vertices; ++v) {
@@ -98,6 +101,53 @@ static void shared_disk(void **state)
         sk_bspline_destroy(&s);
         sk_mesh_destroy(&m);
     }
+}
+
+/* The deviation of s from m measured independently of the fit: vertices and face samples of the
+ * mesh to the surface tessellated finely (*chord: the bound on its chord error), and back. */
+static double independent_deviation(const sk_bspline_surface *s, const sk_mesh *m, double tol,
+                                    double *chord)
+{
+    sk_soup *tess = NULL, *ms = NULL;
+    assert_int_equal(sk_bspline_tessellate(s, sk_bspline_tessellation_grid(s, tol, chord), &tess,
+                                           NULL), SK_OK);
+    assert_int_equal(sk_mesh_to_soup(m, &ms, NULL), SK_OK);
+    sk_deviation_report r;
+    assert_int_equal(sk_deviation(tess, ms, NULL, &r, NULL, NULL), SK_OK);
+    sk_soup_destroy(&tess);
+    sk_soup_destroy(&ms);
+    return r.hausdorff;
+}
+
+/* Knot placement: splitting only the worst quarter of the spans above the tolerance per round
+ * (the default) needs no more control points than bisecting all of them, at the same tolerance,
+ * both within it as measured independently. */
+static void refinement_share(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("paraboloid-patch.off"));
+    size_t cp[2];
+    const double share[2] = {1, 0};
+    for (int k = 0; k < 2; ++k) {
+        sk_fit_opts o = {.tolerance_rel = 2e-3, .refine_share = share[k]};
+        sk_bspline_surface *s = NULL;
+        sk_fit_stats st;
+        assert_int_equal(sk_fit_bspline(m, &o, &s, &st, NULL), SK_OK);
+        double chord = 0, h = independent_deviation(s, m, st.tolerance, &chord);
+        print_message("refine share %s: %zu control points in %zu rounds, fit max %.3g, "
+                      "independent %.3g (tol %.3g, chord %.2g)\n", k ? "default" : "1",
+                      st.control_points, st.rounds, fmax(st.max_error, st.surface_to_mesh), h,
+                      st.tolerance, chord);
+        assert_true(st.met);
+        assert_true(h <= st.tolerance + chord);
+        cp[k] = st.control_points;
+        sk_bspline_destroy(&s);
+    }
+    assert_true(cp[1] <= cp[0]);
+    sk_fit_opts bad = {.refine_share = 1.5};
+    sk_bspline_surface *s = NULL;
+    assert_int_equal(sk_fit_bspline(m, &bad, &s, NULL, NULL), SK_ERR_ARG);
+    sk_mesh_destroy(&m);
 }
 
 static void bad_input(void **state)
@@ -123,6 +173,7 @@ int main(void)
         cmocka_unit_test(basis),
         cmocka_unit_test(plane_exact),
         cmocka_unit_test(shared_disk),
+        cmocka_unit_test(refinement_share),
         cmocka_unit_test(bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

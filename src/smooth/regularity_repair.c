@@ -70,12 +70,247 @@ static size_t rebuild_local(sk_smooth *s, sk__vc1_work *W, const uint32_t *verts
 
 #define LOCAL_FACES 4096
 
+/* the wider grid of the last round, tried only around the patches still singular after the
+ * first two: blends 0, 1/4, 1/2, 3/4, 1 times length scales from 0.3 to 3.2 */
+static const double wide_blends[] = {0.0, 0.25, 0.5, 0.75, 1.0};
+static const double wide_scales[] = {0.3, 0.45, 0.6, 0.85, 1.15, 1.5, 2.0, 2.6, 3.2};
+#define N_WIDE_B (sizeof wide_blends / sizeof wide_blends[0])
+#define N_WIDE_S (sizeof wide_scales / sizeof wide_scales[0])
+#define N_WIDE (N_WIDE_B * N_WIDE_S)
+
+static void variant_of(int wide, int t, double *blend, double *lscale)
+{
+    if (wide) {
+        *blend = wide_blends[(size_t)t / N_WIDE_S];
+        *lscale = wide_scales[(size_t)t % N_WIDE_S];
+    } else {
+        *blend = repair_variants[t][0];
+        *lscale = repair_variants[t][1];
+    }
+}
+
+typedef struct {
+    sk_smooth *s;
+    sk__vc1_work *W;
+    uint8_t *status, *sing, *mark;
+    uint32_t *faces;
+    size_t nsing;
+} repair_ctx;
+
+/* Tries the variants (the plain table, or the wide grid) at vertex v and keeps the one with the
+ * fewest singular patches around it when that beats the current solution; returns whether it
+ * changed v's solution. */
+static bool repair_vertex(repair_ctx *R, uint32_t v, int wide)
+{
+    sk_smooth *s = R->s;
+    sk__vc1_work *W = R->W;
+    const sk_mesh *m = W->m;
+    uint8_t *status = R->status, *sing = R->sing;
+    uint32_t *faces = R->faces;
+    uint32_t verts[SK_VSYS_MAX + 1];
+    size_t nverts;
+    size_t nf = local_faces(m, v, R->mark, faces, LOCAL_FACES, verts, &nverts);
+    size_t before = 0;
+    for (size_t i = 0; i < nf; ++i)
+        if (sing[faces[i]]) { /* the singular faces first (see rebuild_local) */
+            uint32_t t = faces[before];
+            faces[before++] = faces[i];
+            faces[i] = t;
+        }
+    if (before == 0)
+        return false;
+    /* the plain solution of v, to restore */
+    uint32_t E[SK_VSYS_MAX];
+    int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
+    double P0[3 * SK_VSYS_MAX], w0[SK_VSYS_MAX];
+    for (int k = 0; k < n; ++k) {
+        memcpy(P0 + 3 * k, W->P + 3 * (size_t)E[k], 3 * sizeof(double));
+        w0[k] = W->w1[E[k]];
+    }
+    size_t best = before;
+    int best_variant = -1, best_code = status[v];
+    int nvar = wide ? (int)N_WIDE : (int)N_VARIANTS;
+    double blend, lscale;
+    sk__vsys sys;
+    for (int t = 0; t < nvar; ++t) {
+        variant_of(wide, t, &blend, &lscale);
+        int code = sk__vc1_solve_vertex(W, v, &sys, blend, lscale);
+        if (code > status[v] || code >= 2)
+            continue; /* never trade regularity for an angle violation or a failed system */
+        size_t after = rebuild_local(s, W, verts, nverts, faces, nf, best);
+        if (after < best) {
+            best = after;
+            best_variant = t;
+            best_code = code;
+        }
+        if (best == 0)
+            break; /* nothing left to gain: the later variants cannot do better */
+    }
+    if (best_variant >= 0) {
+        variant_of(wide, best_variant, &blend, &lscale);
+        sk__vc1_solve_vertex(W, v, &sys, blend, lscale);
+        status[v] = (uint8_t)best_code;
+    } else {
+        for (int k = 0; k < n; ++k) {
+            memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
+            W->w1[E[k]] = w0[k];
+        }
+    }
+    rebuild_local(s, W, verts, nverts, faces, nf, 0);
+    /* restored: the same solution gives the same patches, their flags stand */
+    for (size_t i = 0; i < nf && best_variant >= 0; ++i) {
+        uint8_t now = sk__patch_singular(s, faces[i], NULL);
+        R->nsing = R->nsing - sing[faces[i]] + now;
+        sing[faces[i]] = now;
+    }
+    return best_variant >= 0;
+}
+
+/* the solution (tangents and weights) of v's edges E, saved or restored */
+static void save_solution(const sk__vc1_work *W, const uint32_t *E, int n, double *P, double *w)
+{
+    for (int k = 0; k < n; ++k) {
+        memcpy(P + 3 * k, W->P + 3 * (size_t)E[k], 3 * sizeof(double));
+        w[k] = W->w1[E[k]];
+    }
+}
+
+static void restore_solution(sk__vc1_work *W, const uint32_t *E, int n, const double *P,
+                             const double *w)
+{
+    for (int k = 0; k < n; ++k) {
+        memcpy(W->P + 3 * (size_t)E[k], P + 3 * k, 3 * sizeof(double));
+        W->w1[E[k]] = w[k];
+    }
+}
+
+/* The last resort for a patch still singular: the variants at both ends a, b of one of its
+ * edges together (the boundary curve and the cross-boundary tangents along ab come from the two
+ * vertex systems at once; one end alone was tried before). Keeps the best pair when it lowers
+ * the singular patches around a and b. */
+static bool repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
+{
+    sk__vc1_work *W = R->W;
+    const sk_mesh *m = W->m;
+    uint8_t *status = R->status, *sing = R->sing;
+    uint32_t *faces = R->faces;
+    uint32_t verts[2 * SK_VSYS_MAX + 2];
+    size_t na, nb, nf = local_faces(m, a, R->mark, faces, LOCAL_FACES / 2, verts, &na);
+    size_t nfb = local_faces(m, b, R->mark, faces + nf, LOCAL_FACES / 2, verts + na, &nb);
+    size_t nall = nf;
+    for (size_t i = 0; i < nf; ++i)
+        R->mark[faces[i]] = 1;
+    for (size_t i = nf; i < nf + nfb; ++i)
+        if (!R->mark[faces[i]])
+            faces[nall++] = faces[i];
+    for (size_t i = 0; i < nf; ++i)
+        R->mark[faces[i]] = 0;
+    size_t before = 0;
+    for (size_t i = 0; i < nall; ++i)
+        if (sing[faces[i]]) {
+            uint32_t t = faces[before];
+            faces[before++] = faces[i];
+            faces[i] = t;
+        }
+    if (before == 0)
+        return false;
+    uint32_t Ea[SK_VSYS_MAX], Eb[SK_VSYS_MAX];
+    int closed, n_a = sk__vc1_ordered_edges(m, a, Ea, &closed);
+    int n_b = sk__vc1_ordered_edges(m, b, Eb, &closed);
+    double Pa[3 * SK_VSYS_MAX], wa[SK_VSYS_MAX], Pb[3 * SK_VSYS_MAX], wb[SK_VSYS_MAX];
+    save_solution(W, Ea, n_a, Pa, wa);
+    save_solution(W, Eb, n_b, Pb, wb);
+    size_t best = before;
+    int best_s = -1, best_t = -1, code_a = status[a], code_b = status[b];
+    sk__vsys sys;
+    for (int t = -1; t < (int)N_VARIANTS && best; ++t) {
+        int ca = status[a];
+        if (t >= 0) {
+            ca = sk__vc1_solve_vertex(W, a, &sys, repair_variants[t][0], repair_variants[t][1]);
+            if (ca > status[a] || ca >= 2)
+                continue;
+        } else
+            restore_solution(W, Ea, n_a, Pa, wa);
+        for (int u = 0; u < (int)N_VARIANTS && best; ++u) {
+            int cb = sk__vc1_solve_vertex(W, b, &sys, repair_variants[u][0], repair_variants[u][1]);
+            if (cb > status[b] || cb >= 2)
+                continue;
+            size_t after = rebuild_local(R->s, W, verts, na + nb, faces, nall, best);
+            if (after < best)
+                best = after, best_s = t, best_t = u, code_a = ca, code_b = cb;
+        }
+    }
+    if (best_t >= 0) {
+        if (best_s >= 0)
+            sk__vc1_solve_vertex(W, a, &sys, repair_variants[best_s][0],
+                                 repair_variants[best_s][1]);
+        else
+            restore_solution(W, Ea, n_a, Pa, wa);
+        sk__vc1_solve_vertex(W, b, &sys, repair_variants[best_t][0], repair_variants[best_t][1]);
+        status[a] = (uint8_t)code_a;
+        status[b] = (uint8_t)code_b;
+    } else {
+        restore_solution(W, Ea, n_a, Pa, wa);
+        restore_solution(W, Eb, n_b, Pb, wb);
+    }
+    rebuild_local(R->s, W, verts, na + nb, faces, nall, 0);
+    for (size_t i = 0; i < nall && best_t >= 0; ++i) {
+        uint8_t now = sk__patch_singular(R->s, faces[i], NULL);
+        R->nsing = R->nsing - sing[faces[i]] + now;
+        sing[faces[i]] = now;
+    }
+    return best_t >= 0;
+}
+
+/* the pair round: every edge of every patch still singular */
+static size_t repair_pairs(repair_ctx *R)
+{
+    const sk_mesh *m = R->W->m;
+    size_t repaired = 0;
+    for (uint32_t f = 0; f < m->num_faces && R->nsing; ++f) {
+        if (!R->sing[f])
+            continue;
+        uint32_t h0 = m->f_halfedge[f], h = h0;
+        do {
+            uint32_t a = sk_from(m, h), b = sk_to(m, h);
+            if (R->status[a] != 3 && R->status[b] != 3)
+                repaired += repair_pair(R, a, b);
+            h = m->h_next[h];
+        } while (h != h0 && R->sing[f]);
+    }
+    return repaired;
+}
+
+/* candidates of the later rounds: the corners of the patches still singular and their
+ * neighbours */
+static void mark_around_singular(const sk_smooth *s, const sk_mesh *m, const uint8_t *sing,
+                                 uint8_t *cand)
+{
+    memset(cand, 0, m->num_vertices);
+    for (size_t p = 0; p < s->surface.count; ++p)
+        if (sing[p])
+            for (unsigned i = 0; i < sk_patch_num_corners(&s->surface.patches[p]); ++i) {
+                uint32_t c = s->surface.patches[p].corner_ids[i], h0 = m->v_halfedge[c];
+                uint32_t h = h0;
+                cand[c] = 1;
+                do {
+                    cand[sk_to(m, h)] = 1;
+                    h = sk_cw_out(m, h);
+                } while (h != h0);
+            }
+}
+
+/* rounds of the repair: the corners of the singular patches, then the patches still singular
+ * and their neighbours with the same variants, then with the wide grid */
+#define REPAIR_ROUNDS 3
+
 sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
                                     const uint8_t *known, sk_error *err)
 {
     const sk_mesh *m = W->m;
     size_t np = s->surface.count, nv = m->num_vertices;
-    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = sk__calloc_array(nv + 1, 1), *mark = sk__calloc_array(np + 1, 1);
+    uint8_t *sing = sk__malloc_array(np + 1, 1), *cand = sk__calloc_array(nv + 1, 1);
+    uint8_t *mark = sk__calloc_array(np + 1, 1);
     uint32_t *faces = sk__malloc_array(LOCAL_FACES, sizeof *faces);
     if (!sing || !cand || !mark || !faces) {
         sk__free(sing);
@@ -99,83 +334,17 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
         if (sing[p])
             for (unsigned i = 0; i < sk_patch_num_corners(&s->surface.patches[p]); ++i)
                 cand[s->surface.patches[p].corner_ids[i]] = 1;
+    repair_ctx R = {s, W, status, sing, mark, faces, nsing};
     size_t repaired = 0;
-    for (int round = 0; round < 2 && nsing; ++round) {
-    if (round == 1) {
-        /* second round: the corners of the patches still singular and their neighbours */
-        memset(cand, 0, nv);
-        for (size_t p = 0; p < np; ++p)
-            if (sing[p])
-                for (unsigned i = 0; i < sk_patch_num_corners(&s->surface.patches[p]); ++i) {
-                    uint32_t c = s->surface.patches[p].corner_ids[i], h0 = m->v_halfedge[c];
-                    uint32_t h = h0;
-                    cand[c] = 1;
-                    do {
-                        cand[sk_to(m, h)] = 1;
-                        h = sk_cw_out(m, h);
-                    } while (h != h0);
-                }
+    for (int round = 0; round < REPAIR_ROUNDS && R.nsing; ++round) {
+        if (round > 0)
+            mark_around_singular(s, m, sing, cand);
+        for (uint32_t v = 0; v < nv && R.nsing; ++v)
+            if (cand[v] && status[v] != 3)
+                repaired += repair_vertex(&R, v, round == 2);
     }
-    for (uint32_t v = 0; v < nv && nsing; ++v) {
-        if (!cand[v] || status[v] == 3)
-            continue;
-        uint32_t verts[SK_VSYS_MAX + 1];
-        size_t nverts;
-        size_t nf = local_faces(m, v, mark, faces, LOCAL_FACES, verts, &nverts);
-        size_t before = 0;
-        for (size_t i = 0; i < nf; ++i)
-            if (sing[faces[i]]) { /* the singular faces first (see rebuild_local) */
-                uint32_t t = faces[before];
-                faces[before++] = faces[i];
-                faces[i] = t;
-            }
-        if (before == 0)
-            continue;
-        /* the plain solution of v, to restore */
-        uint32_t E[SK_VSYS_MAX];
-        int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
-        double P0[3 * SK_VSYS_MAX], w0[SK_VSYS_MAX];
-        for (int k = 0; k < n; ++k) {
-            memcpy(P0 + 3 * k, W->P + 3 * (size_t)E[k], 3 * sizeof(double));
-            w0[k] = W->w1[E[k]];
-        }
-        size_t best = before;
-        int best_variant = -1, best_code = status[v];
-        sk__vsys sys;
-        for (int t = 0; t < (int)N_VARIANTS; ++t) {
-            int code = sk__vc1_solve_vertex(W, v, &sys, repair_variants[t][0],
-                                            repair_variants[t][1]);
-            if (code > status[v] || code >= 2)
-                continue; /* never trade regularity for an angle violation or a failed system */
-            size_t after = rebuild_local(s, W, verts, nverts, faces, nf, best);
-            if (after < best) {
-                best = after;
-                best_variant = t;
-                best_code = code;
-            }
-            if (best == 0)
-                break; /* nothing left to gain: the later variants cannot do better */
-        }
-        if (best_variant >= 0) {
-            sk__vc1_solve_vertex(W, v, &sys, repair_variants[best_variant][0],
-                                 repair_variants[best_variant][1]);
-            status[v] = (uint8_t)best_code;
-            ++repaired;
-        } else {
-            for (int k = 0; k < n; ++k) {
-                memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
-                W->w1[E[k]] = w0[k];
-            }
-        }
-        rebuild_local(s, W, verts, nverts, faces, nf, 0);
-        /* restored: the same solution gives the same patches, their flags stand */
-        for (size_t i = 0; i < nf && best_variant >= 0; ++i) {
-            uint8_t now = sk__patch_singular(s, faces[i], NULL);
-            nsing = nsing - sing[faces[i]] + now;
-            sing[faces[i]] = now;
-        }
-    }
-    }
+    if (R.nsing)
+        repaired += repair_pairs(&R);
     s->stats.repaired_vertices = repaired;
     sk__free(sing);
     sk__free(cand);

@@ -46,7 +46,8 @@ typedef struct sk_fit_opts {
 typedef struct sk_fit_stats {
     uint32_t corners[4];       /* the corners used */
     size_t samples;            /* points fitted in the last round (vertices and face samples) */
-    size_t rounds;             /* refinement rounds done (the first fit is round 1) */
+    size_t rounds;             /* refinement rounds done (the first fit is round 1); when T is
+                                * not met, the surface handed out is the round nearest to T */
     size_t control_points;     /* nu * nv of the result */
     double tolerance;          /* the tolerance used (model units) */
     double max_error, rms_error; /* |S(u_k, v_k) - p_k| over the samples (vertices and points of

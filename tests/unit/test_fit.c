@@ -150,6 +150,32 @@ static void refinement_share(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* A tolerance the disk cannot meet (nefertiti's scan noise is about 1% of the diagonal): the
+ * surface handed out is no farther from the mesh than the one after any earlier round, each
+ * got by stopping the refinement there. */
+static void unmet_keeps_nearest(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("nefertiti.off"));
+    sk_fit_opts o = {.tolerance_rel = 1e-3};
+    sk_bspline_surface *s = NULL;
+    sk_fit_stats all;
+    assert_int_equal(sk_fit_bspline(m, &o, &s, &all, NULL), SK_OK);
+    assert_false(all.met);
+    double dev = fmax(all.max_error, all.surface_to_mesh);
+    sk_bspline_destroy(&s);
+    for (unsigned r = 1; r < all.rounds; ++r) {
+        o.max_rounds = r;
+        sk_fit_stats st;
+        assert_int_equal(sk_fit_bspline(m, &o, &s, &st, NULL), SK_OK);
+        print_message("rounds %u: %zu control points, deviation %.4g (all %zu rounds: %.4g)\n", r,
+                      st.control_points, fmax(st.max_error, st.surface_to_mesh), all.rounds, dev);
+        assert_true(dev <= fmax(st.max_error, st.surface_to_mesh));
+        sk_bspline_destroy(&s);
+    }
+    sk_mesh_destroy(&m);
+}
+
 static void bad_input(void **state)
 {
     (void)state;
@@ -174,6 +200,7 @@ int main(void)
         cmocka_unit_test(plane_exact),
         cmocka_unit_test(shared_disk),
         cmocka_unit_test(refinement_share),
+        cmocka_unit_test(unmet_keeps_nearest),
         cmocka_unit_test(bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

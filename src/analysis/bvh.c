@@ -434,6 +434,62 @@ void sk_bvh_closest(const sk_bvh *t, const double p[3], sk_closest *out)
     out->triangle = t->orig[bt];
 }
 
+double sk__bvh_distance_capped(const sk_bvh *t, const double p[3], double cap, uint32_t *hint,
+                               uint32_t *face)
+{
+    uint32_t stack[2 * MAX_DEPTH + 8];
+    int top = 0;
+    double best = DBL_MAX, cap2 = cap * cap, q[3];
+    uint32_t bt = 0;
+    if (t->num_tris == 0) {
+        *hint = SK_INVALID;
+        if (face)
+            *face = SK_INVALID;
+        return DBL_MAX;
+    }
+    if (*hint < t->num_tris) {
+        const double *c = t->corners + 9 * (size_t)*hint;
+        best = closest_on_triangle(p, c, c + 3, c + 6, q);
+        bt = *hint;
+    }
+    if (best > cap2)
+        stack[top++] = 0;
+    while (top > 0) {
+        const node *n = &t->nodes[stack[--top]];
+        if (box_dist2(n, p) >= best)
+            continue;
+        if (!n->count) { /* the nearer child on top */
+            uint32_t near = n->first, far = near + 1;
+            double dn = box_dist2(&t->nodes[near], p), df = box_dist2(&t->nodes[far], p);
+            if (dn > df) {
+                near = far--;
+                double d = dn;
+                dn = df;
+                df = d;
+            }
+            if (df < best)
+                stack[top++] = far;
+            if (dn < best)
+                stack[top++] = near;
+            continue;
+        }
+        for (uint32_t i = n->first; i < n->first + n->count; ++i) {
+            const double *c = t->corners + 9 * (size_t)i;
+            double d2 = closest_on_triangle(p, c, c + 3, c + 6, q);
+            if (d2 < best) {
+                best = d2;
+                bt = i;
+            }
+        }
+        if (best <= cap2)
+            break;
+    }
+    *hint = bt;
+    if (face)
+        *face = t->face[bt];
+    return sqrt(best);
+}
+
 double sk_bvh_distance(void *bvh, const double p[3])
 {
     sk_closest c;

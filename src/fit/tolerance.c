@@ -16,6 +16,7 @@
 #include "surfkit/deviation.h"
 #include "surfkit/hierarchy.h"
 #include "hierarchy/hierarchy_internal.h"
+#include "analysis/bvh_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -323,9 +324,126 @@ static void check_buf_free(check_buf *b)
     memset(b, 0, sizeof *b);
 }
 
-/* Distances both ways between the surface s and the fine mesh. With mark, the fine vertices
- * where the tolerance is exceeded (their own distance, or a face of theirs) are collected into
- * bad (a flag per fine vertex). *max_out: the largest distance found. */
+/* A flag the OpenMP workers share (the search's early stop). */
+static int flag_get(const int *f)
+{
+    int v;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp atomic read
+#endif
+    v = *f;
+    return v;
+}
+
+static void flag_set(int *f)
+{
+#if defined(SK_HAVE_OPENMP)
+#pragma omp atomic write
+#endif
+    *f = 1;
+}
+
+/* The point w a + u b + v c with (u, v) = bary */
+static void bary_point(const double bary[2], const double *a, const double *b, const double *c,
+                       double p[3])
+{
+    double u = bary[0], v = bary[1], w = 1 - u - v;
+    for (int q = 0; q < 3; ++q)
+        p[q] = w * a[q] + u * b[q] + v * c[q];
+}
+
+/* The mesh side: b->fd per fine face (its samples), b->vd per fine vertex, against the surface's
+ * tessellation bs. Distances within T are only bounded (sk__bvh_distance_capped at T: a walk
+ * that stops at the first triangle within T, started from the triangle of the previous sample);
+ * those beyond T are exact. With stop (the search), the walk over the faces stops at the first
+ * face beyond T (*stop set). */
+static void mesh_side(const tol_ctx *c, const sk_bvh *bs, const uint8_t *alive, check_buf *b,
+                      int *stop)
+{
+    const size_t nn = (size_t)c->n * (size_t)c->n;
+    const double *P = c->fine->positions, tol = c->tol;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel
+#endif
+    {
+        uint32_t hint = SK_INVALID;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 1024)
+#endif
+        for (ptrdiff_t f = 0; f < (ptrdiff_t)c->nf; ++f) {
+            b->fd[f] = 0;
+            if (stop && flag_get(stop))
+                continue;
+            const uint32_t *t = c->tri + 3 * f;
+            double worst = 0, p[3];
+            for (size_t k = 0; k < nn; ++k) {
+                bary_point(c->bary[k], P + 3 * (size_t)t[0], P + 3 * (size_t)t[1],
+                           P + 3 * (size_t)t[2], p);
+                worst = fmax(worst, sk__bvh_distance_capped(bs, p, tol, &hint, NULL));
+            }
+            b->fd[f] = worst;
+            if (stop && worst > tol)
+                flag_set(stop);
+        }
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 1024)
+#endif
+        for (ptrdiff_t v = 0; v < (ptrdiff_t)c->nv; ++v) {
+            b->vd[v] = 0; /* alive vertices are interpolated */
+            if (!alive[v] && !(stop && flag_get(stop)))
+                b->vd[v] = sk__bvh_distance_capped(bs, P + 3 * v, tol, &hint, NULL);
+        }
+    }
+}
+
+/* The surface side: b->sd per tessellation vertex and face (the largest distance of its
+ * samples to the mesh, bounded within T, exact beyond) and b->sf, the fine face nearest to the
+ * worst of them. */
+static void surface_side(const tol_ctx *c, const sk_soup *ts, check_buf *b)
+{
+    const size_t nn = (size_t)c->n * (size_t)c->n, ntv = ts->num_vertices;
+    const size_t need = ntv + ts->num_faces;
+    const double *Q = ts->positions, tol = c->tol;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel
+#endif
+    {
+        uint32_t hint = SK_INVALID;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 1024)
+#endif
+        for (ptrdiff_t g = 0; g < (ptrdiff_t)need; ++g) {
+            double worst = -1;
+            uint32_t wf = SK_INVALID, face = SK_INVALID;
+            if ((size_t)g < ntv) {
+                worst = sk__bvh_distance_capped(c->mesh_bvh, Q + 3 * g, tol, &hint, &wf);
+            } else {
+                size_t f = (size_t)g - ntv;
+                const uint32_t *t = ts->face_indices + ts->face_offsets[f];
+                size_t deg = ts->face_offsets[f + 1] - ts->face_offsets[f];
+                for (size_t fan = 1; fan + 1 < deg; ++fan)
+                    for (size_t k = 0; k < nn; ++k) {
+                        double p[3];
+                        bary_point(c->bary[k], Q + 3 * (size_t)t[0], Q + 3 * (size_t)t[fan],
+                                   Q + 3 * (size_t)t[fan + 1], p);
+                        double d = sk__bvh_distance_capped(c->mesh_bvh, p, tol, &hint, &face);
+                        if (d > worst) {
+                            worst = d;
+                            wf = face;
+                        }
+                    }
+            }
+            b->sd[g] = worst;
+            b->sf[g] = wf;
+        }
+    }
+}
+
+/* Distances both ways between the surface s and the fine mesh (mesh_side, surface_side: exact
+ * beyond T, bounded within it). With bad, the fine vertices where the tolerance is exceeded
+ * (their own distance, or a face of theirs) are collected into bad (a flag per fine vertex);
+ * without (the search), the check stops at the first sample of the mesh side beyond T.
+ * *max_out: the largest distance found (exact when beyond T). */
 static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, check_buf *b,
                        uint8_t *bad, double *max_out, sk_error *err)
 {
@@ -336,7 +454,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         st = sk_bvh_build(ts, &bs, err);
     if (st)
         goto done;
-    size_t nts = ts->num_faces, ntv = ts->num_vertices, need = nts + ntv;
+    size_t need = ts->num_faces + ts->num_vertices;
     if (need > b->cap_s) {
         sk__free(b->sd);
         sk__free(b->sf);
@@ -349,37 +467,8 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
             goto done;
         }
     }
-    const int n = c->n;
-    const size_t nn = (size_t)n * (size_t)n;
-    const double *P = c->fine->positions;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1024)
-#endif
-    for (ptrdiff_t f = 0; f < (ptrdiff_t)c->nf; ++f) {
-        const uint32_t *t = c->tri + 3 * f;
-        const double *a = P + 3 * (size_t)t[0], *bb = P + 3 * (size_t)t[1], *cc = P + 3 * (size_t)t[2];
-        double worst = 0;
-        for (size_t k = 0; k < nn; ++k) {
-            double u = c->bary[k][0], v = c->bary[k][1], w = 1 - u - v, p[3];
-            for (int q = 0; q < 3; ++q)
-                p[q] = w * a[q] + u * bb[q] + v * cc[q];
-            sk_closest cl;
-            sk_bvh_closest(bs, p, &cl);
-            worst = fmax(worst, cl.distance);
-        }
-        b->fd[f] = worst;
-    }
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1024)
-#endif
-    for (ptrdiff_t v = 0; v < (ptrdiff_t)c->nv; ++v) {
-        b->vd[v] = 0; /* alive vertices are interpolated */
-        if (!alive[v]) {
-            sk_closest cl;
-            sk_bvh_closest(bs, P + 3 * v, &cl);
-            b->vd[v] = cl.distance;
-        }
-    }
+    int stop = 0;
+    mesh_side(c, bs, alive, b, bad ? NULL : &stop);
     double mx = 0;
     for (size_t f = 0; f < c->nf; ++f) {
         mx = fmax(mx, b->fd[f]);
@@ -396,40 +485,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         *max_out = mx;
         goto done;
     }
-    const double *Q = ts->positions;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1024)
-#endif
-    for (ptrdiff_t g = 0; g < (ptrdiff_t)need; ++g) {
-        double worst = -1;
-        uint32_t wf = SK_INVALID;
-        sk_closest cl;
-        if ((size_t)g < ntv) {
-            sk_bvh_closest(c->mesh_bvh, Q + 3 * g, &cl);
-            worst = cl.distance;
-            wf = cl.face;
-        } else {
-            size_t f = (size_t)g - ntv;
-            const uint32_t *t = ts->face_indices + ts->face_offsets[f];
-            size_t deg = ts->face_offsets[f + 1] - ts->face_offsets[f];
-            for (size_t fan = 1; fan + 1 < deg; ++fan) {
-                const double *a = Q + 3 * (size_t)t[0], *bb = Q + 3 * (size_t)t[fan],
-                             *cc = Q + 3 * (size_t)t[fan + 1];
-                for (size_t k = 0; k < nn; ++k) {
-                    double u = c->bary[k][0], v = c->bary[k][1], w = 1 - u - v, p[3];
-                    for (int q = 0; q < 3; ++q)
-                        p[q] = w * a[q] + u * bb[q] + v * cc[q];
-                    sk_bvh_closest(c->mesh_bvh, p, &cl);
-                    if (cl.distance > worst) {
-                        worst = cl.distance;
-                        wf = cl.face;
-                    }
-                }
-            }
-        }
-        b->sd[g] = worst;
-        b->sf[g] = wf;
-    }
+    surface_side(c, ts, b);
     for (size_t g = 0; g < need; ++g) {
         mx = fmax(mx, b->sd[g]);
         if (bad && b->sd[g] > c->tol && b->sf[g] < c->nf)
@@ -574,16 +630,26 @@ static void level_cut(const tol_ctx *c, size_t j, uint8_t *alive)
         alive[v] = c->birth[v] <= j;
 }
 
-/* keeps the better of best and r (met first, then fewer patches, then the smaller deviation);
- * r is emptied either way */
+/* within T and without singular patches: a surface the CLI writes (its continuity report
+ * fails on a singular patch) */
+static bool cut_ok(const cut_result *r)
+{
+    return r->s && r->met && r->singular == 0;
+}
+
+/* keeps the better of best and r (within T without singular patches first, then within T, then
+ * fewer singular patches, then fewer patches when within T, else the smaller deviation); r is
+ * emptied either way */
 static void keep_better(cut_result *best, cut_result *r, bool *best_refined, bool r_refined)
 {
     bool better = !best->s ||
-                  (r->met && !best->met) ||
-                  (r->met == best->met && r->met && r->patches < best->patches) ||
-                  (!r->met && !best->met &&
-                   (r->singular < best->singular ||
-                    (r->singular == best->singular && r->max < best->max)));
+                  (cut_ok(r) && !cut_ok(best)) ||
+                  (cut_ok(r) == cut_ok(best) &&
+                   ((r->met && !best->met) ||
+                    (r->met == best->met &&
+                     (r->singular < best->singular ||
+                      (r->singular == best->singular &&
+                       (r->met ? r->patches < best->patches : r->max < best->max))))));
     if (r->s && better) {
         cut_result_free(best);
         *best = *r;
@@ -867,10 +933,14 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
                     for (uint32_t k = t->c.ring_off[v]; k < t->c.ring_off[v + 1]; ++k)
                         t->bad[t->c.ring[k]] = 1;
         } else {
-            bool met = t->r.met;
-            bool worse = t->best.met && t->r.patches >= t->best.patches;
+            /* within T with singular patches: go on splitting around them (they are in bad)
+             * while that lowers their number (some meshes have singular patches even at the
+             * input level: VC1 over cow.off has 15) */
+            bool ok = cut_ok(&t->r);
+            bool worse = t->best.met && t->r.patches >= t->best.patches &&
+                         (cut_ok(&t->best) || (t->r.met && t->r.singular >= t->best.singular));
             keep_better(&t->best, &t->r, &t->best_refined, true);
-            if (met || worse)
+            if (ok || worse)
                 break;
         }
         size_t added = split_back(t);

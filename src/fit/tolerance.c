@@ -733,7 +733,7 @@ static void sample_pattern(tol_ctx *c)
 static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
 {
     sk_status st = SK_OK;
-    t->refine_levels = t->o.refine_levels ? t->o.refine_levels : 2;
+    t->refine_levels = t->o.refine_levels ? t->o.refine_levels : 6;
     t->max_rounds = t->o.max_rounds ? t->o.max_rounds : 32;
     t->c.fine = mesh;
     t->c.nv = mesh->num_vertices;

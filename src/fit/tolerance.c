@@ -352,94 +352,109 @@ static void bary_point(const double bary[2], const double *a, const double *b, c
         p[q] = w * a[q] + u * b[q] + v * c[q];
 }
 
-/* The mesh side: b->fd per fine face (its samples), b->vd per fine vertex, against the surface's
- * tessellation bs. Distances within T are only bounded (sk__bvh_distance_capped at T: a walk
- * that stops at the first triangle within T, started from the triangle of the previous sample);
- * those beyond T are exact. With stop (the search), the walk over the faces stops at the first
- * face beyond T (*stop set). */
-static void mesh_side(const tol_ctx *c, const sk_bvh *bs, const uint8_t *alive, check_buf *b,
-                      int *stop)
+/* What the distance walks of one check share. Each chunk of CHUNK consecutive items starts its
+ * walks from no triangle and carries the triangle found from one sample to the next. */
+enum { CHUNK = 1024 };
+
+typedef struct walk {
+    const tol_ctx *c;
+    const sk_bvh *bs;      /* the surface's tessellation */
+    const sk_soup *ts;     /* ... and its soup */
+    const uint8_t *alive;
+    check_buf *b;
+    int *stop;             /* the search: set at the first face beyond T, then the rest skipped */
+} walk;
+
+typedef void (*chunk_fn)(const walk *w, size_t begin, size_t end);
+
+/* fn over [0, n) in chunks, in parallel */
+static void for_chunks(const walk *w, size_t n, chunk_fn fn)
 {
+    ptrdiff_t chunks = (ptrdiff_t)((n + CHUNK - 1) / CHUNK);
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+    for (ptrdiff_t k = 0; k < chunks; ++k) {
+        size_t begin = (size_t)k * CHUNK, end = begin + CHUNK < n ? begin + CHUNK : n;
+        fn(w, begin, end);
+    }
+}
+
+/* The mesh side, per fine face: b->fd, its samples' largest distance to the surface. Distances
+ * within T are only bounded (sk__bvh_distance_capped at T: a walk that stops at the first
+ * triangle within T); those beyond T are exact. */
+static void mesh_faces(const walk *w, size_t begin, size_t end)
+{
+    const tol_ctx *c = w->c;
     const size_t nn = (size_t)c->n * (size_t)c->n;
-    const double *P = c->fine->positions, tol = c->tol;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel
-#endif
-    {
-        uint32_t hint = SK_INVALID;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp for schedule(dynamic, 1024)
-#endif
-        for (ptrdiff_t f = 0; f < (ptrdiff_t)c->nf; ++f) {
-            b->fd[f] = 0;
-            if (stop && flag_get(stop))
-                continue;
-            const uint32_t *t = c->tri + 3 * f;
-            double worst = 0, p[3];
-            for (size_t k = 0; k < nn; ++k) {
-                bary_point(c->bary[k], P + 3 * (size_t)t[0], P + 3 * (size_t)t[1],
-                           P + 3 * (size_t)t[2], p);
-                worst = fmax(worst, sk__bvh_distance_capped(bs, p, tol, &hint, NULL));
-            }
-            b->fd[f] = worst;
-            if (stop && worst > tol)
-                flag_set(stop);
+    const double *P = c->fine->positions;
+    uint32_t hint = SK_INVALID;
+    for (size_t f = begin; f < end; ++f) {
+        w->b->fd[f] = 0;
+        if (w->stop && flag_get(w->stop))
+            continue;
+        const uint32_t *t = c->tri + 3 * f;
+        double worst = 0, p[3];
+        for (size_t k = 0; k < nn; ++k) {
+            bary_point(c->bary[k], P + 3 * (size_t)t[0], P + 3 * (size_t)t[1],
+                       P + 3 * (size_t)t[2], p);
+            worst = fmax(worst, sk__bvh_distance_capped(w->bs, p, c->tol, &hint, NULL));
         }
-#if defined(SK_HAVE_OPENMP)
-#pragma omp for schedule(dynamic, 1024)
-#endif
-        for (ptrdiff_t v = 0; v < (ptrdiff_t)c->nv; ++v) {
-            b->vd[v] = 0; /* alive vertices are interpolated */
-            if (!alive[v] && !(stop && flag_get(stop)))
-                b->vd[v] = sk__bvh_distance_capped(bs, P + 3 * v, tol, &hint, NULL);
-        }
+        w->b->fd[f] = worst;
+        if (w->stop && worst > c->tol)
+            flag_set(w->stop);
     }
 }
 
-/* The surface side: b->sd per tessellation vertex and face (the largest distance of its
- * samples to the mesh, bounded within T, exact beyond) and b->sf, the fine face nearest to the
- * worst of them. */
-static void surface_side(const tol_ctx *c, const sk_soup *ts, check_buf *b)
+/* The mesh side, per fine vertex: b->vd (0 for the alive ones: the surface interpolates them) */
+static void mesh_vertices(const walk *w, size_t begin, size_t end)
 {
-    const size_t nn = (size_t)c->n * (size_t)c->n, ntv = ts->num_vertices;
-    const size_t need = ntv + ts->num_faces;
-    const double *Q = ts->positions, tol = c->tol;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel
-#endif
-    {
-        uint32_t hint = SK_INVALID;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp for schedule(dynamic, 1024)
-#endif
-        for (ptrdiff_t g = 0; g < (ptrdiff_t)need; ++g) {
-            double worst = -1;
-            uint32_t wf = SK_INVALID, face = SK_INVALID;
-            if ((size_t)g < ntv) {
-                worst = sk__bvh_distance_capped(c->mesh_bvh, Q + 3 * g, tol, &hint, &wf);
-            } else {
-                size_t f = (size_t)g - ntv;
-                const uint32_t *t = ts->face_indices + ts->face_offsets[f];
-                size_t deg = ts->face_offsets[f + 1] - ts->face_offsets[f];
-                for (size_t fan = 1; fan + 1 < deg; ++fan)
-                    for (size_t k = 0; k < nn; ++k) {
-                        double p[3];
-                        bary_point(c->bary[k], Q + 3 * (size_t)t[0], Q + 3 * (size_t)t[fan],
-                                   Q + 3 * (size_t)t[fan + 1], p);
-                        double d = sk__bvh_distance_capped(c->mesh_bvh, p, tol, &hint, &face);
-                        if (d > worst) {
-                            worst = d;
-                            wf = face;
-                        }
-                    }
-            }
-            b->sd[g] = worst;
-            b->sf[g] = wf;
-        }
+    const double *P = w->c->fine->positions;
+    uint32_t hint = SK_INVALID;
+    for (size_t v = begin; v < end; ++v) {
+        w->b->vd[v] = 0;
+        if (!w->alive[v] && !(w->stop && flag_get(w->stop)))
+            w->b->vd[v] = sk__bvh_distance_capped(w->bs, P + 3 * v, w->c->tol, &hint, NULL);
     }
 }
 
-/* Distances both ways between the surface s and the fine mesh (mesh_side, surface_side: exact
+/* The surface side: b->sd per tessellation vertex, then per tessellation face (the largest
+ * distance of its samples to the mesh, bounded within T, exact beyond) and b->sf, the fine face
+ * nearest to the worst of them. */
+static void surface_samples(const walk *w, size_t begin, size_t end)
+{
+    const tol_ctx *c = w->c;
+    const sk_soup *ts = w->ts;
+    const size_t nn = (size_t)c->n * (size_t)c->n, ntv = ts->num_vertices;
+    const double *Q = ts->positions;
+    uint32_t hint = SK_INVALID;
+    for (size_t g = begin; g < end; ++g) {
+        double worst = -1;
+        uint32_t wf = SK_INVALID, face = SK_INVALID;
+        if (g < ntv) {
+            worst = sk__bvh_distance_capped(c->mesh_bvh, Q + 3 * g, c->tol, &hint, &wf);
+        } else {
+            const uint32_t *t = ts->face_indices + ts->face_offsets[g - ntv];
+            size_t deg = ts->face_offsets[g - ntv + 1] - ts->face_offsets[g - ntv];
+            for (size_t fan = 1; fan + 1 < deg; ++fan)
+                for (size_t k = 0; k < nn; ++k) {
+                    double p[3];
+                    bary_point(c->bary[k], Q + 3 * (size_t)t[0], Q + 3 * (size_t)t[fan],
+                               Q + 3 * (size_t)t[fan + 1], p);
+                    double d = sk__bvh_distance_capped(c->mesh_bvh, p, c->tol, &hint, &face);
+                    if (d > worst) {
+                        worst = d;
+                        wf = face;
+                    }
+                }
+        }
+        w->b->sd[g] = worst;
+        w->b->sf[g] = wf;
+    }
+}
+
+/* Distances both ways between the surface s and the fine mesh (mesh_faces, mesh_vertices,
+ * surface_samples: exact
  * beyond T, bounded within it). With bad, the fine vertices where the tolerance is exceeded
  * (their own distance, or a face of theirs) are collected into bad (a flag per fine vertex);
  * without (the search), the check stops at the first sample of the mesh side beyond T.
@@ -468,7 +483,9 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         }
     }
     int stop = 0;
-    mesh_side(c, bs, alive, b, bad ? NULL : &stop);
+    walk w = {c, bs, ts, alive, b, bad ? NULL : &stop};
+    for_chunks(&w, c->nf, mesh_faces);
+    for_chunks(&w, c->nv, mesh_vertices);
     double mx = 0;
     for (size_t f = 0; f < c->nf; ++f) {
         mx = fmax(mx, b->fd[f]);
@@ -485,7 +502,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         *max_out = mx;
         goto done;
     }
-    surface_side(c, ts, b);
+    for_chunks(&w, need, surface_samples);
     for (size_t g = 0; g < need; ++g) {
         mx = fmax(mx, b->sd[g]);
         if (bad && b->sd[g] > c->tol && b->sf[g] < c->nf)

@@ -322,7 +322,7 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                    "--tolerance as R times the bounding-box diagonal"),
         OPT_INT("--refine-levels", a->to.refine_levels, 1, 64, "K",
                 "with a tolerance: the local refinement starts K levels below the coarsest\n"
-                "level that meets it (default 2)"),
+                "level that meets it (default 6)"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
     };
     const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,

@@ -390,11 +390,45 @@ static double box_dist2(const node *n, const double p[3])
     return d2;
 }
 
+/* Pushes the children of the inner node n that are nearer than best, the farther first so that
+ * the nearer is visited first. */
+static void push_children(const sk_bvh *t, const node *n, const double p[3], double best,
+                          uint32_t *stack, int *top)
+{
+    uint32_t near = n->first, far = near + 1;
+    double dn = box_dist2(&t->nodes[near], p), df = box_dist2(&t->nodes[far], p);
+    if (dn > df) {
+        near = far--;
+        double d = dn;
+        dn = df;
+        df = d;
+    }
+    if (df < best)
+        stack[(*top)++] = far;
+    if (dn < best)
+        stack[(*top)++] = near;
+}
+
+/* The triangles of the leaf n nearer than *best: *best (squared) and *bt updated */
+static void scan_leaf(const sk_bvh *t, const node *n, const double p[3], double *best,
+                      uint32_t *bt)
+{
+    double q[3];
+    for (uint32_t i = n->first; i < n->first + n->count; ++i) {
+        const double *c = t->corners + 9 * (size_t)i;
+        double d2 = closest_on_triangle(p, c, c + 3, c + 6, q);
+        if (d2 < *best) {
+            *best = d2;
+            *bt = i;
+        }
+    }
+}
+
 void sk_bvh_closest(const sk_bvh *t, const double p[3], sk_closest *out)
 {
     uint32_t stack[2 * MAX_DEPTH + 8];
     int top = 0;
-    double best = DBL_MAX, q[3], bq[3] = {0, 0, 0};
+    double best = DBL_MAX, bq[3] = {0, 0, 0};
     uint32_t bt = 0;
     stack[top++] = 0;
     while (top > 0) {
@@ -402,36 +436,57 @@ void sk_bvh_closest(const sk_bvh *t, const double p[3], sk_closest *out)
         if (box_dist2(n, p) >= best)
             continue;
         if (n->count) {
-            for (uint32_t i = n->first; i < n->first + n->count; ++i) {
-                const double *c = t->corners + 9 * (size_t)i;
-                double d2 = closest_on_triangle(p, c, c + 3, c + 6, q);
-                if (d2 < best) {
-                    best = d2;
-                    bt = i;
-                    memcpy(bq, q, sizeof q);
-                }
-            }
+            scan_leaf(t, n, p, &best, &bt);
             continue;
         }
-        uint32_t l = n->first, r = l + 1;
-        double dl = box_dist2(&t->nodes[l], p), dr = box_dist2(&t->nodes[r], p);
-        if (dl > dr) { /* push the farther first so the nearer is visited first */
-            uint32_t s = l;
-            l = r;
-            r = s;
-            double d = dl;
-            dl = dr;
-            dr = d;
-        }
-        if (dr < best)
-            stack[top++] = r;
-        if (dl < best)
-            stack[top++] = l;
+        push_children(t, n, p, best, stack, &top);
+    }
+    if (best < DBL_MAX) { /* the point on the nearest triangle */
+        const double *c = t->corners + 9 * (size_t)bt;
+        closest_on_triangle(p, c, c + 3, c + 6, bq);
     }
     out->distance = sqrt(best);
     memcpy(out->point, bq, sizeof bq);
     out->face = t->face[bt];
     out->triangle = t->orig[bt];
+}
+
+double sk__bvh_distance_capped(const sk_bvh *t, const double p[3], double cap, uint32_t *hint,
+                               uint32_t *face)
+{
+    uint32_t stack[2 * MAX_DEPTH + 8];
+    int top = 0;
+    double best = DBL_MAX, cap2 = cap * cap, q[3];
+    uint32_t bt = 0;
+    if (t->num_tris == 0) {
+        *hint = SK_INVALID;
+        if (face)
+            *face = SK_INVALID;
+        return DBL_MAX;
+    }
+    if (*hint < t->num_tris) {
+        const double *c = t->corners + 9 * (size_t)*hint;
+        best = closest_on_triangle(p, c, c + 3, c + 6, q);
+        bt = *hint;
+    }
+    if (best > cap2)
+        stack[top++] = 0;
+    while (top > 0) {
+        const node *n = &t->nodes[stack[--top]];
+        if (box_dist2(n, p) >= best)
+            continue;
+        if (!n->count) {
+            push_children(t, n, p, best, stack, &top);
+            continue;
+        }
+        scan_leaf(t, n, p, &best, &bt);
+        if (best <= cap2)
+            break;
+    }
+    *hint = bt;
+    if (face)
+        *face = t->face[bt];
+    return sqrt(best);
 }
 
 double sk_bvh_distance(void *bvh, const double p[3])

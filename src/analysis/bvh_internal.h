@@ -12,4 +12,12 @@ typedef int (*sk__bvh_visit)(void *user, const double corners[9], uint32_t face)
 int sk__bvh_overlaps(const sk_bvh *bvh, const double lo[3], const double hi[3], sk__bvh_visit fn,
                      void *user);
 
+/* The distance from p to the triangles of bvh by a walk that stops at the first triangle within
+ * cap: the exact distance when it exceeds cap, else the distance to some triangle within cap (at
+ * most cap, at least the exact distance). *hint: a triangle to try first (a value this function
+ * set before, e.g. for a nearby point; SK_INVALID for none), set to the triangle found; *face
+ * (may be NULL): that triangle's soup face. cap = 0 gives the exact distance. */
+double sk__bvh_distance_capped(const sk_bvh *bvh, const double p[3], double cap, uint32_t *hint,
+                               uint32_t *face);
+
 #endif

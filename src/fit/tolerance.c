@@ -16,6 +16,7 @@
 #include "surfkit/deviation.h"
 #include "surfkit/hierarchy.h"
 #include "hierarchy/hierarchy_internal.h"
+#include "analysis/bvh_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -323,9 +324,141 @@ static void check_buf_free(check_buf *b)
     memset(b, 0, sizeof *b);
 }
 
-/* Distances both ways between the surface s and the fine mesh. With mark, the fine vertices
- * where the tolerance is exceeded (their own distance, or a face of theirs) are collected into
- * bad (a flag per fine vertex). *max_out: the largest distance found. */
+/* A flag the OpenMP workers share (the search's early stop). */
+static int flag_get(const int *f)
+{
+    int v;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp atomic read
+#endif
+    v = *f;
+    return v;
+}
+
+static void flag_set(int *f)
+{
+#if defined(SK_HAVE_OPENMP)
+#pragma omp atomic write
+#endif
+    *f = 1;
+}
+
+/* The point w a + u b + v c with (u, v) = bary */
+static void bary_point(const double bary[2], const double *a, const double *b, const double *c,
+                       double p[3])
+{
+    double u = bary[0], v = bary[1], w = 1 - u - v;
+    for (int q = 0; q < 3; ++q)
+        p[q] = w * a[q] + u * b[q] + v * c[q];
+}
+
+/* What the distance walks of one check share. Each chunk of CHUNK consecutive items starts its
+ * walks from no triangle and carries the triangle found from one sample to the next. */
+enum { CHUNK = 1024 };
+
+typedef struct walk {
+    const tol_ctx *c;
+    const sk_bvh *bs;      /* the surface's tessellation */
+    const sk_soup *ts;     /* ... and its soup */
+    const uint8_t *alive;
+    check_buf *b;
+    int *stop;             /* the search: set at the first face beyond T, then the rest skipped */
+} walk;
+
+typedef void (*chunk_fn)(const walk *w, size_t begin, size_t end);
+
+/* fn over [0, n) in chunks, in parallel */
+static void for_chunks(const walk *w, size_t n, chunk_fn fn)
+{
+    ptrdiff_t chunks = (ptrdiff_t)((n + CHUNK - 1) / CHUNK);
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+    for (ptrdiff_t k = 0; k < chunks; ++k) {
+        size_t begin = (size_t)k * CHUNK, end = begin + CHUNK < n ? begin + CHUNK : n;
+        fn(w, begin, end);
+    }
+}
+
+/* The mesh side, per fine face: b->fd, its samples' largest distance to the surface. Distances
+ * within T are only bounded (sk__bvh_distance_capped at T: a walk that stops at the first
+ * triangle within T); those beyond T are exact. */
+static void mesh_faces(const walk *w, size_t begin, size_t end)
+{
+    const tol_ctx *c = w->c;
+    const size_t nn = (size_t)c->n * (size_t)c->n;
+    const double *P = c->fine->positions;
+    uint32_t hint = SK_INVALID;
+    for (size_t f = begin; f < end; ++f) {
+        w->b->fd[f] = 0;
+        if (w->stop && flag_get(w->stop))
+            continue;
+        const uint32_t *t = c->tri + 3 * f;
+        double worst = 0, p[3];
+        for (size_t k = 0; k < nn; ++k) {
+            bary_point(c->bary[k], P + 3 * (size_t)t[0], P + 3 * (size_t)t[1],
+                       P + 3 * (size_t)t[2], p);
+            worst = fmax(worst, sk__bvh_distance_capped(w->bs, p, c->tol, &hint, NULL));
+        }
+        w->b->fd[f] = worst;
+        if (w->stop && worst > c->tol)
+            flag_set(w->stop);
+    }
+}
+
+/* The mesh side, per fine vertex: b->vd (0 for the alive ones: the surface interpolates them) */
+static void mesh_vertices(const walk *w, size_t begin, size_t end)
+{
+    const double *P = w->c->fine->positions;
+    uint32_t hint = SK_INVALID;
+    for (size_t v = begin; v < end; ++v) {
+        w->b->vd[v] = 0;
+        if (!w->alive[v] && !(w->stop && flag_get(w->stop)))
+            w->b->vd[v] = sk__bvh_distance_capped(w->bs, P + 3 * v, w->c->tol, &hint, NULL);
+    }
+}
+
+/* The surface side: b->sd per tessellation vertex, then per tessellation face (the largest
+ * distance of its samples to the mesh, bounded within T, exact beyond) and b->sf, the fine face
+ * nearest to the worst of them. */
+static void surface_samples(const walk *w, size_t begin, size_t end)
+{
+    const tol_ctx *c = w->c;
+    const sk_soup *ts = w->ts;
+    const size_t nn = (size_t)c->n * (size_t)c->n, ntv = ts->num_vertices;
+    const double *Q = ts->positions;
+    uint32_t hint = SK_INVALID;
+    for (size_t g = begin; g < end; ++g) {
+        double worst = -1;
+        uint32_t wf = SK_INVALID, face = SK_INVALID;
+        if (g < ntv) {
+            worst = sk__bvh_distance_capped(c->mesh_bvh, Q + 3 * g, c->tol, &hint, &wf);
+        } else {
+            const uint32_t *t = ts->face_indices + ts->face_offsets[g - ntv];
+            size_t deg = ts->face_offsets[g - ntv + 1] - ts->face_offsets[g - ntv];
+            for (size_t fan = 1; fan + 1 < deg; ++fan)
+                for (size_t k = 0; k < nn; ++k) {
+                    double p[3];
+                    bary_point(c->bary[k], Q + 3 * (size_t)t[0], Q + 3 * (size_t)t[fan],
+                               Q + 3 * (size_t)t[fan + 1], p);
+                    double d = sk__bvh_distance_capped(c->mesh_bvh, p, c->tol, &hint, &face);
+                    if (d > worst) {
+                        worst = d;
+                        wf = face;
+                    }
+                }
+        }
+        w->b->sd[g] = worst;
+        w->b->sf[g] = wf;
+    }
+}
+
+/* Distances both ways between the surface s and the fine mesh (mesh_faces, mesh_vertices,
+ * surface_samples: exact
+ * beyond T, bounded within it). With bad, the fine vertices where the tolerance is exceeded
+ * (their own distance, or a face of theirs) are collected into bad (a flag per fine vertex);
+ * without (the search), the check stops at the first sample of the mesh side beyond T.
+ * *max_out: the largest distance found (exact when beyond T). */
 static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, check_buf *b,
                        uint8_t *bad, double *max_out, sk_error *err)
 {
@@ -336,7 +469,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         st = sk_bvh_build(ts, &bs, err);
     if (st)
         goto done;
-    size_t nts = ts->num_faces, ntv = ts->num_vertices, need = nts + ntv;
+    size_t need = ts->num_faces + ts->num_vertices;
     if (need > b->cap_s) {
         sk__free(b->sd);
         sk__free(b->sf);
@@ -349,37 +482,10 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
             goto done;
         }
     }
-    const int n = c->n;
-    const size_t nn = (size_t)n * (size_t)n;
-    const double *P = c->fine->positions;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1024)
-#endif
-    for (ptrdiff_t f = 0; f < (ptrdiff_t)c->nf; ++f) {
-        const uint32_t *t = c->tri + 3 * f;
-        const double *a = P + 3 * (size_t)t[0], *bb = P + 3 * (size_t)t[1], *cc = P + 3 * (size_t)t[2];
-        double worst = 0;
-        for (size_t k = 0; k < nn; ++k) {
-            double u = c->bary[k][0], v = c->bary[k][1], w = 1 - u - v, p[3];
-            for (int q = 0; q < 3; ++q)
-                p[q] = w * a[q] + u * bb[q] + v * cc[q];
-            sk_closest cl;
-            sk_bvh_closest(bs, p, &cl);
-            worst = fmax(worst, cl.distance);
-        }
-        b->fd[f] = worst;
-    }
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1024)
-#endif
-    for (ptrdiff_t v = 0; v < (ptrdiff_t)c->nv; ++v) {
-        b->vd[v] = 0; /* alive vertices are interpolated */
-        if (!alive[v]) {
-            sk_closest cl;
-            sk_bvh_closest(bs, P + 3 * v, &cl);
-            b->vd[v] = cl.distance;
-        }
-    }
+    int stop = 0;
+    walk w = {c, bs, ts, alive, b, bad ? NULL : &stop};
+    for_chunks(&w, c->nf, mesh_faces);
+    for_chunks(&w, c->nv, mesh_vertices);
     double mx = 0;
     for (size_t f = 0; f < c->nf; ++f) {
         mx = fmax(mx, b->fd[f]);
@@ -396,40 +502,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
         *max_out = mx;
         goto done;
     }
-    const double *Q = ts->positions;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1024)
-#endif
-    for (ptrdiff_t g = 0; g < (ptrdiff_t)need; ++g) {
-        double worst = -1;
-        uint32_t wf = SK_INVALID;
-        sk_closest cl;
-        if ((size_t)g < ntv) {
-            sk_bvh_closest(c->mesh_bvh, Q + 3 * g, &cl);
-            worst = cl.distance;
-            wf = cl.face;
-        } else {
-            size_t f = (size_t)g - ntv;
-            const uint32_t *t = ts->face_indices + ts->face_offsets[f];
-            size_t deg = ts->face_offsets[f + 1] - ts->face_offsets[f];
-            for (size_t fan = 1; fan + 1 < deg; ++fan) {
-                const double *a = Q + 3 * (size_t)t[0], *bb = Q + 3 * (size_t)t[fan],
-                             *cc = Q + 3 * (size_t)t[fan + 1];
-                for (size_t k = 0; k < nn; ++k) {
-                    double u = c->bary[k][0], v = c->bary[k][1], w = 1 - u - v, p[3];
-                    for (int q = 0; q < 3; ++q)
-                        p[q] = w * a[q] + u * bb[q] + v * cc[q];
-                    sk_bvh_closest(c->mesh_bvh, p, &cl);
-                    if (cl.distance > worst) {
-                        worst = cl.distance;
-                        wf = cl.face;
-                    }
-                }
-            }
-        }
-        b->sd[g] = worst;
-        b->sf[g] = wf;
-    }
+    for_chunks(&w, need, surface_samples);
     for (size_t g = 0; g < need; ++g) {
         mx = fmax(mx, b->sd[g]);
         if (bad && b->sd[g] > c->tol && b->sf[g] < c->nf)
@@ -574,16 +647,26 @@ static void level_cut(const tol_ctx *c, size_t j, uint8_t *alive)
         alive[v] = c->birth[v] <= j;
 }
 
-/* keeps the better of best and r (met first, then fewer patches, then the smaller deviation);
- * r is emptied either way */
+/* within T and without singular patches: a surface the CLI writes (its continuity report
+ * fails on a singular patch) */
+static bool cut_ok(const cut_result *r)
+{
+    return r->s && r->met && r->singular == 0;
+}
+
+/* keeps the better of best and r (within T without singular patches first, then within T, then
+ * fewer singular patches, then fewer patches when within T, else the smaller deviation); r is
+ * emptied either way */
 static void keep_better(cut_result *best, cut_result *r, bool *best_refined, bool r_refined)
 {
     bool better = !best->s ||
-                  (r->met && !best->met) ||
-                  (r->met == best->met && r->met && r->patches < best->patches) ||
-                  (!r->met && !best->met &&
-                   (r->singular < best->singular ||
-                    (r->singular == best->singular && r->max < best->max)));
+                  (cut_ok(r) && !cut_ok(best)) ||
+                  (cut_ok(r) == cut_ok(best) &&
+                   ((r->met && !best->met) ||
+                    (r->met == best->met &&
+                     (r->singular < best->singular ||
+                      (r->singular == best->singular &&
+                       (r->met ? r->patches < best->patches : r->max < best->max))))));
     if (r->s && better) {
         cut_result_free(best);
         *best = *r;
@@ -667,7 +750,7 @@ static void sample_pattern(tol_ctx *c)
 static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
 {
     sk_status st = SK_OK;
-    t->refine_levels = t->o.refine_levels ? t->o.refine_levels : 2;
+    t->refine_levels = t->o.refine_levels ? t->o.refine_levels : 6;
     t->max_rounds = t->o.max_rounds ? t->o.max_rounds : 32;
     t->c.fine = mesh;
     t->c.nv = mesh->num_vertices;
@@ -867,10 +950,14 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
                     for (uint32_t k = t->c.ring_off[v]; k < t->c.ring_off[v + 1]; ++k)
                         t->bad[t->c.ring[k]] = 1;
         } else {
-            bool met = t->r.met;
-            bool worse = t->best.met && t->r.patches >= t->best.patches;
+            /* within T with singular patches: go on splitting around them (they are in bad)
+             * while that lowers their number (some meshes have singular patches even at the
+             * input level: VC1 over cow.off has 15) */
+            bool ok = cut_ok(&t->r);
+            bool worse = t->best.met && t->r.patches >= t->best.patches &&
+                         (cut_ok(&t->best) || (t->r.met && t->r.singular >= t->best.singular));
             keep_better(&t->best, &t->r, &t->best_refined, true);
-            if (met || worse)
+            if (ok || worse)
                 break;
         }
         size_t added = split_back(t);

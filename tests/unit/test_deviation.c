@@ -3,6 +3,7 @@
  * itself, an inscribed icosahedron against a fine sphere), and bad input. */
 #include "testutil.h"
 #include "surfkit/deviation.h"
+#include "analysis/bvh_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -103,6 +104,63 @@ static void bvh_matches_brute_force(void **state)
     }
     sk_bvh_destroy(&bvh);
     assert_null(bvh);
+    sk_soup_destroy(&s);
+}
+
+/* The capped walk (the tolerance route's check): exact beyond the cap, within it a distance to a
+ * real triangle between the exact distance and the cap; the hint carried from point to point
+ * and the face it names agree with the distance. */
+static void capped_distance(void **state)
+{
+    (void)state;
+    sk_soup *s = skt_read_soup(skt_shared_mesh("lion-head.off"));
+    sk_bvh *bvh = NULL;
+    assert_int_equal(sk_bvh_build(s, &bvh, NULL), SK_OK);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t v = 0; v < s->num_vertices; ++v)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = fmin(lo[k], s->positions[3 * v + k]);
+            hi[k] = fmax(hi[k], s->positions[3 * v + k]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const double caps[] = {0, 1e-3, 1e-2, 5e-2, 10};
+    uint32_t hint = SK_INVALID;
+    size_t bounded = 0, exact = 0;
+    srand(11);
+    for (int q = 0; q < 400; ++q) {
+        double p[3];
+        for (int k = 0; k < 3; ++k) { /* near the surface: a vertex moved by up to 2% */
+            size_t v = (size_t)rand() % s->num_vertices;
+            p[k] = s->positions[3 * v + k] + 0.02 * diag * (rand() / (double)RAND_MAX - 0.5);
+            if (k == 0)
+                memcpy(p, s->positions + 3 * v, sizeof p);
+        }
+        double best = INFINITY;
+        for (size_t f = 0; f < s->num_faces; ++f) {
+            const uint32_t *t = s->face_indices + s->face_offsets[f];
+            best = fmin(best, tri_dist(p, s->positions + 3 * t[0], s->positions + 3 * t[1],
+                                       s->positions + 3 * t[2]));
+        }
+        double cap = caps[q % 5] * diag;
+        uint32_t face = SK_INVALID;
+        double d = sk__bvh_distance_capped(bvh, p, cap, &hint, &face);
+        assert_true(face < s->num_faces && hint < sk_bvh_triangles(bvh));
+        const uint32_t *t = s->face_indices + s->face_offsets[face];
+        double on = tri_dist(p, s->positions + 3 * t[0], s->positions + 3 * t[1],
+                             s->positions + 3 * t[2]);
+        assert_true(fabs(on - d) <= 1e-12 * (1 + d));
+        if (best > cap) {
+            assert_true(fabs(d - best) <= 1e-12 * (1 + best));
+            ++exact;
+        } else {
+            assert_true(d >= best - 1e-12 * (1 + best) && d <= cap * (1 + 1e-12));
+            bounded += d > best + 1e-12 * (1 + best);
+        }
+    }
+    /* both branches are exercised, and the walk did stop early somewhere */
+    assert_true(exact > 100 && bounded > 0);
+    sk_bvh_destroy(&bvh);
     sk_soup_destroy(&s);
 }
 
@@ -287,7 +345,7 @@ int main(void)
         cmocka_unit_test(bvh_matches_brute_force), cmocka_unit_test(parallel_planes),
         cmocka_unit_test(mesh_against_itself),     cmocka_unit_test(icosahedron_in_sphere),
         cmocka_unit_test(bad_input),               cmocka_unit_test(cancelled),
-        cmocka_unit_test(hands_over_bvhs),
+        cmocka_unit_test(hands_over_bvhs),         cmocka_unit_test(capped_distance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -206,22 +206,42 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
     b->uncert += !cone;
 }
 
-/* Crossing patch pairs, on a tessellation of n segments per side: the tessellator emits the
- * faces patch by patch (n^2 per triangle, 2 n^2 per tensor patch), and patch g's corner ids make
- * face g of the groups soup, so patches sharing a corner are neighbours. */
+/* Crossing patch pairs, on a tessellation of n segments per side of the patches that can cross
+ * another (sk__patch_box_candidates; the others' pairs cannot cross): the tessellator emits the
+ * faces patch by patch (n^2 per triangle, 2 n^2 per tensor patch), and candidate g's corner ids
+ * make face g of the groups soup, so patches sharing a corner are neighbours. The reported
+ * patches are mapped back to the whole set's indices (in the same order: the candidates keep
+ * theirs). */
 static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuity_report *rep,
                                sk_error *err)
 {
     sk_soup *tess = NULL, *groups = NULL;
-    uint32_t *face_patch = NULL;
-    sk_status st = sk_patch_set_tessellate(set, n, &tess, err);
+    sk_patch_set sub = {0};
+    uint32_t *face_patch = NULL, *orig = sk__malloc_array(set->count + 1, sizeof *orig);
+    uint8_t *cand = sk__malloc_array(set->count + 1, 1);
+    sk_status st = orig && cand ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (!st)
-        st = sk_soup_create(0, set->count, 4 * set->count, false, false, &groups, err);
+        st = sk__patch_box_candidates(set, cand, err);
+    size_t nc = 0;
+    for (size_t p = 0; !st && p < set->count; ++p) {
+        const sk_patch *pp = &set->patches[p];
+        if (!cand[p])
+            continue;
+        orig[nc++] = (uint32_t)p;
+        st = sk_patch_set_add(&sub, (sk_patch_kind)pp->kind, pp->degree, pp->degree_v,
+                              sk_patch_cp(set, p), pp->corner_ids, NULL, err);
+    }
+    rep->intersecting_pairs = rep->intersecting_patches = 0;
+    if (st || nc == 0)
+        goto done;
+    st = sk_patch_set_tessellate(&sub, n, &tess, err);
+    if (!st)
+        st = sk_soup_create(0, nc, 4 * nc, false, false, &groups, err);
     if (!st && !(face_patch = sk__malloc_array(tess->num_faces + 1, sizeof *face_patch)))
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
     size_t f = 0;
-    for (size_t p = 0; !st && p < set->count; ++p) {
-        const sk_patch *pp = &set->patches[p];
+    for (size_t p = 0; !st && p < nc; ++p) {
+        const sk_patch *pp = &sub.patches[p];
         size_t nf = (size_t)n * n * (pp->kind == SK_PATCH_TRIANGLE ? 1 : 2);
         for (size_t k = 0; k < nf && f < tess->num_faces; ++k)
             face_patch[f++] = (uint32_t)p;
@@ -238,12 +258,16 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
         rep->intersecting_pairs = x.pairs;
         rep->intersecting_patches = x.groups;
         for (size_t i = 0; i < x.num_examples && i < SK_CONTINUITY_EXAMPLES; ++i) {
-            rep->intersection_examples[2 * i] = x.examples[2 * i];
-            rep->intersection_examples[2 * i + 1] = x.examples[2 * i + 1];
+            rep->intersection_examples[2 * i] = orig[x.examples[2 * i]];
+            rep->intersection_examples[2 * i + 1] = orig[x.examples[2 * i + 1]];
             rep->num_intersection_examples = i + 1;
         }
     }
+done:
     sk__free(face_patch);
+    sk__free(orig);
+    sk__free(cand);
+    sk_patch_set_free(&sub);
     sk_soup_destroy(&groups);
     sk_soup_destroy(&tess);
     return st;

@@ -122,6 +122,10 @@ void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
  * the Ginkel-Peters-Umlauf cone test. */
 bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
 
+/* The patches whose control-point box overlaps the box of a patch sharing no corner with it
+ * (box_candidates.c): cand[p] = 1 for those (np bytes), the only ones that can cross another. */
+sk_status sk__patch_box_candidates(const sk_patch_set *set, uint8_t *cand, sk_error *err);
+
 /* Parity split (parity_split.c): every closed component of m with an odd number of vertices gets
  * its longest edge split at the midpoint of its wire frame curve (normals there: the mean of the
  * end normals made orthogonal to the curve). *out is the new mesh with its normals in

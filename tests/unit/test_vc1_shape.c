@@ -606,6 +606,67 @@ static void test_table(void **state)
     }
 }
 
+/* The self-intersection test's candidates (box_candidates.c) against brute force on lion-head's
+ * and the cow's surfaces: every patch whose control-point box overlaps that of a patch sharing no
+ * corner is a candidate, and the grid leaves out most of the others (it may keep some: crowded
+ * cells). */
+static void test_box_candidates(void **state)
+{
+    (void)state;
+    const char *names[] = {"lion-head.off", "cow.off"};
+    for (int i = 0; i < 2; ++i) {
+        sk_mesh *mesh = skt_read_mesh(skt_shared_mesh(names[i]));
+        sk_smooth *s = NULL;
+        sk_error err = {0};
+        if (sk_smooth_build(mesh, NULL, &s, &err) != SK_OK)
+            fail_msg("%s: %s", names[i], err.message);
+        const sk_patch_set *set = &s->surface;
+        size_t np = set->count;
+        uint8_t *cand = malloc(np), *need = calloc(np, 1);
+        double *box = malloc(6 * np * sizeof *box);
+        assert_non_null(cand);
+        assert_non_null(need);
+        assert_non_null(box);
+        assert_int_equal(sk__patch_box_candidates(set, cand, NULL), SK_OK);
+        for (size_t p = 0; p < np; ++p) {
+            const double *cp = sk_patch_cp(set, p);
+            for (int k = 0; k < 3; ++k)
+                box[6 * p + k] = INFINITY, box[6 * p + 3 + k] = -INFINITY;
+            for (unsigned j = 0; j < sk_patch_num_points(&set->patches[p]); ++j)
+                for (int k = 0; k < 3; ++k) {
+                    box[6 * p + k] = fmin(box[6 * p + k], cp[3 * j + k]);
+                    box[6 * p + 3 + k] = fmax(box[6 * p + 3 + k], cp[3 * j + k]);
+                }
+        }
+        for (size_t a = 0; a < np; ++a)
+            for (size_t b = a + 1; b < np; ++b) {
+                bool overlap = true, shared = false;
+                for (int k = 0; k < 3; ++k)
+                    overlap = overlap && box[6 * a + k] <= box[6 * b + 3 + k] &&
+                              box[6 * b + k] <= box[6 * a + 3 + k];
+                const sk_patch *pa = &set->patches[a], *pb = &set->patches[b];
+                for (unsigned x = 0; x < sk_patch_num_corners(pa); ++x)
+                    for (unsigned y = 0; y < sk_patch_num_corners(pb); ++y)
+                        shared = shared || pa->corner_ids[x] == pb->corner_ids[y];
+                if (overlap && !shared)
+                    need[a] = need[b] = 1;
+            }
+        size_t nneed = 0, ncand = 0;
+        for (size_t p = 0; p < np; ++p) {
+            assert_true(cand[p] || !need[p]);
+            nneed += need[p];
+            ncand += cand[p];
+        }
+        print_message("%s: %zu patches, %zu candidates, %zu needed\n", names[i], np, ncand, nneed);
+        assert_true(ncand < np / 2);
+        free(cand);
+        free(need);
+        free(box);
+        sk_smooth_destroy(&s);
+        sk_mesh_destroy(&mesh);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -616,6 +677,7 @@ int main(void)
         cmocka_unit_test(test_fair_vs_lsq),
         cmocka_unit_test(test_fair_points_eight),
         cmocka_unit_test(test_table),
+        cmocka_unit_test(test_box_candidates),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

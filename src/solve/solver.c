@@ -242,7 +242,7 @@ done:
     return st;
 }
 
-sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err)
+static sk_status factorize(sk_solver *s, const sk_sparse *a, sk_error *err)
 {
     if (a->n != s->n)
         return sk__fail(err, SK_ERR_ARG, "matrix size %zu differs from the analysed %zu", a->n, s->n);
@@ -289,7 +289,7 @@ sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err)
     return st;
 }
 
-sk_status sk_solver_solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk_error *err)
+static sk_status solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk_error *err)
 {
     if (nrhs == 0)
         return SK_OK;
@@ -337,6 +337,27 @@ sk_status sk_solver_solve(sk_solver *s, size_t nrhs, const double *b, double *x,
     s->stats.solve_seconds += sk_seconds() - t0;
     s->stats.solves++;
     s->stats.rhs += nrhs;
+    return st;
+}
+
+/* The factor and the solves run with one BLAS thread: on this project's 2-core machine, the 1M
+ * lion-head (Loop x3) costs the same wall time with one as with the default two (LSCM 9.86 against
+ * 9.80 s, Floater 8.06 / 8.13, Tutte 4.53 / 4.64, at load 1) and 2.5 s less CPU, the second
+ * thread spinning in sched_yield between CHOLMOD's supernode calls; at load 10-20 one is faster
+ * (docs/linear.md). */
+sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err)
+{
+    int blas = sk__blas_serial_begin();
+    sk_status st = factorize(s, a, err);
+    sk__blas_serial_end(blas);
+    return st;
+}
+
+sk_status sk_solver_solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk_error *err)
+{
+    int blas = sk__blas_serial_begin();
+    sk_status st = solve(s, nrhs, b, x, err);
+    sk__blas_serial_end(blas);
     return st;
 }
 

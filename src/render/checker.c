@@ -1,5 +1,7 @@
 /* Checkerboard texture on the 3D mesh: a small z-buffered rasterizer into a cairo image
- * (orthographic view along opts->view), uv interpolated per pixel. */
+ * (orthographic view along opts->view), uv interpolated per pixel; the mesh's boundary edges drawn
+ * over it in red where they are not hidden. An atlas comes as its seam-split mesh
+ * (sk_atlas_split_mesh), so these are its seams and the surface's own boundary. */
 #include "render/render_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -8,6 +10,32 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The boundary edges, 2 pixels wide, where the z-buffer shows them (a tolerance of zeps in
+ * depth, so an edge on the surface is not hidden by its own faces). */
+static void draw_boundary(const sk_mesh *m, const sk__view *view, const float *zbuf, int W,
+                          int H, double zeps, unsigned char *data, int stride)
+{
+    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
+        if (!sk_is_boundary_h(m, h) || m->h_face[h ^ 1u] == SK_INVALID)
+            continue;
+        double a[3], b[3];
+        sk__view_project(view, m->positions + 3 * (size_t)sk_from(m, h), a);
+        sk__view_project(view, m->positions + 3 * (size_t)sk_to(m, h), b);
+        int steps = (int)fmin(4 * (double)W, ceil(2 * fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1]))) + 1);
+        for (int k = 0; k <= steps; ++k) {
+            double t = (double)k / steps, x = a[0] + t * (b[0] - a[0]), y = a[1] + t * (b[1] - a[1]);
+            double z = a[2] + t * (b[2] - a[2]);
+            for (int dj = 0; dj < 2; ++dj)
+                for (int di = 0; di < 2; ++di) {
+                    int i = (int)floor(x) + di, j = (int)floor(y) + dj;
+                    if (i < 0 || j < 0 || i >= W || j >= H || z > zbuf[(size_t)j * W + i] + zeps)
+                        continue;
+                    ((uint32_t *)(data + (size_t)j * stride))[i] = 0xd01818u;
+                }
+        }
+    }
+}
 
 sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path,
                             const sk_render_opts *opts, sk_error *err)
@@ -110,6 +138,7 @@ sk_status sk_render_checker(const sk_mesh *m, const double *uv, const char *path
             }
         }
     }
+    draw_boundary(m, &view, zbuf, W, H, 0.01 * span / view.scale, data, stride);
     sk__free(zbuf);
     cairo_surface_mark_dirty(surf);
     if (o.title) {

@@ -11,9 +11,10 @@
  * an even spread, lengths scaled); the variant with the fewest singular patches among the faces
  * whose control points it moves (the faces around the vertex and its neighbours) is kept if it
  * has fewer than the plain construction. Then the corners of the patches still singular and
- * their neighbours again, then with a wider grid of variants, then both ends of every edge of a
- * patch still singular together (repair_pairs; measured on the cow: 8 -> 6 singular patches, the
- * wide grid 9 -> 8; armadillo 3 -> 0). Sequential in vertex order: deterministic. */
+ * their neighbours again; then both ends of every edge of a patch still singular together
+ * (repair_pairs), and those corners with a wider grid of variants (measured on the cow: the pairs
+ * 8 -> 6 singular patches, the wide grid 9 -> 8; armadillo 3 -> 0). Sequential in vertex order:
+ * deterministic. */
 
 static const double repair_variants[][2] = {
     /* blend, length scale */

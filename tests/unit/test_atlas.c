@@ -7,8 +7,12 @@
 
 #include "surfkit/atlas.h"
 #include "surfkit/param.h"
+#include "surfkit/render.h"
+
+#include <cairo/cairo.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -605,6 +609,51 @@ static void test_uv_overlaps_cases(void **state)
     assert_int_equal(count_overlaps(2, star), 1);
 }
 
+/* pixels of the checker picture at path in the seam colour */
+static size_t seam_pixels(const char *path)
+{
+    cairo_surface_t *png = cairo_image_surface_create_from_png(path);
+    assert_int_equal(cairo_surface_status(png), CAIRO_STATUS_SUCCESS);
+    const unsigned char *data = cairo_image_surface_get_data(png);
+    int w = cairo_image_surface_get_width(png), h = cairo_image_surface_get_height(png);
+    int stride = cairo_image_surface_get_stride(png);
+    size_t n = 0;
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+            n += (((const uint32_t *)(data + (size_t)j * stride))[i] & 0xffffffu) == 0xd01818u;
+    cairo_surface_destroy(png);
+    return n;
+}
+
+/* The checker picture draws the seams: the cow's atlas (its seam-split mesh) shows seam pixels;
+ * the closed cow with one uv per vertex (no seam, no boundary) shows none. */
+static void test_checker_seams(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("cow.off")), *split = NULL;
+    sk_atlas *a = NULL;
+    assert_int_equal(sk_atlas_build(m, NULL, &a, NULL, NULL), SK_OK);
+    assert_int_equal(sk_atlas_split_mesh(m, a, &split, NULL), SK_OK);
+    char path[1024];
+    snprintf(path, sizeof path, "%s", skt_tmp_path("atlas_checker.png"));
+    assert_int_equal(sk_render_checker(split, split->uvs, path, NULL, NULL), SK_OK);
+    size_t atlas_seams = seam_pixels(path);
+    double *uv = malloc(2 * m->num_vertices * sizeof *uv);
+    assert_non_null(uv);
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        uv[2 * v] = m->positions[3 * v], uv[2 * v + 1] = m->positions[3 * v + 1];
+    assert_int_equal(sk_render_checker(m, uv, path, NULL, NULL), SK_OK);
+    size_t closed_seams = seam_pixels(path);
+    print_message("cow checker: %zu seam pixels for the atlas, %zu without seams\n", atlas_seams,
+                  closed_seams);
+    assert_true(atlas_seams > 1000);
+    assert_int_equal(closed_seams, 0);
+    free(uv);
+    sk_mesh_destroy(&split);
+    sk_atlas_destroy(&a);
+    sk_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -616,6 +665,7 @@ int main(void)
         cmocka_unit_test(test_predictor_needs_bounds),
         cmocka_unit_test(test_max_charts),
         cmocka_unit_test(test_creases),
+        cmocka_unit_test(test_checker_seams),
         cmocka_unit_test(test_shared_meshes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

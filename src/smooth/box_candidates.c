@@ -38,7 +38,8 @@ static bool share_corner(const sk_patch *a, const sk_patch *b)
     return false;
 }
 
-/* box[6 p ..]: lo xyz, hi xyz of patch p's control points; returns the mean largest extent */
+/* box[6 p ..]: lo xyz, hi xyz of patch p's control points; returns the mean largest extent, NaN
+ * when a control point is not finite */
 static double patch_boxes(const sk_patch_set *set, double *box, double glo[3], double ghi[3])
 {
     double ext = 0;
@@ -51,6 +52,8 @@ static double patch_boxes(const sk_patch_set *set, double *box, double glo[3], d
             b[k] = INFINITY, b[3 + k] = -INFINITY;
         for (unsigned i = 0; i < sk_patch_num_points(&set->patches[p]); ++i)
             for (int k = 0; k < 3; ++k) {
+                if (!isfinite(cp[3 * i + k]))
+                    return NAN; /* (fmin and fmax would skip it) */
                 b[k] = fmin(b[k], cp[3 * i + k]);
                 b[3 + k] = fmax(b[3 + k], cp[3 * i + k]);
             }
@@ -127,13 +130,13 @@ sk_status sk__patch_box_candidates(const sk_patch_set *set, uint8_t *cand, sk_er
     if (!box)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     double h = patch_boxes(set, box, glo, ghi);
-    for (int k = 0; k < 3; ++k) /* no more cells per axis than the key holds */
-        h = fmax(h, (ghi[k] - glo[k]) / (AXIS_CELLS - 1));
     if (!(h > 0) || !isfinite(h)) { /* all boxes points, or a non-finite point: test them all */
         memset(cand, 1, np);
         sk__free(box);
         return SK_OK;
     }
+    for (int k = 0; k < 3; ++k) /* no more cells per axis than the key holds */
+        h = fmax(h, (ghi[k] - glo[k]) / (AXIS_CELLS - 1));
     size_t n = 0, nbig = 0;
     uint32_t lo[3], hi[3];
     uint8_t *big = sk__calloc_array(np + 1, 1);

@@ -398,14 +398,17 @@ void sk__crease_targets(const sk_mesh *m, const uint8_t *ce, const double *cn, d
     }
 }
 
-/* A vertex with exactly two crease edges X, Y has two sectors with the same two normals, so
- * both crease tangents lie on one line V + t (n1 x n2): p_Y = -c p_X, c = |p_Y| / |p_X|. A sector
- * with one interior edge (two faces, chain p_X, p_1, p_Y) then meets its one constraint (8),
- * Delta_u p_Y - nu Delta_d p_X = w p_1, only with p_1 on that line (a degenerate corner) unless
- * c = -nu Delta_d / Delta_u (then w = 0 and p_1 is free). So the two tangent lengths are set to
- * that ratio, keeping their product (the other sector has at least two interior edges and
- * takes any ratio, or none). Returns the number of vertices where both sectors have one interior
- * edge with ratios that disagree (their systems cannot be met). */
+/* The ring L and sectors S of crease vertex v when it has two sectors and the first is fixed at
+ * both ends (by crease edges); false for any other vertex. */
+static bool two_sectors(const sk__vc1_work *W, uint32_t v, uint32_t *L, sector *S)
+{
+    const sk_mesh *m = W->m;
+    if (!W->crease_v[v] || m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+        return false;
+    int ns, len = sectors_of(m, W->crease_e, v, L, S, &ns);
+    return len > 0 && ns == 2 && S[0].fix_first && S[0].fix_last;
+}
+
 /* ratio -nu Delta_d / Delta_u of the interior edge h of a two-face sector */
 static double sector_ratio(const sk__vc1_work *W, uint32_t h)
 {
@@ -414,6 +417,14 @@ static double sector_ratio(const sk__vc1_work *W, uint32_t h)
     return -W->nu[h] * dd / du;
 }
 
+/* A vertex with exactly two crease edges X, Y has two sectors with the same two normals, so
+ * both crease tangents lie on one line V + t (n1 x n2): p_Y = -c p_X, c = |p_Y| / |p_X|. A sector
+ * with one interior edge (two faces, chain p_X, p_1, p_Y) then meets its one constraint (8),
+ * Delta_u p_Y - nu Delta_d p_X = w p_1, only with p_1 on that line (a degenerate corner) unless
+ * c = -nu Delta_d / Delta_u (then w = 0 and p_1 is free). So the two tangent lengths are set to
+ * that ratio, keeping their product (the other sector has at least two interior edges and
+ * takes any ratio, or none). Returns the number of vertices where both sectors have one interior
+ * edge with ratios that disagree (their systems cannot be met). */
 size_t sk__crease_tangent_ratios(sk__vc1_work *W, double *r, double *target)
 {
     const sk_mesh *m = W->m;
@@ -422,13 +433,9 @@ size_t sk__crease_tangent_ratios(sk__vc1_work *W, double *r, double *target)
      * positive r satisfies (5) around every cyclic vertex), so the first face of the second
      * sector takes the r that makes them so, and the nu of its edges follow */
     for (uint32_t v = 0; v < m->num_vertices; ++v) {
-        if (!W->crease_v[v] || m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
-            continue;
         uint32_t L[SK_VSYS_MAX];
         sector S[SK_VSYS_MAX];
-        int ns, len = sectors_of(m, W->crease_e, v, L, S, &ns);
-        if (len <= 0 || ns != 2 || !S[0].fix_first || !S[0].fix_last || S[0].n != 3 ||
-            S[1].n != 3)
+        if (!two_sectors(W, v, L, S) || S[0].n != 3 || S[1].n != 3)
             continue;
         uint32_t ha = L[S[0].first + 1], hb = L[S[1].first + 1], f = m->h_face[hb];
         double k = sector_ratio(W, ha) * sector_ratio(W, hb);
@@ -446,12 +453,9 @@ size_t sk__crease_tangent_ratios(sk__vc1_work *W, double *r, double *target)
         } while (h != h0);
     }
     for (uint32_t v = 0; v < m->num_vertices; ++v) {
-        if (!W->crease_v[v] || m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
-            continue;
         uint32_t L[SK_VSYS_MAX];
         sector S[SK_VSYS_MAX];
-        int ns, len = sectors_of(m, W->crease_e, v, L, S, &ns);
-        if (len <= 0 || ns != 2 || !S[0].fix_first || !S[0].fix_last)
+        if (!two_sectors(W, v, L, S))
             continue;
         const double *V = m->positions + 3 * (size_t)v;
         double ratio[2];

@@ -86,15 +86,10 @@ static bool has_edge(const sk_mesh *m, uint32_t a, uint32_t b)
     return sk__find_halfedge(m, a, b) != SK_INVALID;
 }
 
+/* faces around v: its edges, less the boundary gap */
 static size_t face_count(const sk_mesh *m, uint32_t v)
 {
-    uint32_t h0 = m->v_halfedge[v], h = h0;
-    size_t n = 0;
-    do {
-        n += m->h_face[h] != SK_INVALID;
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return n;
+    return sk_mesh_valence(m, v) - sk_is_boundary_v(m, v);
 }
 
 size_t sk__crease_split_sectors(sk_mesh *m, const uint8_t *crease)

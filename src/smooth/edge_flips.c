@@ -104,13 +104,8 @@ static bool has_edge(const sk_mesh *m, uint32_t c, uint32_t d)
 /* v keeps at least three faces (interior) or two (boundary) after losing one */
 static bool enough_faces(const sk_mesh *m, uint32_t v)
 {
-    uint32_t h0 = m->v_halfedge[v], h = h0;
-    size_t faces = 0;
-    do {
-        faces += m->h_face[h] != SK_INVALID;
-        h = sk_cw_out(m, h);
-    } while (h != h0);
-    return faces > (sk_is_boundary_v(m, v) ? 2u : 3u);
+    bool boundary = sk_is_boundary_v(m, v);
+    return sk_mesh_valence(m, v) - boundary > (boundary ? 2u : 3u);
 }
 
 /* Should the interior edge of half-edge h be flipped? */

@@ -37,6 +37,8 @@ typedef struct sk_fit_opts {
     sk_param_method method;  /* the square map: 0 = Floater (shape preserving, linear);
                                 SK_PARAM_MIPS = hierarchical MIPS with the square boundary fixed
                                 (the same corners and spacing); others as sk_parametrize */
+    double area_theta;       /* > 0: the square map is then balanced by MIPS with the area term
+                                (sk_mips_opts.area_theta), the sides kept; 0 = none */
     bool has_corners;        /* corners: four boundary vertices, counter-clockwise around the */
     uint32_t corners[4];     /* surface, mapped to (0,0), (1,0), (1,1), (0,1) */
     sk_progress_fn progress;

@@ -89,12 +89,17 @@ typedef enum {
     SK_LINEAR_DIRECT = 0,  /* sparse Cholesky / LU (default) */
     SK_LINEAR_GAUSS_SEIDEL, /* iterative, starting from the interior uv given (a warm start, e.g.
                               a coarser level's solution); stops at `tolerance` or the budget */
-    SK_LINEAR_HIERARCHICAL  /* multilevel over the progressive mesh: the coarsest level solved
+    SK_LINEAR_HIERARCHICAL, /* multilevel over the progressive mesh: the coarsest level solved
                                directly, prolonged through the barycentric coordinates, Krylov
                                iterations (CG for Tutte / harmonic / LSCM, BiCGStab for Floater /
                                mean value) preconditioned by a V-cycle on each finer level until
                                the relative residual reaches `tolerance`; the same system as
                                direct (see coarse_vertices for small meshes). */
+    SK_LINEAR_AMG           /* algebraic multigrid: aggregates of the matrix graph (pairwise
+                               heavy-edge matching twice per level), piecewise-constant
+                               prolongation, Galerkin operators down to a few thousand unknowns
+                               factored directly, the same V-cycle and Krylov methods as
+                               hierarchical; no progressive mesh to build */
 } sk_linear_solver;
 
 /* Options of the linear methods; zero-initialized means every default. */

@@ -1,5 +1,5 @@
 /* Aggregation AMG (see amg.h): pairwise heavy-edge matching applied twice per level (Notay's
- * double pairwise aggregation, here over plain |a_ij| strengths), piecewise-constant or smoothed
+ * double pairwise aggregation, here over the negative couplings' sizes), piecewise-constant or smoothed
  * prolongation (Vanek, Mandel, Brezina), Galerkin coarse operators, handed to the multilevel
  * object of krylov.c. */
 #include "solve/amg.h"
@@ -42,7 +42,7 @@ static sk_status graph_alloc(graph *g, size_t n, size_t nnz, sk_error *err)
     return SK_OK;
 }
 
-/* The unknowns' strength graph: |a_ij| for i != j of the same component (i = j mod dim). */
+/* The unknowns' strength graph: max(-a_ij, 0) for i != j of the same component (i = j mod dim). */
 static sk_status unknown_graph(const sk__csr *a, unsigned dim, graph *g, sk_error *err)
 {
     size_t n = a->rows, nnz = 0;
@@ -57,7 +57,7 @@ static sk_status unknown_graph(const sk__csr *a, unsigned dim, graph *g, sk_erro
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             if (a->col[k] != i && a->col[k] % dim == i % dim) {
                 g->adj[q] = a->col[k];
-                g->w[q++] = fabs(a->val[k]);
+                g->w[q++] = a->val[k] < 0 ? -a->val[k] : 0;
             }
         g->ptr[i + 1] = q;
     }

@@ -11,10 +11,13 @@
 
 /* Aggregates of the unknowns of the square matrix a, dim unknowns per block (block b owns
  * unknowns dim * b .. dim * b + dim - 1, a->rows a multiple of dim): the blocks are matched over
- * the strength |a_ij| summed over the dim same-component couplings, twice (the second time over
+ * the strength (below) summed over the dim same-component couplings, twice (the second time over
  * the graph of the first pass's pairs); a block with no unmatched neighbour joins its strongest
  * neighbour's aggregate, one with no neighbour at all stays alone. agg[b] (a->rows / dim
- * entries) is block b's aggregate in 0 .. *count - 1, every aggregate non-empty. */
+ * entries) is block b's aggregate in 0 .. *count - 1, every aggregate non-empty. The strength of
+ * a coupling is -a_ij where a_ij < 0 and 0 otherwise (a positive off-diagonal, as an obtuse
+ * triangle gives the cotangent weights, is weak: 37 -> 36 CG iterations, harmonic on a 266k-
+ * triangle disk). */
 sk_status sk__amg_aggregate(const sk__csr *a, unsigned dim, uint32_t *agg, size_t *count,
                             sk_error *err);
 

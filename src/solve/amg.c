@@ -64,6 +64,27 @@ static sk_status unknown_graph(const sk__csr *a, unsigned dim, graph *g, sk_erro
     return SK_OK;
 }
 
+/* A sparse row accumulator: the columns of the row that starts at position row gathered in
+ * cols[row .. *q), their values summed in acc by column; mark[c] is where column c was last put
+ * (SIZE_MAX: never). */
+static void acc_add(size_t *mark, double *acc, uint32_t *cols, size_t row, size_t *q, uint32_t c,
+                    double v)
+{
+    if (mark[c] == SIZE_MAX || mark[c] < row) {
+        mark[c] = *q;
+        acc[c] = 0;
+        cols[(*q)++] = c;
+    }
+    acc[c] += v;
+}
+
+/* vals[row .. q) from the accumulator. */
+static void acc_store(const double *acc, const uint32_t *cols, double *vals, size_t row, size_t q)
+{
+    for (size_t k = row; k < q; ++k)
+        vals[k] = acc[cols[k]];
+}
+
 /* The graph of the groups map[i] (count of them): the weights between two groups summed, the
  * couplings inside a group dropped. */
 static sk_status contract(const graph *g, const uint32_t *map, size_t count, graph *out,
@@ -98,19 +119,11 @@ static sk_status contract(const graph *g, const uint32_t *map, size_t count, gra
             uint32_t i = members[s];
             for (size_t k = g->ptr[i]; k < g->ptr[i + 1]; ++k) {
                 uint32_t d = map[g->adj[k]];
-                if (d == c)
-                    continue;
-                if (mark[d] == SIZE_MAX || mark[d] < row) {
-                    mark[d] = q;
-                    out->adj[q] = d;
-                    acc[d] = 0;
-                    ++q;
-                }
-                acc[d] += g->w[k];
+                if (d != c)
+                    acc_add(mark, acc, out->adj, row, &q, d, g->w[k]);
             }
         }
-        for (size_t k = row; k < q; ++k)
-            out->w[k] = acc[out->adj[k]];
+        acc_store(acc, out->adj, out->w, row, q);
         out->ptr[c + 1] = q;
     }
 done:
@@ -126,6 +139,19 @@ done:
 /* Heavy-edge matching in node order: each unmatched node pairs with its strongest unmatched
  * neighbour; a node left without one joins its strongest neighbour's aggregate, an isolated
  * node stays alone. */
+/* Node i's strongest neighbour (among the unmatched ones when unmatched_only); SK_INVALID if none. */
+static uint32_t strongest(const graph *g, size_t i, const uint32_t *agg, bool unmatched_only)
+{
+    uint32_t best = SK_INVALID;
+    double bw = -1;
+    for (size_t e = g->ptr[i]; e < g->ptr[i + 1]; ++e)
+        if ((!unmatched_only || agg[g->adj[e]] == SK_INVALID) && g->w[e] > bw) {
+            bw = g->w[e];
+            best = g->adj[e];
+        }
+    return best;
+}
+
 static void match(const graph *g, uint32_t *agg, size_t *count)
 {
     size_t k = 0;
@@ -134,28 +160,15 @@ static void match(const graph *g, uint32_t *agg, size_t *count)
     for (size_t i = 0; i < g->n; ++i) {
         if (agg[i] != SK_INVALID)
             continue;
-        uint32_t best = SK_INVALID;
-        double bw = -1;
-        for (size_t e = g->ptr[i]; e < g->ptr[i + 1]; ++e)
-            if (agg[g->adj[e]] == SK_INVALID && g->w[e] > bw) {
-                bw = g->w[e];
-                best = g->adj[e];
-            }
-        if (best != SK_INVALID) {
+        uint32_t best = strongest(g, i, agg, true);
+        if (best != SK_INVALID)
             agg[i] = agg[best] = (uint32_t)k++;
-        }
     }
     for (size_t i = 0; i < g->n; ++i) {
         if (agg[i] != SK_INVALID)
             continue;
         /* every neighbour is matched now (an unmatched one would have been paired) */
-        uint32_t best = SK_INVALID;
-        double bw = -1;
-        for (size_t e = g->ptr[i]; e < g->ptr[i + 1]; ++e)
-            if (g->w[e] > bw) {
-                bw = g->w[e];
-                best = g->adj[e];
-            }
+        uint32_t best = strongest(g, i, agg, false);
         agg[i] = best != SK_INVALID ? agg[best] : (uint32_t)k++;
     }
     *count = k;
@@ -245,18 +258,12 @@ sk_status sk__amg_prolongation(const sk__csr *a, unsigned dim, const uint32_t *a
             p->ptr[i + 1] = q;
             continue;
         }
-        mark[own] = q++;
-        acc[own] = 1;
         double s = SK_AMG_OMEGA / d;
+        acc_add(mark, acc, p->col, row, &q, own, 1);
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
             uint32_t j = a->col[k];
-            uint32_t c = (uint32_t)(dim * agg[j / dim] + j % dim);
-            if (mark[c] == SIZE_MAX || mark[c] < row) {
-                mark[c] = q;
-                acc[c] = 0;
-                p->col[q++] = c;
-            }
-            acc[c] -= s * a->val[k];
+            acc_add(mark, acc, p->col, row, &q, (uint32_t)(dim * agg[j / dim] + j % dim),
+                    -s * a->val[k]);
         }
         /* sorted columns (short rows: insertion sort) */
         for (size_t u = row + 1; u < q; ++u) {
@@ -266,8 +273,7 @@ sk_status sk__amg_prolongation(const sk__csr *a, unsigned dim, const uint32_t *a
                 p->col[t] = p->col[t - 1];
             p->col[t] = key;
         }
-        for (size_t u = row; u < q; ++u)
-            p->val[u] = acc[p->col[u]];
+        acc_store(acc, p->col, p->val, row, q);
         p->ptr[i + 1] = q;
     }
 done:

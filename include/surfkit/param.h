@@ -106,14 +106,15 @@ typedef enum {
 typedef struct sk_param_opts {
     sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
     sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
-    sk_linear_solver solver;   /* LSCM: direct or hierarchical (Gauss-Seidel means direct) */
+    sk_linear_solver solver;   /* LSCM: direct, hierarchical or AMG (Gauss-Seidel means direct) */
     double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10.
-                                  Hierarchical: relative residual ||b - Ax|| / ||b||; 0 = 1e-12 */
+                                  Hierarchical, AMG: relative residual ||b - Ax|| / ||b||; 0 = 1e-12 */
     size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000. Hierarchical: finest-level
                                   Krylov iterations; 0 = 500 */
     size_t coarse_vertices;    /* hierarchical: the coarsest level solved directly has at most
                                   this many vertices, and meshes with fewer than twice as many are
-                                  solved directly; 0 = 20000 */
+                                  solved directly; 0 = 20000. AMG: the coarsest level has at
+                                  most this many vertices' unknowns; 0 = 3000 unknowns */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
     sk_ordering ordering;      /* direct: fill-reducing ordering. AMD, METIS, GEOMETRIC: on the

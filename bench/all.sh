@@ -3,7 +3,7 @@
 #   read       bench_io read (binary PLY, OBJ)           vs OpenMesh's reader (peers/openmesh_read)
 #   hierarchy  bench_hierarchy (the full progressive mesh) vs OpenMesh's decimater with
 #              ModIndependentSetsT (peers/openmesh_hierarchy, as bench/hierarchy.sh)
-#   linear     bench_linear, each method, direct and hierarchical solve, vs CGAL 5.5's
+#   linear     bench_linear, each method, direct, hierarchical and amg solve, vs CGAL 5.5's
 #              parametrizer of the same method (peers/cgal_param; Floater has no CGAL
 #              counterpart: CGAL's mean value stands in), as bench/linear.sh and param.sh
 #   mips       surfkit param --method mips (free boundary) vs CGAL's discrete conformal map and
@@ -140,7 +140,7 @@ cgal_run() { # mesh method -> CG_S/CG_MB/CG_Q[mesh:method]
 linear_rows() { # mesh methods cgal-methods
   local mesh=$1 me solver faces total it res mm fl
   for me in $2; do
-    for solver in direct hierarchical; do
+    for solver in direct hierarchical amg; do
       timed "$BB/bench_linear" "$mesh" "$me" "$solver" || continue
       read -r _ faces _ _ _ _ _ _ _ _ total _ it res _ mm fl _ _ < "$S/out.txt"
       local omb=$MB
@@ -151,7 +151,7 @@ linear_rows() { # mesh methods cgal-methods
         peer=${CG_S[$mesh:$cm]} pmb=${CG_MB[$mesh:$cm]} pq="; ${CG_Q[$mesh:$cm]}" pname="CGAL $cm"
       fi
       row "linear $me $solver" "$(basename "$mesh")" "$faces" "$total" "$omb" "$pname" "$peer" "$pmb" \
-        "MIPS mean $(printf %.4f "$mm"), flips $fl$([ "$solver" = hierarchical ] && echo ", $it iterations, residual $res")$pq"
+        "MIPS mean $(printf %.4f "$mm"), flips $fl$([ "$solver" != direct ] && echo ", $it iterations, residual $res")$pq"
     done
   done
 }

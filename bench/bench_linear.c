@@ -1,7 +1,7 @@
 /* Benchmark of the linear parametrizations, direct against hierarchical solve: one method and
  * solver per process (so that the peak memory is that run's).
  *
- *   bench_linear MESH METHOD direct|hierarchical [REF.bin]
+ *   bench_linear MESH METHOD direct|hierarchical|amg [REF.bin]
  *       one row: mesh faces method solver check boundary weights analyse factor solve total
  *       levels iterations residual factor_nnz mips_mean flips peak_MB max_uv_diff
  *       With REF.bin (raw doubles u v per vertex, e.g. a direct run's) the largest |uv - ref|
@@ -30,7 +30,7 @@ int main(int argc, char **argv)
     bool write = argc > 1 && !strcmp(argv[1], "--write");
     int a0 = write ? 2 : 1;
     if (argc < a0 + 3 || (write && argc < a0 + 4)) {
-        fprintf(stderr, "usage: bench_linear [--write] MESH METHOD direct|hierarchical [REF.bin|OUT.bin]\n");
+        fprintf(stderr, "usage: bench_linear [--write] MESH METHOD direct|hierarchical|amg [REF.bin|OUT.bin]\n");
         return 2;
     }
     const char *path = argv[a0], *method = argv[a0 + 1], *solver = argv[a0 + 2];
@@ -50,6 +50,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(solver, "hierarchical"))
         o.solver = SK_LINEAR_HIERARCHICAL;
+    else if (!strcmp(solver, "amg"))
+        o.solver = SK_LINEAR_AMG;
     else if (strcmp(solver, "direct")) {
         fprintf(stderr, "unknown solver %s\n", solver);
         return 2;

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Linear parametrizations at 1M triangles: direct (CHOLMOD / UMFPACK) against the hierarchical
-# solve (--solver hierarchical), and CGAL 5.5's mean value parametrizer on the same mesh (when
+# solve (--solver hierarchical) and the algebraic multigrid (--solver amg), and CGAL 5.5's mean value parametrizer on the same mesh (when
 # scripts/setup.sh --peers installed it). One process per row, so that the peak memory is that
 # row's; wall seconds of the method, CPU seconds (user + sys) and peak RSS of the whole process,
 # and for hierarchical the largest uv difference to the direct result relative to the layout.
@@ -8,6 +8,7 @@
 #
 #   bench/linear.sh [SCRATCH_DIR]
 # env: BUILD (default build-bench), SHARED (default ../shared), METHODS (default all five),
+#      SOLVERS (default "direct hierarchical amg"; direct first, the others compared with it),
 #      ORDERING (passed to bench_linear: default, auto, amd, metis, nesdis, geometric),
 #      CGAL=0 (skip the peer)
 #
@@ -17,7 +18,7 @@
 # with the ordering, factor, solve, metrics, write) beside wall, user and sys CPU and peak RSS
 # from /usr/bin/time and the load average at the start of the row; each method once per BLAS
 # setting, the settings of one method next to each other in time.
-# env: SOLVER (direct or hierarchical, default direct), BLAS (OPENBLAS_NUM_THREADS values,
+# env: SOLVER (direct, hierarchical or amg, default direct), BLAS (OPENBLAS_NUM_THREADS values,
 #      default "default 1"; default leaves it unset)
 set -eu
 SRC=$(cd "$(dirname "$0")/.." && pwd)
@@ -66,11 +67,11 @@ ROWS=$SCRATCH/linear-rows.txt
 : > "$ROWS"
 TIMEF="%U %S %M"
 for me in $METHODS; do
-    for solver in direct hierarchical; do
+    for solver in ${SOLVERS:-direct hierarchical amg}; do
         if [ $solver = direct ]; then
             args=(--write "$BIG" "$me" direct "$SCRATCH/$me-direct.bin")
         else
-            args=("$BIG" "$me" hierarchical "$SCRATCH/$me-direct.bin")
+            args=("$BIG" "$me" "$solver" "$SCRATCH/$me-direct.bin")
         fi
         row=$( { /usr/bin/time -f "$TIMEF" -o "$SCRATCH/time.txt" "$BL" "${args[@]}"; } ) || { echo "$me $solver failed" >&2; continue; }
         read -r us sy kb < "$SCRATCH/time.txt"

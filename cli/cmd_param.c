@@ -17,7 +17,9 @@ static const char about[] =
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
     "triangle with a convex boundary. --solver direct (default: sparse Cholesky / LU) or\n"
     "hierarchical (multilevel CG / BiCGStab over the progressive mesh, the coarsest level solved\n"
-    "directly; the same uv to 1e-8 of the layout, not faster today: docs/linear.md).\n"
+    "directly; the same uv to 1e-8 of the layout, not faster today: docs/linear.md) or amg\n"
+    "(the same Krylov methods over an algebraic multigrid of the matrix graph: no progressive\n"
+    "mesh to build).\n"
     "\n"
     "mips: minimises the MIPS energy (sum of sigma1/sigma2 + sigma2/sigma1) by local steps that\n"
     "never flip a triangle. --hierarchical (default): Hormann, Greiner, Campagna: a progressive\n"
@@ -100,6 +102,9 @@ static void write_json(FILE *fp, const void *ctx)
         json_kuint(&j, "n", ps->solve.n);
         json_kuint(&j, "nnz", ps->solve.nnz);
         json_kuint(&j, "factor_nnz", ps->solve.factor_nnz);
+        json_kuint(&j, "levels", ps->levels);
+        json_kuint(&j, "iterations", ps->iterations);
+        json_knum(&j, "residual", ps->residual);
         json_obj_close(&j);
     } else if (r->ps.hierarchical) {
         const sk_hparam_stats *hs = &r->ps.hparam;
@@ -147,7 +152,8 @@ static const char atlas_about[] =
 
 static const sk_param_method methods[] = {SK_PARAM_TUTTE,    SK_PARAM_FLOATER, SK_PARAM_MEAN_VALUE,
                                           SK_PARAM_HARMONIC, SK_PARAM_LSCM,    SK_PARAM_MIPS};
-static const sk_linear_solver solvers[] = {SK_LINEAR_DIRECT, SK_LINEAR_HIERARCHICAL};
+static const sk_linear_solver solvers[] = {SK_LINEAR_DIRECT, SK_LINEAR_HIERARCHICAL,
+                                          SK_LINEAR_AMG};
 static const sk_boundary_shape boundaries[] = {SK_BOUNDARY_CIRCLE, SK_BOUNDARY_SQUARE,
                                                SK_BOUNDARY_FREE};
 
@@ -164,8 +170,9 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                    "fixed on the circle (default) or the unit square, or free"),
         OPT_CHOICE("--spacing", a->po.boundary.spacing, "chord|uniform",
                    "fixed boundary vertices by chord length (default) or equal steps"),
-        OPT_CHOICE("--solver", *solver, "direct|hierarchical",
-                   "linear methods: sparse Cholesky / LU (default) or multilevel"),
+        OPT_CHOICE("--solver", *solver, "direct|hierarchical|amg",
+                   "linear methods: sparse Cholesky / LU (default), multilevel over the\n"
+                   "progressive mesh, or algebraic multigrid"),
         OPT_FLAG("--hierarchical", hierarchical, "mips: over the progressive mesh (default)"),
         OPT_FLAG("--flat", a->po.flat, "mips: the conventional method on the full mesh"),
         OPT_INT("--steps", a->po.max_steps, 1, 0, "N", "mips: budget of local steps"),

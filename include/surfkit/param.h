@@ -89,26 +89,32 @@ typedef enum {
     SK_LINEAR_DIRECT = 0,  /* sparse Cholesky / LU (default) */
     SK_LINEAR_GAUSS_SEIDEL, /* iterative, starting from the interior uv given (a warm start, e.g.
                               a coarser level's solution); stops at `tolerance` or the budget */
-    SK_LINEAR_HIERARCHICAL  /* multilevel over the progressive mesh: the coarsest level solved
+    SK_LINEAR_HIERARCHICAL, /* multilevel over the progressive mesh: the coarsest level solved
                                directly, prolonged through the barycentric coordinates, Krylov
                                iterations (CG for Tutte / harmonic / LSCM, BiCGStab for Floater /
                                mean value) preconditioned by a V-cycle on each finer level until
                                the relative residual reaches `tolerance`; the same system as
                                direct (see coarse_vertices for small meshes). */
+    SK_LINEAR_AMG           /* algebraic multigrid: aggregates of the matrix graph (pairwise
+                               heavy-edge matching twice per level), piecewise-constant
+                               prolongation, Galerkin operators down to a few thousand unknowns
+                               factored directly, the same V-cycle and Krylov methods as
+                               hierarchical; no progressive mesh to build */
 } sk_linear_solver;
 
 /* Options of the linear methods; zero-initialized means every default. */
 typedef struct sk_param_opts {
     sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
     sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
-    sk_linear_solver solver;   /* LSCM: direct or hierarchical (Gauss-Seidel means direct) */
+    sk_linear_solver solver;   /* LSCM: direct, hierarchical or AMG (Gauss-Seidel means direct) */
     double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10.
-                                  Hierarchical: relative residual ||b - Ax|| / ||b||; 0 = 1e-12 */
+                                  Hierarchical, AMG: relative residual ||b - Ax|| / ||b||; 0 = 1e-12 */
     size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000. Hierarchical: finest-level
                                   Krylov iterations; 0 = 500 */
     size_t coarse_vertices;    /* hierarchical: the coarsest level solved directly has at most
                                   this many vertices, and meshes with fewer than twice as many are
-                                  solved directly; 0 = 20000 */
+                                  solved directly; 0 = 20000. AMG: the coarsest level has at
+                                  most this many vertices' unknowns; 0 = 3000 unknowns */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
     sk_ordering ordering;      /* direct: fill-reducing ordering. AMD, METIS, GEOMETRIC: on the

@@ -233,6 +233,8 @@ sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetr
         goto done;
     if (o.solver == SK_LINEAR_HIERARCHICAL) {
         st = sk__param_solve_hierarchical(m, o.method, a, symmetric, idx, 1, 2, rhs, x, &o, stats, err);
+    } else if (o.solver == SK_LINEAR_AMG) {
+        st = sk__param_solve_amg(a, symmetric, 1, 2, rhs, x, &o, stats, err);
     } else {
         st = sk__param_solve_direct(m, a, symmetric, idx, 1, 2, rhs, x, &o, stats, err);
     }

@@ -180,6 +180,8 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
         goto done;
     if (o.solver == SK_LINEAR_HIERARCHICAL)
         st = sk__param_solve_hierarchical(m, SK_PARAM_LSCM, a, true, idx, 2, 1, rhs, x, &o, &s, err);
+    else if (o.solver == SK_LINEAR_AMG)
+        st = sk__param_solve_amg(a, true, 2, 1, rhs, x, &o, &s, err);
     else
         st = sk__param_solve_direct(m, a, true, idx, 2, 1, rhs, x, &o, &s, err);
     s.solve_seconds = sk_seconds() - t3;

@@ -29,6 +29,13 @@ sk_status sk__param_solve_hierarchical(const sk_mesh *m, sk_param_method method,
                                        const sk_param_opts *o, sk_param_stats *stats,
                                        sk_error *err);
 
+/* The same with SK_LINEAR_AMG (linear_hierarchical.c): aggregation multigrid over the matrix
+ * graph (src/solve/amg.c), dim unknowns per vertex aggregated together; coarsest level at most
+ * dim * o->coarse_vertices unknowns (0: 3000). Fills stats as the hierarchical solve does. */
+sk_status sk__param_solve_amg(const sk_sparse *a, bool symmetric, unsigned dim, size_t nrhs,
+                              const double *rhs, double *x, const sk_param_opts *o,
+                              sk_param_stats *stats, sk_error *err);
+
 /* Boundary loop of a disk as a vertex cycle, counter-clockwise around the surface (the loop of
  * boundary half-edges runs clockwise, so it is walked backwards); *verts is the caller's to
  * sk__free. Fails with SK_ERR_TOPOLOGY unless the mesh has exactly one boundary loop. */

@@ -225,6 +225,9 @@ struct sk__multilevel {
     double **dinv; /* 1 / diagonal per level (0 for a zero diagonal: that unknown is not smoothed) */
     sk_sparse *coarse;
     sk_solver *solver;
+    double scale;   /* of the coarse correction (1 = the plain V-cycle) */
+    unsigned gamma; /* coarse corrections per level (1 = V-cycle, 2 = W-cycle) */
+    bool kcycle;    /* symmetric: each coarse level solved by two flexible CG steps */
     sk__multilevel_stats stats;
 };
 
@@ -258,6 +261,13 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
 void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s)
 {
     *s = mg->stats;
+}
+
+void sk__multilevel_set_cycle(sk__multilevel *mg, double scale, unsigned gamma, bool kcycle)
+{
+    mg->scale = scale;
+    mg->gamma = gamma ? gamma : 1;
+    mg->kcycle = kcycle && mg->symmetric;
 }
 
 /* The coarsest operator as an sk_sparse for the direct solvers: the lower triangle in columns
@@ -319,6 +329,8 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
     if (mg) {
         mg->L = L;
         mg->symmetric = symmetric;
+        mg->scale = 1;
+        mg->gamma = 1;
         mg->A = sk__calloc_array(L, sizeof *mg->A);
         mg->P = sk__calloc_array(L, sizeof *mg->P);
         mg->R = sk__calloc_array(L, sizeof *mg->R);
@@ -407,6 +419,7 @@ done:
 
 typedef struct workspace {
     double **b, **x, **r, **z, **t; /* per level */
+    double **kc[5];                 /* K-cycle vectors per level */
     double *kv[8];                  /* Krylov vectors, finest size */
     int fail;
 } workspace;
@@ -430,6 +443,11 @@ static void ws_free(workspace *w, size_t L)
     sk__free(w->r);
     sk__free(w->z);
     sk__free(w->t);
+    for (int i = 0; i < 5; ++i) {
+        for (size_t k = 0; w->kc[i] && k < L; ++k)
+            sk__free(w->kc[i][k]);
+        sk__free(w->kc[i]);
+    }
     for (int i = 0; i < 8; ++i)
         sk__free(w->kv[i]);
     memset(w, 0, sizeof *w);
@@ -455,6 +473,14 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg)
         w->t[k] = sk__malloc_array(n, sizeof(double));
         if (!w->b[k] || !w->x[k] || !w->r[k] || !w->z[k] || !w->t[k])
             return false;
+    }
+    for (int i = 0; mg->kcycle && i < 5; ++i) {
+        if (!(w->kc[i] = sk__calloc_array(L, sizeof *w->kc[i])))
+            return false;
+        for (size_t k = 0; k < L; ++k)
+            if (!(w->kc[i][k] = sk__malloc_array(mg->A[k].rows ? mg->A[k].rows : 1,
+                                                 sizeof(double))))
+                return false;
     }
     size_t nf = mg->A[L - 1].rows ? mg->A[L - 1].rows : 1;
     for (int i = 0; i < 8; ++i)
@@ -491,14 +517,14 @@ static void gs_backward(const sk__csr *a, const double *dinv, const double *b, d
     }
 }
 
-/* y += P x (rows of P) */
-static void prolong_add(const sk__csr *p, const double *x, double *y)
+/* y += scale P x (rows of P) */
+static void prolong_add(const sk__csr *p, double scale, const double *x, double *y)
 {
     for (size_t i = 0; i < p->rows; ++i) {
         double s = 0;
         for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k)
             s += p->val[k] * x[p->col[k]];
-        y[i] += s;
+        y[i] += scale * s;
     }
 }
 
@@ -515,6 +541,37 @@ static void coarse_solve(sk__multilevel *mg, const double *r, double *z, workspa
     }
 }
 
+static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w);
+
+/* x = about A_j^-1 r by two steps of flexible CG preconditioned by the cycle of level j, the
+ * second skipped when the first reduced the residual four times (the K-cycle of Notay and
+ * Vassilevski 2008). */
+static void kcycle(sk__multilevel *mg, size_t j, const double *r, double *x, workspace *w)
+{
+    const sk__csr *a = &mg->A[j];
+    size_t n = a->rows;
+    double *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
+           *u = w->kc[4][j];
+    vcycle(mg, j, r, c, w);
+    sk__csr_multiply(a, c, v);
+    double rho1 = dot(n, c, v), t1 = rho1 > 0 ? dot(n, c, r) / rho1 : 1;
+    for (size_t i = 0; i < n; ++i)
+        r2[i] = r[i] - t1 * v[i];
+    double gam = 0, t2 = 0;
+    if (rho1 > 0 && dot(n, r2, r2) > 0.0625 * dot(n, r, r)) {
+        vcycle(mg, j, r2, d, w);
+        sk__csr_multiply(a, d, u);
+        gam = dot(n, d, v);
+        double rho2 = dot(n, d, u) - gam * gam / rho1;
+        if (rho2 > 0) {
+            t2 = dot(n, d, r2) / rho2;
+            t1 -= gam * t2 / rho1;
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        x[i] = t1 * c[i] + (t2 != 0 ? t2 * d[i] : 0);
+}
+
 /* z = V-cycle(k) applied to r (z and r of level k; z is overwritten). */
 static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w)
 {
@@ -528,12 +585,20 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_forward(a, mg->dinv[k], r, z);
     double *t = w->t[k];
-    sk__csr_multiply(a, z, t);
-    for (size_t i = 0; i < n; ++i)
-        t[i] = r[i] - t[i];
-    sk__csr_multiply(&mg->R[k - 1], t, w->r[k - 1]);
-    vcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-    prolong_add(&mg->P[k - 1], w->z[k - 1], z);
+    /* gamma coarse corrections (a W-cycle for 2); one when the coarse level is solved exactly
+     * (a second would be zero) */
+    unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    for (unsigned c = 0; c < cycles; ++c) {
+        sk__csr_multiply(a, z, t);
+        for (size_t i = 0; i < n; ++i)
+            t[i] = r[i] - t[i];
+        sk__csr_multiply(&mg->R[k - 1], t, w->r[k - 1]);
+        if (mg->kcycle && k - 1 > 0)
+            kcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+        else
+            vcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+        prolong_add(&mg->P[k - 1], mg->scale, w->z[k - 1], z);
+    }
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward(a, mg->dinv[k], r, z);
 }
@@ -545,7 +610,7 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
 {
     const sk__csr *a = &mg->A[k];
     size_t n = a->rows;
-    double *r = w->kv[0], *z = w->kv[1], *p = w->kv[2], *q = w->kv[3];
+    double *r = w->kv[0], *z = w->kv[1], *p = w->kv[2], *q = w->kv[3], *rold = w->kv[4];
     double bn = sqrt(dot(n, b, b));
     if (bn == 0) {
         memset(x, 0, n * sizeof *x);
@@ -567,6 +632,8 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
             if (!(pq > 0))
                 break;
             double alpha = rz / pq;
+            if (mg->kcycle)
+                memcpy(rold, r, n * sizeof *rold);
             for (size_t i = 0; i < n; ++i) {
                 x[i] += alpha * p[i];
                 r[i] -= alpha * q[i];
@@ -577,7 +644,8 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
                 break;
             vcycle(mg, k, r, z, w);
             double rz2 = dot(n, r, z);
-            double beta = rz2 / rz;
+            /* flexible (Polak-Ribiere) for the K-cycle, whose preconditioner is not linear */
+            double beta = (mg->kcycle ? rz2 - dot(n, rold, z) : rz2) / rz;
             rz = rz2;
             for (size_t i = 0; i < n; ++i)
                 p[i] = z[i] + beta * p[i];
@@ -691,7 +759,7 @@ sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b,
         for (size_t k = 1; k < L; ++k) {
             double *xk = k == L - 1 ? x + (size_t)c * nf : w.x[k];
             memset(xk, 0, mg->A[k].rows * sizeof *xk);
-            prolong_add(&mg->P[k - 1], w.x[k - 1], xk);
+            prolong_add(&mg->P[k - 1], 1, w.x[k - 1], xk);
             if (k < L - 1)
                 krylov(mg, k, w.b[k], xk, 0, lit, &w, &rr);
             else

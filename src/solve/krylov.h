@@ -58,6 +58,13 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops,
                                 sk_error *err);
 void sk__multilevel_destroy(sk__multilevel **mg);
 void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s);
+/* The cycle: each coarse correction times scale (default 1), gamma corrections per level
+ * (default 1, a V-cycle; 2 is a W-cycle). Over-correction (1 < scale < 2) and the W-cycle make up
+ * for the low energy of piecewise-constant prolongations; the cycle stays symmetric, so CG still
+ * applies. kcycle (symmetric only): every coarse level but the coarsest solved by two flexible
+ * CG steps preconditioned by its own cycle (Notay and Vassilevski's K-cycle), the finest CG
+ * made flexible. */
+void sk__multilevel_set_cycle(sk__multilevel *mg, double scale, unsigned gamma, bool kcycle);
 
 typedef struct sk__krylov_opts {
     double tolerance;      /* stop at ||b - A x|| <= tolerance ||b|| (2-norm) */

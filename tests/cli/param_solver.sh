@@ -1,6 +1,6 @@
 #!/bin/bash
-# surfkit param --solver direct|hierarchical: accepted for the linear methods, rejected with mips
-# or an unknown value. The shared disks are under the size where the hierarchy starts (40000
+# surfkit param --solver direct|hierarchical|amg: accepted for the linear methods, rejected with
+# mips or an unknown value. The shared disks are under the size where the hierarchy starts (40000
 # vertices), so both give the same file here; the multilevel path itself is compared with the
 # direct one in tests/unit/test_param_linear_hierarchical.c.
 set -u
@@ -25,8 +25,27 @@ keys = ["read", "check", "boundary", "weights_and_assembly", "analyse", "factor"
 assert list(s) == keys, list(s)
 assert all(s[k] >= 0 for k in keys) and s["read"] > 0 and s["write"] > 0, s
 PY
+# amg on the lion head Loop-subdivided once (about 33k vertices, coarsest level at most 3000
+# unknowns): three or more levels, converged, the direct uv to 1e-8 and the same flips
+"$BIN" subdivide "$M/lion-head.off" -o "$TMP/lion1.off" -n 1 -q || fail "subdivide"
+for me in floater harmonic; do
+    "$BIN" param "$TMP/lion1.off" -o "$TMP/d-$me.obj" --method $me --json > "$TMP/d.json" || fail "$me direct"
+    "$BIN" param "$TMP/lion1.off" -o "$TMP/a-$me.obj" --method $me --solver amg --json > "$TMP/a.json" || fail "$me amg"
+    python3 - "$TMP/d.json" "$TMP/a.json" "$TMP/d-$me.obj" "$TMP/a-$me.obj" <<'PY' || fail "$me amg against direct"
+import json, sys
+d, a = (json.load(open(p)) for p in sys.argv[1:3])
+s = a["solver"]
+assert s["levels"] >= 3 and s["iterations"] >= 1 and s["residual"] <= 1e-12, s
+assert d["solver"]["levels"] == 0 and d["solver"]["iterations"] == 0, d["solver"]
+assert a["flipped"] == d["flipped"], (a["flipped"], d["flipped"])
+vt = [[tuple(map(float, l.split()[1:3])) for l in open(p) if l.startswith("vt ")] for p in sys.argv[3:5]]
+assert len(vt[0]) == len(vt[1]) > 10000
+diff = max(max(abs(x[0] - y[0]), abs(x[1] - y[1])) for x, y in zip(*vt))
+assert diff <= 1e-8, diff  # the uv are normalized to the unit square
+PY
+done
 "$BIN" param "$M/mushroom.off" -o "$TMP/x.obj" --solver nope 2> "$TMP/err"; [ $? = 2 ] || fail "bad solver exit"
-grep -q 'solver takes direct or hierarchical' "$TMP/err" || fail "bad solver message: $(cat "$TMP/err")"
+grep -q 'solver takes direct, hierarchical or amg' "$TMP/err" || fail "bad solver message: $(cat "$TMP/err")"
 "$BIN" param "$M/mushroom.off" -o "$TMP/x.obj" --method mips --solver direct 2> "$TMP/err"; [ $? = 2 ] || fail "mips + solver exit"
-"$BIN" param --help | grep -q -- '--solver direct|hierarchical' || fail "help"
+"$BIN" param --help | grep -q -- '--solver direct|hierarchical|amg' || fail "help"
 echo ok

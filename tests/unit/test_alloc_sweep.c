@@ -214,8 +214,9 @@ static sk_status p_mips_flat(const char *o, size_t n, double *r, size_t *k) { re
 static sk_status p_square(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 102); }
 static sk_status p_square_split(const char *o, size_t n, double *r, size_t *k) { return param_method(o, n, r, k, 103); }
 
-/* the multilevel Krylov solve of the linear methods (issue 15): 16 unknowns, levels down to 2 */
-static sk_status p_floater_hier(const char *off, size_t size, double *res, size_t *nres)
+/* the multilevel Krylov solves of the linear methods (issue 15): 16 unknowns, levels down to 2 */
+static sk_status multilevel(const char *off, size_t size, double *res, size_t *nres,
+                            sk_param_method method, sk_linear_solver solver)
 {
     sk_soup *s = NULL;
     sk_mesh *m = NULL;
@@ -224,8 +225,7 @@ static sk_status p_floater_hier(const char *off, size_t size, double *res, size_
         return st;
     double *uv = calloc(2 * m->num_vertices, sizeof(double)); /* the caller's */
     assert_non_null(uv);
-    sk_param_opts o = {.method = SK_PARAM_FLOATER, .solver = SK_LINEAR_HIERARCHICAL,
-                       .coarse_vertices = 2};
+    sk_param_opts o = {.method = method, .solver = solver, .coarse_vertices = 2};
     st = sk_param_linear(m, &o, uv, NULL, &g_err);
     if (st == SK_OK)
         copy_uv(m, uv, res, nres);
@@ -233,6 +233,23 @@ static sk_status p_floater_hier(const char *off, size_t size, double *res, size_
     sk_mesh_destroy(&m);
     sk_soup_destroy(&s);
     return st;
+}
+static sk_status p_floater_hier(const char *off, size_t size, double *res, size_t *nres)
+{
+    return multilevel(off, size, res, nres, SK_PARAM_FLOATER, SK_LINEAR_HIERARCHICAL);
+}
+/* the algebraic multigrid: W-cycle with BiCGStab (Floater), K-cycle with CG (harmonic) */
+static sk_status p_floater_amg(const char *off, size_t size, double *res, size_t *nres)
+{
+    return multilevel(off, size, res, nres, SK_PARAM_FLOATER, SK_LINEAR_AMG);
+}
+static sk_status p_harmonic_amg(const char *off, size_t size, double *res, size_t *nres)
+{
+    return multilevel(off, size, res, nres, SK_PARAM_HARMONIC, SK_LINEAR_AMG);
+}
+static sk_status p_lscm_amg(const char *off, size_t size, double *res, size_t *nres)
+{
+    return multilevel(off, size, res, nres, SK_PARAM_LSCM, SK_LINEAR_AMG);
 }
 
 /* one B-spline surface fitted to the disk (issue 13) */
@@ -381,6 +398,7 @@ static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **
         {"harmonic", p_harmonic},           {"lscm", p_lscm},
         {"mips-hierarchical", p_mips_hier}, {"mips-flat", p_mips_flat},
         {"smooth+export", p_smooth_export}, {"floater-hierarchical", p_floater_hier},
+        {"floater-amg", p_floater_amg}, {"harmonic-amg", p_harmonic_amg}, {"lscm-amg", p_lscm_amg},
         {"fit", p_fit},                     {"square", p_square},
         {"square-split", p_square_split},   {"smooth-tolerance", p_tolerance},
     };

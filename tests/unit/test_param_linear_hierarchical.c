@@ -1,10 +1,12 @@
 /* The hierarchical solver of the linear methods against the direct one: on every shared disk and
  * for every linear method, the same uv to 1e-8 of the layout size and the same flip count, with
  * the multilevel path really taken (more than one level, a residual at the tolerance). Also the
- * direct solver's orderings agree with each other. SK_TEST_QUICK=1 keeps the small meshes. */
+ * direct solver's orderings agree with each other; the same for the algebraic multigrid, also
+ * on subdivided disks. SK_TEST_QUICK=1 keeps the small meshes. */
 #include "testutil.h"
 
 #include "surfkit/param.h"
+#include "surfkit/subdivide.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -26,48 +28,85 @@ static double uv_difference(size_t nv, const double *a, const double *b)
     return d / fmax(hi[0] - lo[0], hi[1] - lo[1]);
 }
 
-static void test_agrees_with_direct(void **state)
+/* Every linear method on m solved directly and by `solver` (coarsest level of at most
+ * `coarse` vertices): the multilevel path taken (at least min_levels levels, converged), the same
+ * uv to 1e-8 of the layout, the same flips and MIPS sum. */
+static void compare_with_direct(const sk_mesh *m, const char *name, sk_linear_solver solver,
+                                size_t coarse, size_t min_levels)
 {
-    (void)state;
+    size_t nv = m->num_vertices;
+    double *ud = calloc(2 * nv, sizeof *ud), *uh = calloc(2 * nv, sizeof *uh);
+    for (int method = SK_PARAM_TUTTE; method <= SK_PARAM_LSCM; ++method) {
+        sk_param_opts o = {0};
+        o.method = (sk_param_method)method;
+        sk_error err;
+        sk_param_stats sd, sh;
+        if (sk_param_linear(m, &o, ud, &sd, &err) != SK_OK)
+            fail_msg("%s %s direct: %s", name, sk_param_method_name(o.method), err.message);
+        o.solver = solver;
+        o.coarse_vertices = coarse; /* a real hierarchy even on the small meshes */
+        if (sk_param_linear(m, &o, uh, &sh, &err) != SK_OK)
+            fail_msg("%s %s solver %d: %s", name, sk_param_method_name(o.method), (int)solver,
+                     err.message);
+        /* the multilevel path was taken and converged */
+        if (sh.levels < min_levels)
+            fail_msg("%s %s: %zu levels", name, sk_param_method_name(o.method), sh.levels);
+        assert_true(sh.iterations >= 1);
+        assert_true(sh.residual <= 1e-12);
+        assert_true(sh.solve.factor_nnz < sd.solve.factor_nnz);
+        double d = uv_difference(nv, ud, uh);
+        if (!(d <= 1e-8))
+            fail_msg("%s %s: solver %d differs from direct by %.3g of the layout", name,
+                     sk_param_method_name(o.method), (int)solver, d);
+        sk_param_metrics rd, rh;
+        assert_int_equal(sk_param_metrics_compute(m, ud, &rd, NULL), SK_OK);
+        assert_int_equal(sk_param_metrics_compute(m, uh, &rh, NULL), SK_OK);
+        assert_int_equal(rd.flipped, rh.flipped);
+        if (!(fabs(rd.mips_sum - rh.mips_sum) <= 1e-6 * rd.mips_sum))
+            fail_msg("%s %s: MIPS sum %.12g direct, %.12g solver %d (uv %.3g)", name,
+                     sk_param_method_name(o.method), rd.mips_sum, rh.mips_sum, (int)solver, d);
+    }
+    free(ud);
+    free(uh);
+}
+
+static void agree_on_shared(sk_linear_solver solver, size_t coarse)
+{
     const char *quick = getenv("SK_TEST_QUICK");
     bool q = quick && quick[0] == '1';
     for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
         if (q && (!strcmp(meshes[i], "lion-head.off") || !strcmp(meshes[i], "mushroom.off")))
             continue;
         sk_mesh *m = skt_read_mesh(skt_shared_mesh(meshes[i]));
-        size_t nv = m->num_vertices;
-        double *ud = calloc(2 * nv, sizeof *ud), *uh = calloc(2 * nv, sizeof *uh);
-        for (int method = SK_PARAM_TUTTE; method <= SK_PARAM_LSCM; ++method) {
-            sk_param_opts o = {0};
-            o.method = (sk_param_method)method;
-            sk_error err;
-            sk_param_stats sd, sh;
-            if (sk_param_linear(m, &o, ud, &sd, &err) != SK_OK)
-                fail_msg("%s %s direct: %s", meshes[i], sk_param_method_name(o.method), err.message);
-            o.solver = SK_LINEAR_HIERARCHICAL;
-            o.coarse_vertices = 60; /* a real hierarchy even on the small meshes */
-            if (sk_param_linear(m, &o, uh, &sh, &err) != SK_OK)
-                fail_msg("%s %s hierarchical: %s", meshes[i], sk_param_method_name(o.method),
-                         err.message);
-            /* the multilevel path was taken and converged */
-            assert_true(sh.levels >= 3);
-            assert_true(sh.iterations >= 1);
-            assert_true(sh.residual <= 1e-12);
-            assert_true(sh.solve.factor_nnz < sd.solve.factor_nnz);
-            double d = uv_difference(nv, ud, uh);
-            if (!(d <= 1e-8))
-                fail_msg("%s %s: hierarchical differs from direct by %.3g of the layout",
-                         meshes[i], sk_param_method_name(o.method), d);
-            sk_param_metrics rd, rh;
-            assert_int_equal(sk_param_metrics_compute(m, ud, &rd, NULL), SK_OK);
-            assert_int_equal(sk_param_metrics_compute(m, uh, &rh, NULL), SK_OK);
-            assert_int_equal(rd.flipped, rh.flipped);
-            if (!(fabs(rd.mips_sum - rh.mips_sum) <= 1e-6 * rd.mips_sum))
-                fail_msg("%s %s: MIPS sum %.12g direct, %.12g hierarchical (uv %.3g)", meshes[i],
-                         sk_param_method_name(o.method), rd.mips_sum, rh.mips_sum, d);
-        }
-        free(ud);
-        free(uh);
+        compare_with_direct(m, meshes[i], solver, coarse, 3);
+        sk_mesh_destroy(&m);
+    }
+}
+
+static void test_agrees_with_direct(void **state)
+{
+    (void)state;
+    agree_on_shared(SK_LINEAR_HIERARCHICAL, 60);
+}
+
+/* The algebraic multigrid against the direct solve: on the shared disks (coarsest level at most
+ * 60 vertices), and on Loop-subdivided disks with the default coarse size (3000 unknowns) that
+ * still get 3 or more levels: three_peaks and the lion head subdivided twice (about 32k and 67k
+ * vertices). SK_TEST_QUICK=1 (the ASan run): three_peaks subdivided once, coarsest level at most
+ * 200 vertices. */
+static void test_amg_agrees_with_direct(void **state)
+{
+    (void)state;
+    agree_on_shared(SK_LINEAR_AMG, 60);
+    const char *quick = getenv("SK_TEST_QUICK");
+    bool q = quick && quick[0] == '1';
+    const char *big[] = {"three_peaks.off", "lion-head.off"};
+    for (size_t i = 0; i < (q ? 1u : 2u); ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(big[i])), *s = NULL;
+        sk_subdiv_opts so = {SK_SUBDIV_LOOP, q ? 1 : 2, NULL, NULL};
+        assert_int_equal(sk_mesh_subdivide(m, &so, &s, NULL), SK_OK);
+        compare_with_direct(s, big[i], SK_LINEAR_AMG, q ? 200 : 0, 3);
+        sk_mesh_destroy(&s);
         sk_mesh_destroy(&m);
     }
 }
@@ -186,6 +225,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_agrees_with_direct),
+        cmocka_unit_test(test_amg_agrees_with_direct),
         cmocka_unit_test(test_tolerance_and_budget),
         cmocka_unit_test(test_small_mesh_direct),
         cmocka_unit_test(test_orderings_agree),

@@ -1,0 +1,265 @@
+/* The aggregation AMG of src/solve/amg.c: on the graph Laplacian of real meshes every fine unknown
+ * lies in exactly one aggregate, aggregates are connected and non-empty, the Galerkin operator of
+ * the piecewise-constant and of the smoothed prolongation keeps zero row sums, blocks of two
+ * unknowns aggregate like the scalar graph, and the multilevel CG over the hierarchy solves a
+ * definite system as CHOLMOD does. */
+#include "testutil.h"
+
+#include "solve/amg.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The graph Laplacian D - A of the mesh's vertex graph (dim copies, interleaved, when dim > 1),
+ * plus shift on the diagonal. */
+static void mesh_laplacian(const sk_mesh *m, unsigned dim, double shift, sk__csr *out)
+{
+    size_t nv = m->num_vertices;
+    sk_triplets t = {0};
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t h0 = m->v_halfedge[v], h = h0;
+        double deg = 0;
+        do {
+            uint32_t j = sk_to(m, h);
+            deg += 1;
+            for (unsigned c = 0; c < dim; ++c)
+                assert_int_equal(sk_triplets_add(&t, (uint32_t)(dim * v + c), dim * j + c, -1.0),
+                                 SK_OK);
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        for (unsigned c = 0; c < dim; ++c)
+            assert_int_equal(sk_triplets_add(&t, (uint32_t)(dim * v + c), (uint32_t)(dim * v + c),
+                                             deg + shift), SK_OK);
+    }
+    sk_sparse *a = NULL;
+    assert_int_equal(sk_sparse_from_triplets(dim * nv, &t, SK_SPARSE_FULL, &a, NULL), SK_OK);
+    assert_int_equal(sk__csr_from_sparse(a, out, NULL), SK_OK);
+    sk_sparse_destroy(&a);
+    sk_triplets_free(&t);
+}
+
+/* Every aggregate is connected in the graph of a (a walk inside it from its first member). */
+static void assert_connected(const sk__csr *a, const uint32_t *agg, size_t count)
+{
+    size_t n = a->rows;
+    uint32_t *seen = calloc(n, sizeof *seen), *stack = malloc(n * sizeof *stack);
+    size_t *size = calloc(count, sizeof *size), *reached = calloc(count, sizeof *reached);
+    for (size_t i = 0; i < n; ++i)
+        size[agg[i]]++;
+    for (size_t i = 0; i < n; ++i) {
+        if (reached[agg[i]])
+            continue;
+        size_t top = 0, got = 0;
+        stack[top++] = (uint32_t)i;
+        seen[i] = 1;
+        while (top) {
+            uint32_t u = stack[--top];
+            got++;
+            for (size_t k = a->ptr[u]; k < a->ptr[u + 1]; ++k) {
+                uint32_t j = a->col[k];
+                if (!seen[j] && agg[j] == agg[i]) {
+                    seen[j] = 1;
+                    stack[top++] = j;
+                }
+            }
+        }
+        reached[agg[i]] = got;
+        if (got != size[agg[i]])
+            fail_msg("aggregate %u: %zu of its %zu members reached", agg[i], got, size[agg[i]]);
+    }
+    free(seen);
+    free(stack);
+    free(size);
+    free(reached);
+}
+
+static void test_aggregates_partition(void **state)
+{
+    (void)state;
+    const char *names[] = {"nefertiti.off", "mushroom.off", "cow.off"};
+    for (size_t f = 0; f < 3; ++f) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(names[f]));
+        sk__csr a = {0};
+        mesh_laplacian(m, 1, 0, &a);
+        size_t n = a.rows, count = 0;
+        uint32_t *agg = malloc(n * sizeof *agg);
+        assert_int_equal(sk__amg_aggregate(&a, 1, agg, &count, NULL), SK_OK);
+        /* every unknown in exactly one aggregate (agg is a map), none empty */
+        size_t *size = calloc(count, sizeof *size);
+        for (size_t i = 0; i < n; ++i) {
+            assert_true(agg[i] < count);
+            size[agg[i]]++;
+        }
+        size_t total = 0, largest = 0;
+        for (size_t c = 0; c < count; ++c) {
+            assert_true(size[c] >= 1);
+            total += size[c];
+            largest = size[c] > largest ? size[c] : largest;
+        }
+        assert_int_equal(total, n);
+        /* two pairwise passes: about four unknowns per aggregate */
+        assert_true(3 * count <= n && 6 * count >= n);
+        assert_true(largest <= 9 * 9);
+        assert_connected(&a, agg, count);
+        free(size);
+        free(agg);
+        sk__csr_free(&a);
+        sk_mesh_destroy(&m);
+    }
+}
+
+/* P^T A P keeps zero row sums (A 1 = 0 and P 1 = 1 for both prolongations). */
+static void test_galerkin_zero_row_sums(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("mushroom.off"));
+    sk__csr a = {0};
+    mesh_laplacian(m, 1, 0, &a);
+    size_t count = 0;
+    uint32_t *agg = malloc(a.rows * sizeof *agg);
+    assert_int_equal(sk__amg_aggregate(&a, 1, agg, &count, NULL), SK_OK);
+    for (int smooth = 0; smooth < 2; ++smooth) {
+        sk__csr p = {0}, r = {0}, ac = {0};
+        assert_int_equal(sk__amg_prolongation(&a, 1, agg, count, smooth, &p, NULL), SK_OK);
+        assert_int_equal(p.rows, a.rows);
+        assert_int_equal(p.cols, count);
+        if (!smooth)
+            assert_int_equal(p.ptr[p.rows], a.rows); /* one 1 per row */
+        else
+            assert_true(p.ptr[p.rows] > a.rows);
+        for (size_t i = 0; i < p.rows; ++i) {
+            double s = 0;
+            for (size_t k = p.ptr[i]; k < p.ptr[i + 1]; ++k) {
+                s += p.val[k];
+                if (k > p.ptr[i])
+                    assert_true(p.col[k] > p.col[k - 1]);
+            }
+            assert_true(fabs(s - 1) <= 1e-14);
+        }
+        assert_int_equal(sk__csr_transpose(&p, &r, NULL), SK_OK);
+        assert_int_equal(sk__csr_galerkin(&r, &a, &p, &ac, NULL), SK_OK);
+        assert_int_equal(ac.rows, count);
+        double diag_min = INFINITY;
+        for (size_t i = 0; i < ac.rows; ++i) {
+            double s = 0, d = 0;
+            for (size_t k = ac.ptr[i]; k < ac.ptr[i + 1]; ++k) {
+                s += ac.val[k];
+                if (ac.col[k] == i)
+                    d = ac.val[k];
+            }
+            if (!(fabs(s) <= 1e-12 * d))
+                fail_msg("coarse row %zu sums to %.3g (diagonal %.3g, smooth %d)", i, s, d, smooth);
+            diag_min = fmin(diag_min, d);
+        }
+        assert_true(diag_min > 0);
+        sk__csr_free(&p);
+        sk__csr_free(&r);
+        sk__csr_free(&ac);
+    }
+    free(agg);
+    sk__csr_free(&a);
+    sk_mesh_destroy(&m);
+}
+
+/* Interleaved blocks of two unknowns are aggregated as the scalar graph's vertices. */
+static void test_blocks_like_scalar(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("three_peaks.off"));
+    sk__csr a1 = {0}, a2 = {0};
+    mesh_laplacian(m, 1, 0, &a1);
+    mesh_laplacian(m, 2, 0, &a2);
+    size_t n = a1.rows, c1 = 0, c2 = 0;
+    uint32_t *g1 = malloc(n * sizeof *g1), *g2 = malloc(n * sizeof *g2);
+    assert_int_equal(sk__amg_aggregate(&a1, 1, g1, &c1, NULL), SK_OK);
+    assert_int_equal(sk__amg_aggregate(&a2, 2, g2, &c2, NULL), SK_OK);
+    assert_int_equal(c1, c2);
+    assert_memory_equal(g1, g2, n * sizeof *g1);
+    sk__csr p = {0};
+    assert_int_equal(sk__amg_prolongation(&a2, 2, g2, c2, false, &p, NULL), SK_OK);
+    assert_int_equal(p.cols, 2 * c2);
+    for (size_t i = 0; i < p.rows; ++i)
+        assert_int_equal(p.col[p.ptr[i]], 2 * g2[i / 2] + i % 2);
+    /* a matrix that is not square in blocks of 2 is refused */
+    a1.cols = a1.rows = n - (n % 2 == 0); /* odd */
+    sk_error err;
+    assert_int_equal(sk__amg_aggregate(&a1, 2, g1, &c1, &err), SK_ERR_ARG);
+    a1.cols = a1.rows = n;
+    sk__csr_free(&p);
+    free(g1);
+    free(g2);
+    sk__csr_free(&a1);
+    sk__csr_free(&a2);
+    sk_mesh_destroy(&m);
+}
+
+/* The multilevel CG over the aggregation hierarchy of a shifted Laplacian (definite) gives
+ * CHOLMOD's solution, with several levels, in all three cycles. */
+static void test_solve_matches_cholmod(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("mushroom.off"));
+    size_t n = m->num_vertices;
+    double *b = malloc(2 * n * sizeof *b), *x = malloc(2 * n * sizeof *x),
+           *x0 = malloc(2 * n * sizeof *x0);
+    for (size_t v = 0; v < n; ++v) {
+        b[v] = m->positions[3 * v] - 0.3 * m->positions[3 * v + 1];
+        b[n + v] = 1.0;
+    }
+    sk__csr a = {0};
+    mesh_laplacian(m, 1, 1e-3, &a);
+    /* the reference: CHOLMOD on the lower triangle */
+    sk_triplets t = {0};
+    for (size_t i = 0; i < n; ++i)
+        for (size_t k = a.ptr[i]; k < a.ptr[i + 1]; ++k)
+            if (a.col[k] <= i)
+                assert_int_equal(sk_triplets_add(&t, (uint32_t)i, a.col[k], a.val[k]), SK_OK);
+    sk_sparse *s = NULL;
+    assert_int_equal(sk_sparse_from_triplets(n, &t, SK_SPARSE_LOWER, &s, NULL), SK_OK);
+    sk_solver *ch = NULL;
+    assert_int_equal(sk_solver_create(s, SK_SOLVER_CHOLESKY, &ch, NULL), SK_OK);
+    assert_int_equal(sk_solver_factorize(ch, s, NULL), SK_OK);
+    assert_int_equal(sk_solver_solve(ch, 2, b, x0, NULL), SK_OK);
+    for (int cycle = 0; cycle < 3; ++cycle) {
+        sk__csr fine = {0};
+        mesh_laplacian(m, 1, 1e-3, &fine);
+        sk__amg_opts ao = {.coarse_max = 200};
+        sk__multilevel *mg = NULL;
+        assert_int_equal(sk__amg_create(&fine, &ao, true, &mg, NULL), SK_OK);
+        sk__multilevel_set_cycle(mg, 1, cycle == 1 ? 2 : 1, cycle == 2);
+        sk__multilevel_stats ms;
+        sk__multilevel_stats_get(mg, &ms);
+        assert_true(ms.levels >= 3);
+        assert_true(ms.unknowns[0] <= 200);
+        assert_int_equal(ms.unknowns[1], n);
+        sk__krylov_opts ko = {1e-12, 300, 2};
+        sk__krylov_result kr;
+        assert_int_equal(sk__multilevel_solve(mg, 2, b, x, &ko, &kr, NULL), SK_OK);
+        assert_true(kr.converged);
+        assert_true(kr.iterations >= 2);
+        for (size_t i = 0; i < 2 * n; ++i)
+            if (!(fabs(x[i] - x0[i]) <= 1e-6 * (1 + fabs(x0[i]))))
+                fail_msg("cycle %d: x[%zu] = %.15g, CHOLMOD %.15g", cycle, i, x[i], x0[i]);
+        sk__multilevel_destroy(&mg);
+    }
+    sk_solver_destroy(&ch);
+    sk_sparse_destroy(&s);
+    sk_triplets_free(&t);
+    sk__csr_free(&a);
+    free(b);
+    free(x);
+    free(x0);
+    sk_mesh_destroy(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_aggregates_partition),
+        cmocka_unit_test(test_galerkin_zero_row_sums),
+        cmocka_unit_test(test_blocks_like_scalar),
+        cmocka_unit_test(test_solve_matches_cholmod),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

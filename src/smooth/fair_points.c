@@ -702,11 +702,27 @@ static double net_overshoot(const sk_smooth *s, size_t p)
     return worst / longest;
 }
 
+/* sk__fair_patch_energy over the upper triangle of Q (half the products; the same to rounding) */
+static double net_energy(const double *qt, const double *qq, int corners, const double *b)
+{
+    int n = corners == 3 ? 15 : 16;
+    const double *Q = corners == 3 ? qt : qq;
+    double e = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double r = 0.5 * Q[n * i + i] * sk__dot3(b + 3 * i, b + 3 * i);
+        for (int j = i + 1; j < n; ++j)
+            r += Q[n * i + j] * sk__dot3(b + 3 * i, b + 3 * j);
+        e += 2.0 * r;
+    }
+    return e;
+}
+
 /* The vertices to start from: the corners of the patches (assembled in s->surface) that are
  * singular or whose control net strays from their face by more than FAIR_SEED_OVERSHOOT of the
- * longest side, and the neighbours of those corners. */
+ * longest side, and the neighbours of those corners; pe gets the bending energy of every patch. */
 static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *active,
-                            uint8_t *bad, uint8_t *sing)
+                            uint8_t *bad, uint8_t *sing, const double *qt, const double *qq,
+                            double *pe)
 {
     const sk_mesh *m = s->config;
     long np = (long)s->surface.count;
@@ -716,6 +732,9 @@ static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *
     for (long p = 0; p < np; ++p) {
         sing[p] = sk__patch_singular(s, (size_t)p, NULL);
         bad[p] = sing[p] || net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT;
+        const sk_patch *pa = &s->surface.patches[p];
+        pe[p] = net_energy(qt, qq, (int)sk_patch_num_corners(pa),
+                           sk_patch_cp(&s->surface, (size_t)p));
     }
     memset(active, 0, m->num_vertices);
     for (long p = 0; p < np; ++p) {
@@ -856,13 +875,14 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     uint8_t *next = active + nv, *region = next + nv, *bad = region + nv;
     M.slot_of = sk__malloc_array(nf + 1, sizeof(uint32_t));
     M.var_of = sk__malloc_array(nv + 1, sizeof(uint32_t));
+    double *pe = sk__malloc_array(s->surface.count + 1, sizeof(double));
     if (S)
         S->mark = sk__calloc_array(nf + 1, 1);
-    if (!S || !qt || !active || !S->mark || !M.slot_of || !M.var_of)
+    if (!S || !qt || !active || !S->mark || !M.slot_of || !M.var_of || !pe)
         goto nomem;
     double *qq = qt + 15 * 15;
     sk__fair_energy_matrices(qt, qq);
-    seed_vertices(s, status, active, bad, sing);
+    seed_vertices(s, status, active, bad, sing, qt, qq, pe);
     memcpy(region, active, nv);
     grow(m, region, next, FAIR_REGION_RINGS);
     memset(M.slot_of, 0xff, (nf + 1) * sizeof(uint32_t));
@@ -881,12 +901,10 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     model_write(&M, W, next, sing);
     if (moved)
         *moved = count;
-    if (energy) { /* s->surface holds the patches before the sweeps */
+    if (energy) { /* pe: the patches before the sweeps, in order (deterministic) */
         double total = 0.0, after = 0.0;
         for (size_t p = 0; p < s->surface.count; ++p)
-            total += sk__fair_patch_energy(qt, qq,
-                                           (int)sk_patch_num_corners(&s->surface.patches[p]),
-                                           sk_patch_cp(&s->surface, p));
+            total += pe[p];
         for (size_t sl = 0; sl < M.nslots; ++sl)
             after += sk__fair_patch_energy(qt, qq, M.slots[sl].corners, M.slots[sl].net);
         energy[0] = total;
@@ -902,5 +920,6 @@ done:
     sk__free(S);
     sk__free(qt);
     sk__free(active);
+    sk__free(pe);
     return st;
 }

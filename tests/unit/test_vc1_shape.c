@@ -575,9 +575,9 @@ static void test_fair_points_eight(void **state)
 
 /* The fair stage runs on a quadratic model of the bending energy in the vertices' maps (the
  * patches it moves are affine in them): the energy after it (stats, from the model) must be that
- * of the control nets themselves, summed patch by patch, to rounding, where the regularity
- * repair moved nothing afterwards (eight; fandisk also has creases), and below the energy
- * before. */
+ * of the control nets themselves, summed patch by patch, to rounding (1e-10: a near-flat patch's
+ * energy cancels), where the regularity repair moved nothing afterwards (eight; fandisk also has
+ * creases), and below the energy before. */
 static void test_fair_model_energy(void **state)
 {
     (void)state;
@@ -603,7 +603,7 @@ static void test_fair_model_energy(void **state)
                       names[t], st->fair_steps, st->fair_energy_before, st->fair_energy_after, e);
         assert_true(st->fair_steps > 0);
         assert_true(st->fair_energy_after < st->fair_energy_before);
-        assert_true(fabs(e - st->fair_energy_after) <= 1e-11 * e);
+        assert_true(fabs(e - st->fair_energy_after) <= 1e-10 * e);
         sk_smooth_destroy(&s);
         sk_mesh_destroy(&mesh);
     }

@@ -452,7 +452,7 @@ static void local_jacobian(const sk_smooth *s, sk__vc1_work *W, const uint32_t *
     for (size_t i = 0; i < S->nfaces; ++i)
         memcpy(S->base + 48 * i, sk_patch_cp(&s->surface, S->faces[i]),
                3 * sizeof(double) * sk_patch_num_points(&s->surface.patches[S->faces[i]]));
-    for (int d = 0; d < 4; ++d) {
+    for (int d = 0; d < 2; ++d) { /* the directions along e_0 */
         for (int k = 0; k < n; ++k) {
             double *P = W->P + 3 * (size_t)E[k], c = p[2 * k + fair_dirs[d][1]];
             for (int x = 0; x < 3; ++x)
@@ -463,6 +463,15 @@ static void local_jacobian(const sk_smooth *s, sk__vc1_work *W, const uint32_t *
             memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
     }
     save_restore_C(W, S, true);
+    /* systems (4) and the patch assembly act on each coordinate alike (scalar coefficients), so
+     * moving the tangents by e_1 s gives e_1 times what moving them by e_0 s gives */
+    for (int d = 0; d < 2; ++d)
+        for (size_t j = 0; j < 16 * S->nfaces; ++j) {
+            const double *a = S->dir[d] + 3 * j;
+            double r = sk__dot3(a, e[0]), *b = S->dir[d + 2] + 3 * j;
+            for (int x = 0; x < 3; ++x)
+                b[x] = r * e[1][x];
+        }
 }
 
 /* The slot of face i of S (a new one holds its net as it stands, S->base); SK_INVALID when out

@@ -363,10 +363,10 @@ static bool angles_ok(const double *q, int n, int closed, double alpha)
 }
 
 /* One row of an unknown's Jacobian: control point `row` of the net in slot `slot` moves by
- * J[3 a + x] (coordinate x) per unit of the vertex's map parameter a. */
+ * e_ra r[cb] per unit of the vertex's map parameter a = (ra, cb) (e: its tangent basis). */
 typedef struct fair_row {
     uint32_t slot, row;
-    double J[12];
+    double r[2];
 } fair_row;
 
 /* One unknown vertex v: its rows, the 4 x 4 Hessian of its block (bending and targets), the
@@ -376,7 +376,7 @@ typedef struct fair_var {
     uint32_t v;
     int n, closed;
     size_t first, nrows, p0;
-    double H[4][4], Ht[4][4], tg[4], x[4];
+    double e[2][3], H[4][4], Ht[4][4], tg[4], x[4];
 } fair_var;
 
 /* A control net that some unknown moves: its face and its current points */
@@ -439,8 +439,10 @@ static void vertex_tangents(const sk__vc1_work *W, uint32_t v, const uint32_t *E
 /* direction a = (ra, cb) of a vertex's map: delta p = e_ra (p . e_cb) */
 static const int fair_dirs[4][2] = {{0, 0}, {0, 1}, {1, 0}, {1, 1}};
 
-/* The 4 directions' differences of the local patches at v (the vertex's tangents as solved),
- * into S->dir, and the patches as they stand into S->base (from s->surface: W is the state it
+/* The differences of the local patches at v (the vertex's tangents as solved) in the directions
+ * along e_0 (a = (0, 0), (0, 1)) into S->dir[0, 1] (systems (4) and the assembly act on each
+ * coordinate alike, with scalar coefficients, so the points move along e_0 by some r and, in the
+ * directions along e_1, by the same r along e_1), and the patches as they stand into S->base (from s->surface: W is the state it
  * was assembled from until the sweeps end); W is left exactly as it was. */
 static void local_jacobian(const sk_smooth *s, sk__vc1_work *W, const uint32_t *E, int n,
                            double e[2][3], const double *p, fair_scratch *S)
@@ -452,7 +454,7 @@ static void local_jacobian(const sk_smooth *s, sk__vc1_work *W, const uint32_t *
     for (size_t i = 0; i < S->nfaces; ++i)
         memcpy(S->base + 48 * i, sk_patch_cp(&s->surface, S->faces[i]),
                3 * sizeof(double) * sk_patch_num_points(&s->surface.patches[S->faces[i]]));
-    for (int d = 0; d < 2; ++d) { /* the directions along e_0 */
+    for (int d = 0; d < 2; ++d) { /* the directions along e_0: fair_dirs[0, 1] */
         for (int k = 0; k < n; ++k) {
             double *P = W->P + 3 * (size_t)E[k], c = p[2 * k + fair_dirs[d][1]];
             for (int x = 0; x < 3; ++x)
@@ -463,15 +465,6 @@ static void local_jacobian(const sk_smooth *s, sk__vc1_work *W, const uint32_t *
             memcpy(W->P + 3 * (size_t)E[k], P0 + 3 * k, 3 * sizeof(double));
     }
     save_restore_C(W, S, true);
-    /* systems (4) and the patch assembly act on each coordinate alike (scalar coefficients), so
-     * moving the tangents by e_1 s gives e_1 times what moving them by e_0 s gives */
-    for (int d = 0; d < 2; ++d)
-        for (size_t j = 0; j < 16 * S->nfaces; ++j) {
-            const double *a = S->dir[d] + 3 * j;
-            double r = sk__dot3(a, e[0]), *b = S->dir[d + 2] + 3 * j;
-            for (int x = 0; x < 3; ++x)
-                b[x] = r * e[1][x];
-        }
 }
 
 /* The slot of face i of S (a new one holds its net as it stands, S->base); SK_INVALID when out
@@ -496,22 +489,21 @@ static uint32_t face_slot(fair_model *M, const fair_scratch *S, size_t i, const 
 }
 
 /* The rows of face i (its control points that some direction moves: exact zeros elsewhere) and
- * their part of the bending Hessian H; false when out of memory. */
-static bool face_rows(fair_model *M, const fair_scratch *S, size_t i, const double *qt,
-                      const double *qq, double H[4][4])
+ * their part of the bending Hessian H (lower triangle; a = (ra, cb) at 2 ra + cb: the blocks of
+ * ra = 0 and 1 are the same 2 x 2 K, the others zero); false when out of memory. */
+static bool face_rows(fair_model *M, const fair_scratch *S, size_t i, const double e0[3],
+                      const double *qt, const double *qq, double H[4][4])
 {
     int nc = S->corners[i] == 3 ? 15 : 16, idx[16], ni = 0;
     const double *Q = nc == 15 ? qt : qq;
     unsigned cand = i < S->nfaces_v ? 0xffffu : interior_mask(S->corners[i]);
+    double r[16][2];
     for (int c = 0; c < nc; ++c) {
         if (!(cand >> c & 1u))
             continue; /* exactly zero in every direction (local_difference) */
-        bool nz = false;
-        for (int a = 0; a < 4 && !nz; ++a) {
-            const double *J = S->dir[a] + 48 * i + 3 * c;
-            nz = J[0] != 0.0 || J[1] != 0.0 || J[2] != 0.0;
-        }
-        if (nz)
+        for (int d = 0; d < 2; ++d)
+            r[ni][d] = sk__dot3(S->dir[d] + 48 * i + 3 * c, e0);
+        if (r[ni][0] != 0.0 || r[ni][1] != 0.0)
             idx[ni++] = c;
     }
     if (!ni)
@@ -522,23 +514,26 @@ static bool face_rows(fair_model *M, const fair_scratch *S, size_t i, const doub
     if (!grown)
         return false;
     M->rows = grown;
+    double K[2][2] = {{0, 0}, {0, 0}};
     for (int ri = 0; ri < ni; ++ri) {
-        fair_row *r = &M->rows[M->nrows + (size_t)ri];
-        r->slot = sl;
-        r->row = (uint32_t)idx[ri];
-        for (int a = 0; a < 4; ++a)
-            memcpy(r->J + 3 * a, S->dir[a] + 48 * i + 3 * idx[ri], 3 * sizeof(double));
-    }
-    for (int ri = 0; ri < ni; ++ri) {
-        const fair_row *r = &M->rows[M->nrows + (size_t)ri];
+        fair_row *row = &M->rows[M->nrows + (size_t)ri];
+        row->slot = sl;
+        row->row = (uint32_t)idx[ri];
+        row->r[0] = r[ri][0], row->r[1] = r[ri][1];
         const double *Qr = Q + nc * idx[ri];
-        double qj[4][3] = {{0}};
-        for (int ci = 0; ci < ni; ++ci)
-            for (int a = 0; a < 4; ++a)
-                sk__axpy3(qj[a], qj[a], Qr[idx[ci]], M->rows[M->nrows + (size_t)ci].J + 3 * a);
-        for (int a = 0; a < 4; ++a)
-            for (int b = 0; b <= a; ++b)
-                H[a][b] += sk__dot3(r->J + 3 * a, qj[b]);
+        double q[2] = {0, 0};
+        for (int ci = 0; ci < ni; ++ci) {
+            q[0] += Qr[idx[ci]] * r[ci][0];
+            q[1] += Qr[idx[ci]] * r[ci][1];
+        }
+        K[0][0] += r[ri][0] * q[0];
+        K[1][0] += r[ri][1] * q[0];
+        K[1][1] += r[ri][1] * q[1];
+    }
+    for (int ra = 0; ra < 2; ++ra) {
+        H[2 * ra][2 * ra] += K[0][0];
+        H[2 * ra + 1][2 * ra] += K[1][0];
+        H[2 * ra + 1][2 * ra + 1] += K[1][1];
     }
     M->nrows += (size_t)ni;
     return true;
@@ -567,8 +562,9 @@ static bool model_add(fair_model *M, const sk_smooth *s, sk__vc1_work *W, const 
     var->v = v, var->n = n, var->closed = closed, var->first = M->nrows, var->p0 = M->np;
     memcpy(M->p + M->np, p, 2 * (size_t)n * sizeof(double));
     M->np += 2 * (size_t)n;
+    memcpy(var->e, e, sizeof var->e);
     for (size_t i = 0; i < S->nfaces; ++i)
-        if (!face_rows(M, S, i, qt, qq, var->H))
+        if (!face_rows(M, S, i, e[0], qt, qq, var->H))
             return false;
     var->nrows = M->nrows - var->first;
     const double *V = W->m->positions + 3 * (size_t)v;
@@ -641,8 +637,9 @@ static double model_step(fair_model *M, size_t k, const double *qt, const double
         double qb[3] = {0, 0, 0};
         for (int c = 0; c < nc; ++c)
             sk__axpy3(qb, qb, Qr[c], b + 3 * c);
+        double g[2] = {sk__dot3(qb, var->e[0]), sk__dot3(qb, var->e[1])};
         for (int a = 0; a < 4; ++a)
-            G[a] += sk__dot3(r->J + 3 * a, qb);
+            G[a] += r->r[a & 1] * g[a >> 1];
     }
     for (int a = 0; a < 4; ++a) {
         G[a] = -G[a];
@@ -670,8 +667,8 @@ static double model_step(fair_model *M, size_t k, const double *qt, const double
             for (size_t i = var->first; i < var->first + var->nrows; ++i) {
                 const fair_row *r = &M->rows[i];
                 double *b = M->slots[r->slot].net + 3 * r->row;
-                for (int a = 0; a < 4; ++a)
-                    sk__axpy3(b, b, d[a], r->J + 3 * a);
+                sk__axpy3(b, b, r->r[0] * d[0] + r->r[1] * d[1], var->e[0]);
+                sk__axpy3(b, b, r->r[0] * d[2] + r->r[1] * d[3], var->e[1]);
             }
             return len;
         }

@@ -44,7 +44,8 @@ if [ -n "${SK_BENCH_BEFORE:-}" ]; then
   echo
   echo "before: $SK_BENCH_BEFORE, after: $build/surfkit; CPU us / input triangle; load $(cut -d' ' -f1-3 /proc/loadavg)"
   echo
-  for name in ${SK_BENCH_STAGE_MESHES:-"cow armadillo lion-head pig bunny00 sphere fandisk"}; do
+  stage_meshes=${SK_BENCH_STAGE_MESHES:-cow armadillo lion-head pig bunny00 sphere fandisk}
+  for name in $stage_meshes; do
     in=../shared/data/meshes/$name.off
     nf=$(awk 'NR == 1 && $1 == "OFF" { next } { print $2; exit }' "$in")
     for run in $(seq "${SK_BENCH_RUNS:-3}"); do

@@ -549,6 +549,27 @@ static bool face_rows(fair_model *M, const fair_scratch *S, size_t i, const doub
     return true;
 }
 
+/* The model's arrays sized once for the region (nregion vertices, edges edges around them):
+ * the unknowns and their tangents exactly, the rows and the patches as measured (about 55 rows
+ * and 2.4 patches per unknown on the cow; they grow when needed); false when out of memory. */
+static bool model_reserve(fair_model *M, size_t nregion, size_t edges)
+{
+    fair_var *vars = reserve(M->vars, &M->capvars, nregion + 1, sizeof(fair_var));
+    if (vars)
+        M->vars = vars;
+    double *p = vars ? reserve(M->p, &M->capp, 2 * edges + 1, sizeof(double)) : NULL;
+    if (p)
+        M->p = p;
+    fair_row *rows = p ? reserve(M->rows, &M->caprows, 64 * nregion + 1, sizeof(fair_row)) : NULL;
+    if (rows)
+        M->rows = rows;
+    fair_slot *slots =
+        rows ? reserve(M->slots, &M->capslots, 3 * nregion + 1, sizeof(fair_slot)) : NULL;
+    if (slots)
+        M->slots = slots;
+    return slots != NULL;
+}
+
 /* Adds v as an unknown of the model (when its star fits); false when out of memory. */
 static bool model_add(fair_model *M, const sk_smooth *s, sk__vc1_work *W, const double *qt,
                       const double *qq, uint32_t v, fair_scratch *S)
@@ -908,8 +929,14 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
                     status[v] < 2 && !(W->crease_v && W->crease_v[v]);
     /* (a crease vertex has one tangent plane per sector and fixed crease tangents: one linear
      * map of all its tangents would break both, so it keeps its least-squares points) */
-    for (uint32_t v = 0; v < nv; ++v)
+    size_t nregion = 0, edges = 0;
+    for (uint32_t v = 0; v < nv; ++v) {
         active[v] = active[v] && region[v]; /* the first sweep too */
+        nregion += region[v];
+        edges += region[v] ? sk_mesh_valence(m, v) : 0;
+    }
+    if (!model_reserve(&M, nregion, edges))
+        goto nomem;
     size_t count = model_sweeps(&M, s, W, qt, qq, sweeps, active, next, region, S);
     if (count == SIZE_MAX)
         goto nomem;

@@ -132,6 +132,8 @@ typedef struct sk_smooth_stats {
     double seconds_repair;
     size_t fair_steps;         /* vertex steps of the fair free points (all sweeps) */
     double seconds_fair;
+    double fair_energy_before; /* bending energy (Miao et al.) of all patches before and after */
+    double fair_energy_after;  /* the fair free points (after: from the model they minimise) */
 } sk_smooth_stats;
 
 typedef struct sk_smooth {

@@ -258,28 +258,55 @@ static void repair_vertex(repair_ctx *R, uint32_t v, int wide)
         take_gain(R, faces, nf);
 }
 
+/* The faces of a pair a, b (R->faces: the union of both neighbourhoods, singular first; then
+ * fb: the faces b's solution moves (around b and its neighbours), then fa: the others of the
+ * union (they depend on a's solution alone), each singular first) and their vertices. */
+typedef struct pair_faces {
+    uint32_t *all, *fb, *fa, verts[2 * SK_VSYS_MAX + 2];
+    size_t nall, nfb, nfa, na, nb;
+} pair_faces;
+
+static void gather_pair(repair_ctx *R, uint32_t a, uint32_t b, pair_faces *F)
+{
+    const sk_mesh *m = R->W->m;
+    F->all = R->faces, F->fb = R->faces + LOCAL_FACES, F->fa = F->fb + LOCAL_FACES / 2;
+    size_t nf = local_faces(m, a, R->mark, F->all, LOCAL_FACES / 2, F->verts, &F->na);
+    F->nfb = local_faces(m, b, R->mark, F->fb, LOCAL_FACES / 2, F->verts + F->na, &F->nb);
+    F->nall = nf;
+    for (size_t i = 0; i < F->nfb; ++i)
+        R->mark[F->fb[i]] = 1;
+    F->nfa = 0;
+    for (size_t i = 0; i < nf; ++i)
+        if (!R->mark[F->all[i]])
+            F->fa[F->nfa++] = F->all[i];
+    for (size_t i = 0; i < F->nfb; ++i)
+        R->mark[F->fb[i]] = 0;
+    for (size_t i = 0; i < nf; ++i)
+        R->mark[F->all[i]] = 1;
+    for (size_t i = 0; i < F->nfb; ++i)
+        if (!R->mark[F->fb[i]])
+            F->all[F->nall++] = F->fb[i];
+    for (size_t i = 0; i < nf; ++i)
+        R->mark[F->all[i]] = 0;
+    singular_first(R->sing, F->fb, F->nfb);
+    singular_first(R->sing, F->fa, F->nfa);
+}
+
 /* The last resort for a patch still singular: the variants at both ends a, b of one of its
  * edges together (the boundary curve and the cross-boundary tangents along ab come from the two
  * vertex systems at once; one end alone was tried before). Keeps the best pair when it lowers
- * the singular patches around a and b. */
+ * the singular patches around a and b. For each variant of a, the patches that b does not move
+ * are rebuilt and tested once (their count is the same for every variant of b; when it reaches
+ * the best, no variant of b can win), then for each variant of b only the patches it moves: the
+ * same counts and choices as rebuilding all of them each time. */
 static void repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
 {
     sk__vc1_work *W = R->W;
     const sk_mesh *m = W->m;
     uint8_t *status = R->status, *sing = R->sing;
-    uint32_t *faces = R->faces;
-    uint32_t verts[2 * SK_VSYS_MAX + 2];
-    size_t na, nb, nf = local_faces(m, a, R->mark, faces, LOCAL_FACES / 2, verts, &na);
-    size_t nfb = local_faces(m, b, R->mark, faces + nf, LOCAL_FACES / 2, verts + na, &nb);
-    size_t nall = nf;
-    for (size_t i = 0; i < nf; ++i)
-        R->mark[faces[i]] = 1;
-    for (size_t i = nf; i < nf + nfb; ++i)
-        if (!R->mark[faces[i]])
-            faces[nall++] = faces[i];
-    for (size_t i = 0; i < nf; ++i)
-        R->mark[faces[i]] = 0;
-    size_t before = singular_first(sing, faces, nall);
+    pair_faces F;
+    gather_pair(R, a, b, &F);
+    size_t before = singular_first(sing, F.all, F.nall);
     if (before == 0)
         return;
     ++R->tick;
@@ -299,6 +326,7 @@ static void repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
                 continue;
         } else
             restore_solution(W, Ea, n_a, Pa, wa);
+        size_t fixed = SIZE_MAX; /* singular patches b does not move, once rebuilt */
         for (int u = 0; u < (int)N_VARIANTS && best; ++u) {
             int cb = variant_solution(R, b, Eb, n_b, u);
             if (cb > status[b] || cb >= 2)
@@ -306,7 +334,12 @@ static void repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
             if (R->late_budget == 0)
                 break; /* the bound of LATE_BUDGET */
             R->late_budget--;
-            size_t after = rebuild_local(R->s, W, verts, na + nb, faces, nall, best);
+            if (fixed == SIZE_MAX)
+                fixed = rebuild_local(R->s, W, F.verts, F.na, F.fa, F.nfa, best);
+            if (fixed >= best)
+                continue; /* no variant of b can win with this one of a */
+            size_t after = fixed + rebuild_local(R->s, W, F.verts + F.na, F.nb, F.fb, F.nfb,
+                                                 best - fixed);
             if (after < best)
                 best = after, best_s = t, best_t = u, code_a = ca, code_b = cb;
         }
@@ -323,9 +356,9 @@ static void repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
         restore_solution(W, Ea, n_a, Pa, wa);
         restore_solution(W, Eb, n_b, Pb, wb);
     }
-    rebuild_local(R->s, W, verts, na + nb, faces, nall, 0);
+    rebuild_local(R->s, W, F.verts, F.na + F.nb, F.all, F.nall, 0);
     if (best_t >= 0)
-        take_gain(R, faces, nall);
+        take_gain(R, F.all, F.nall);
 }
 
 /* the pair round: every edge of every patch still singular */
@@ -384,7 +417,7 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     uint8_t *cand = sk__calloc_array(nv + 1, 1);
     R.sing = sk__malloc_array(np + 1, 1);
     R.mark = sk__calloc_array(np + 1, 1);
-    R.faces = sk__malloc_array(LOCAL_FACES, sizeof *R.faces);
+    R.faces = sk__malloc_array(2 * LOCAL_FACES, sizeof *R.faces); /* see pair_faces */
     R.tried = sk__calloc_array(nv + 1, sizeof *R.tried);
     R.slot = sk__calloc_array(nv + 1, sizeof *R.slot);
     R.changed = sk__calloc_array(np + 1, sizeof *R.changed);

@@ -248,10 +248,15 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
             goto done;
         }
+        double energy[2];
         if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, sing,
-                                      &s->stats.fair_steps, err)) != SK_OK)
+                                      &s->stats.fair_steps, energy, err)) != SK_OK)
             goto done;
-        vc1_assemble(s, &W);
+        s->stats.fair_energy_before = energy[0];
+        s->stats.fair_energy_after = energy[1];
+        for (uint32_t f = 0; f < nf; ++f) /* the patches the fair points may have moved */
+            if (sing[f] == SK_SING_UNKNOWN)
+                sk__vc1_assemble_patch(&W, f, sk_patch_cp(&s->surface, f));
     }
     s->stats.seconds_fair = sk_seconds() - t2;
     double t3 = sk_seconds();

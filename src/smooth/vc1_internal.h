@@ -92,9 +92,12 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
  * minimising the bending energy of the patches it moves plus the distance to the targets; keeps
  * (8) and the angle bounds and leaves W->C consistent (system (4)). *moved counts the steps.
  * sing (one per patch) gets the regularity test of every patch before the sweeps, and
- * SK_SING_UNKNOWN for the patches the sweeps moved (for sk__vc1_repair_regularity). */
+ * SK_SING_UNKNOWN for the patches the sweeps may have moved (to be assembled again; for
+ * sk__vc1_repair_regularity). energy (may be NULL): the bending energy of all patches before
+ * (summed from s->surface) and after (the change from the quadratic model the sweeps run on). */
 sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
-                              int sweeps, uint8_t *sing, size_t *moved, sk_error *err);
+                              int sweeps, uint8_t *sing, size_t *moved, double energy[2],
+                              sk_error *err);
 
 /* The bending-energy matrices of Miao et al. (integral of |b_ss|^2 + 2 |b_st|^2 + |b_tt|^2 over
  * the parameter domain) of the quartic triangle (15 x 15, in sk_tri_index order, the mean over

@@ -573,6 +573,42 @@ static void test_fair_points_eight(void **state)
     sk_mesh_destroy(&mesh);
 }
 
+/* The fair stage runs on a quadratic model of the bending energy in the vertices' maps (the
+ * patches it moves are affine in them): the energy after it (stats, from the model) must be that
+ * of the control nets themselves, summed patch by patch, to rounding (1e-10: a near-flat patch's
+ * energy cancels), where the regularity repair moved nothing afterwards (eight; fandisk also has
+ * creases), and below the energy before. */
+static void test_fair_model_energy(void **state)
+{
+    (void)state;
+    const char *names[] = {"eight.off", "fandisk.off"};
+    double qt[15 * 15], qq[16 * 16];
+    sk__fair_energy_matrices(qt, qq);
+    for (size_t t = 0; t < (getenv("SK_TEST_QUICK") ? 1u : 2u); ++t) {
+        sk_mesh *mesh = skt_read_mesh(skt_shared_mesh(names[t]));
+        sk_smooth *s = NULL;
+        sk_error err = {0};
+        sk_smooth_opts o = {0};
+        o.allow_split = true;
+        if (sk_smooth_build(mesh, &o, &s, &err) != SK_OK)
+            fail_msg("%s: %s", names[t], err.message);
+        assert_int_equal(s->stats.repaired_vertices, 0);
+        double e = 0.0;
+        for (size_t p = 0; p < s->surface.count; ++p)
+            e += sk__fair_patch_energy(qt, qq, (int)sk_patch_num_corners(&s->surface.patches[p]),
+                                       sk_patch_cp(&s->surface, p));
+        const sk_smooth_stats *st = &s->stats;
+        print_message("%s: fair steps %zu, bending before %.12g, after %.12g (model) %.12g "
+                      "(patches)\n",
+                      names[t], st->fair_steps, st->fair_energy_before, st->fair_energy_after, e);
+        assert_true(st->fair_steps > 0);
+        assert_true(st->fair_energy_after < st->fair_energy_before);
+        assert_true(fabs(e - st->fair_energy_after) <= 1e-10 * e);
+        sk_smooth_destroy(&s);
+        sk_mesh_destroy(&mesh);
+    }
+}
+
 /* cow: the triangulation pass halves the spikes (with the fair free points overshoot 2.05 with
  * the input's triangulation, 0.41 with flips, asserted <= 0.5 in test_fair_vs_lsq) and removes
  * at least a third of the singular patches; still VC1 to rounding and interpolating. */
@@ -676,6 +712,7 @@ int main(void)
         cmocka_unit_test(test_fair_energy_matrices),
         cmocka_unit_test(test_fair_vs_lsq),
         cmocka_unit_test(test_fair_points_eight),
+        cmocka_unit_test(test_fair_model_energy),
         cmocka_unit_test(test_table),
         cmocka_unit_test(test_box_candidates),
     };

@@ -1,4 +1,6 @@
-/* Packing: each chart is rotated to its smallest-area bounding box (one of its convex hull's edge
+/* Packing: the chart-shaped packer (raster_pack.c) runs from the scale the boxes below reach and
+ * wins when it packs at a larger scale (up to 2000 charts and 4096 texels); otherwise, or when
+ * the boxes pack tighter, the box packer's result stands. Box packer: each chart is rotated to its smallest-area bounding box (one of its convex hull's edge
  * directions, Freeman & Shapira), laid flat (width >= height), and the boxes, largest first, go
  * onto a skyline at the lowest place they fit, upright or flat (bottom-left rule); above 2000
  * charts, shelves (rows, tallest first) instead, which cost linear time. The largest common

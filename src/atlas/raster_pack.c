@@ -180,6 +180,16 @@ static void raster_segment(bitmap *c, const double *a, const double *b)
     }
 }
 
+/* p (*cap elements of size) grown to twice as many and 64 more; NULL (p kept) when out of memory. */
+static void *grow(void *p, size_t *cap, size_t size)
+{
+    size_t n = 2 * *cap + 64;
+    void *q = sk__realloc_array(p, n, size);
+    if (q)
+        *cap = n;
+    return q;
+}
+
 static int cmp_cross(const void *x, const void *y)
 {
     const crossing *a = x, *b = y;
@@ -207,14 +217,11 @@ static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
         double jlo = ceil(y0 - 0.5), jhi = ceil(y1 - 0.5);
         for (double j = fmax(jlo, 0); j < jhi && j < bm->h; ++j) {
             if (nx == k->cross_cap) {
-                size_t cap = 2 * k->cross_cap + 64;
-                crossing *nc = sk__realloc_array(k->cross, cap, sizeof *nc);
-                if (!nc) {
-                    k->nomem = true;
+                crossing *nc = grow(k->cross, &k->cross_cap, sizeof *nc);
+                if (!(k->nomem = !nc))
+                    k->cross = nc;
+                else
                     return;
-                }
-                k->cross = nc;
-                k->cross_cap = cap;
             }
             double yc = j + 0.5;
             k->cross[nx].row = (uint32_t)j;
@@ -298,14 +305,11 @@ static void dilate(raster *k, uint32_t p)
                     break;
             }
             if (nr == k->runs_cap) {
-                size_t cap = 2 * k->runs_cap + 256;
-                span *nrun = sk__realloc_array(k->runs, cap, sizeof *nrun);
-                if (!nrun) {
-                    k->nomem = true;
+                span *nrun = grow(k->runs, &k->runs_cap, sizeof *nrun);
+                if (!(k->nomem = !nrun))
+                    k->runs = nrun;
+                else
                     return;
-                }
-                k->runs = nrun;
-                k->runs_cap = cap;
             }
             if (nr == 0 || e - x > k->runs[k->anchor].b - k->runs[k->anchor].a + 1) {
                 k->anchor = (uint32_t)nr;
@@ -642,8 +646,10 @@ static double scale_search(raster *k, double s0, double s1, bool descend)
             break;
     }
     /* up: the used height says how much room is left (a scale step of sqrt(rows / used)),
-     * bisection once the step lands past a failure; stops within 0.2% */
-    for (; lo > 0 && !k->nomem && trials < RASTER_TRIALS && hi > lo * 1.002; trials++) {
+     * bisection once the step lands past a failure; stops within 0.2% (0.5% above FEW_CHARTS
+     * charts, where a trial costs more) */
+    double tol = k->in->nc <= FEW_CHARTS ? 1.002 : 1.005;
+    for (; lo > 0 && !k->nomem && trials < RASTER_TRIALS && hi > lo * tol; trials++) {
         double s = lo * sqrt((double)k->grid / fmax(top, 1.0)) * 0.998;
         if (!(s > lo * 1.001) || s >= hi * 0.999)
             s = 0.5 * (lo + hi);

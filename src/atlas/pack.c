@@ -1,11 +1,12 @@
-/* Packing: the chart-shaped packer (raster_pack.c) runs from the scale the boxes below reach and
- * wins when it packs at a larger scale (up to 2000 charts and 4096 texels); otherwise, or when
- * the boxes pack tighter, the box packer's result stands. Box packer: each chart is rotated to its smallest-area bounding box (one of its convex hull's edge
- * directions, Freeman & Shapira), laid flat (width >= height), and the boxes, largest first, go
- * onto a skyline at the lowest place they fit, upright or flat (bottom-left rule); above 2000
- * charts, shelves (rows, tallest first) instead, which cost linear time. The largest common
- * scale that fits [0,1]^2 with the gutter is found by bisection, for four orders of the boxes
- * (by height, area, longer side, perimeter): the order with the largest scale is kept. */
+/* Packing: the chart-shaped packer (raster_pack.c; up to 2000 charts, on a grid of at most 1024
+ * texels a side) runs from the scale the boxes below reach and wins when it packs at a larger
+ * scale; otherwise the box packer's result stands. Box packer: each chart is rotated to its
+ * smallest-area bounding box (one of its convex hull's edge directions, Freeman & Shapira), laid
+ * flat (width >= height), and the boxes, largest first, go onto a skyline at the lowest place
+ * they fit, upright or flat (bottom-left rule); above 2000 charts, shelves (rows, tallest first)
+ * instead, which cost linear time. The largest common scale that fits [0,1]^2 with the gutter is
+ * found by bisection, for four orders of the boxes (by height, area, longer side, perimeter): the
+ * order with the largest scale is kept. */
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
 
@@ -258,9 +259,11 @@ static bool skyline_pack(const rect *r, size_t n, double s, double g, double *po
     return true;
 }
 
-/* Above this many charts, or this resolution, only the box packer runs. */
+/* Above this many charts only the box packer runs; above this resolution the chart-shaped
+ * packer works on a coarser grid of this many texels per side, the gutter rounded up to its
+ * texels (so at least as wide), which keeps its time that of 1024. */
 #define RASTER_MAX_CHARTS 2000
-#define RASTER_MAX_RES 4096
+#define RASTER_MAX_RES 1024
 
 /* The chart-shaped packer from orig (the charts as given) and uv (turned to their smallest
  * boxes), started at the box packer's scale s0: when it packs at a larger scale (*ok), uv holds
@@ -302,8 +305,9 @@ static sk_status try_raster(size_t nc, const uint32_t *off, const uint32_t *uv_c
         area[c] = fabs(area[c]);
         total += area[c];
     }
-    uint32_t p = (uint32_t)ceil(pad);
-    sk__raster_in in = {nc, off, {orig, boxed}, area, eoff, e, (uint32_t)res, p, (p + 1) / 2};
+    double grid = fmin(res, RASTER_MAX_RES);
+    uint32_t p = (uint32_t)ceil(pad * grid / res - 1e-12);
+    sk__raster_in in = {nc, off, {orig, boxed}, area, eoff, e, (uint32_t)grid, p, (p + 1) / 2};
     double rs = 0;
     if (total > 0 && !(st = sk__raster_pack(&in, s0, 1.0 / sqrt(total), packed, &rs, ok, err)))
         *ok = *ok && rs > s0;
@@ -326,7 +330,7 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, const uint32_t *uv_cha
 {
     sk_status st = SK_OK;
     double gutter = pad / res;
-    bool raster = nc <= RASTER_MAX_CHARTS && res <= RASTER_MAX_RES && ne > 0 && res >= 1;
+    bool raster = nc <= RASTER_MAX_CHARTS && ne > 0 && res >= 1;
     double *orig = raster ? sk__malloc_array(2 * (off[nc] ? off[nc] : 1), sizeof(double)) : NULL;
     uint8_t *rot = NULL;
     skyline k = {0};

@@ -101,10 +101,31 @@ void sk__tri_distortion(const double *p0, const double *p1, const double *p2, co
 /* ---- pack.c ---- */
 
 /* Packs the charts in place: chart c owns the uv points [off[c], off[c+1]) (already at a common
- * scale, in any position); each is rotated to its smallest bounding box, then all are placed in
- * shelves inside [0,1]^2 at the largest common scale with `gutter` (uv units) between them.
- * *scale receives the common factor applied. */
-sk_status sk__pack_charts(size_t num_charts, const uint32_t *off, double *uv, double gutter,
+ * scale, in any position; uv_chart[u] the chart of point u), bounded by the ne edges edges[2i],
+ * edges[2i+1] (uv indices; the chart's boundary and seams). The charts go into [0,1]^2 at the
+ * largest common scale found, `pad` texels apart at `res` texels per side (half of it from the
+ * square's border): chart-shaped (sk__raster_pack) when that wins, else each chart's smallest
+ * bounding box on a skyline (shelves above 2000 charts). *scale receives the common factor. */
+sk_status sk__pack_charts(size_t num_charts, const uint32_t *off, const uint32_t *uv_chart,
+                          double *uv, size_t ne, const uint32_t *edges, double res, double pad,
                           double *scale, sk_error *err);
+
+/* ---- raster_pack.c ---- */
+
+typedef struct sk__raster_in {
+    size_t nc;
+    const uint32_t *off;       /* chart c owns uv points [off[c], off[c+1]) */
+    const double *uv[2];       /* two orientations of every chart's points (scale 1) */
+    const double *area;        /* per chart: its uv area at scale 1 (largest placed first) */
+    const uint32_t *edge_off;  /* per chart: its outline edges [edge_off[c], edge_off[c+1]) */
+    const uint32_t *edge;      /* 2 uv indices per outline edge */
+    uint32_t res, pad, margin; /* texels per side, gutter and border in texels */
+} sk__raster_in;
+
+/* Chart-shaped packing (see raster_pack.c) at the largest common scale found between s0 (tried
+ * first, lowered by 5% steps while nothing fits) and s1 (an upper bound); on success (*ok) the
+ * packed points go to uv (not one of in->uv) and the scale to *scale. */
+sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double *uv,
+                          double *scale, bool *ok, sk_error *err);
 
 #endif

@@ -1,9 +1,12 @@
-/* Packing: each chart is rotated to its smallest-area bounding box (one of its convex hull's edge
- * directions, Freeman & Shapira), laid flat (width >= height), and the boxes, largest first, go
- * onto a skyline at the lowest place they fit, upright or flat (bottom-left rule); above 2000
- * charts, shelves (rows, tallest first) instead, which cost linear time. The largest common
- * scale that fits [0,1]^2 with the gutter is found by bisection, for four orders of the boxes
- * (by height, area, longer side, perimeter): the order with the largest scale is kept. */
+/* Packing: the chart-shaped packer (raster_pack.c; up to 2000 charts, on a grid of at most 1024
+ * texels a side) runs from the scale the boxes below reach and wins when it packs at a larger
+ * scale; otherwise the box packer's result stands. Box packer: each chart is rotated to its
+ * smallest-area bounding box (one of its convex hull's edge directions, Freeman & Shapira), laid
+ * flat (width >= height), and the boxes, largest first, go onto a skyline at the lowest place
+ * they fit, upright or flat (bottom-left rule); above 2000 charts, shelves (rows, tallest first)
+ * instead, which cost linear time. The largest common scale that fits [0,1]^2 with the gutter is
+ * found by bisection, for four orders of the boxes (by height, area, longer side, perimeter): the
+ * order with the largest scale is kept. */
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
 
@@ -256,10 +259,79 @@ static bool skyline_pack(const rect *r, size_t n, double s, double g, double *po
     return true;
 }
 
-sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gutter,
+/* Above this many charts only the box packer runs; above this resolution the chart-shaped
+ * packer works on a coarser grid of this many texels per side, the gutter rounded up to its
+ * texels (so at least as wide), which keeps its time that of 1024. */
+#define RASTER_MAX_CHARTS 2000
+#define RASTER_MAX_RES 1024
+
+/* The chart-shaped packer from orig (the charts as given) and uv (turned to their smallest
+ * boxes), started at the box packer's scale s0: when it packs at a larger scale (*ok), uv holds
+ * the packing and *scale its scale. */
+static sk_status try_raster(size_t nc, const uint32_t *off, const uint32_t *uv_chart,
+                            const double *orig, double *uv, size_t ne, const uint32_t *edges,
+                            double res, double pad, double s0, double *scale, bool *ok,
+                            sk_error *err)
+{
+    sk_status st = SK_OK;
+    size_t n = off[nc];
+    uint32_t *eoff = sk__calloc_array(nc + 1, sizeof(uint32_t));
+    uint32_t *e = sk__malloc_array(2 * ne + 2, sizeof(uint32_t));
+    double *area = sk__calloc_array(nc ? nc : 1, sizeof(double));
+    double *boxed = sk__malloc_array(2 * (n ? n : 1), sizeof(double));
+    double *packed = sk__malloc_array(2 * (n ? n : 1), sizeof(double));
+    *ok = false;
+    if (!eoff || !e || !area || !boxed || !packed) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    memcpy(boxed, uv, 2 * n * sizeof(double));
+    for (size_t i = 0; i < ne; ++i)
+        eoff[uv_chart[edges[2 * i]] + 1]++;
+    for (size_t c = 0; c < nc; ++c)
+        eoff[c + 1] += eoff[c];
+    double total = 0;
+    for (size_t i = 0; i < ne; ++i) { /* grouped by chart; the outline's area (shoelace) */
+        uint32_t a = edges[2 * i], b = edges[2 * i + 1], c = uv_chart[a], at = eoff[c]++;
+        e[2 * (size_t)at] = a;
+        e[2 * (size_t)at + 1] = b;
+        const double *p = orig + 2 * (size_t)a, *q = orig + 2 * (size_t)b;
+        area[c] += 0.5 * (p[0] * q[1] - p[1] * q[0]);
+    }
+    for (size_t c = nc; c > 0; --c)
+        eoff[c] = eoff[c - 1];
+    eoff[0] = 0;
+    for (size_t c = 0; c < nc; ++c) {
+        area[c] = fabs(area[c]);
+        total += area[c];
+    }
+    double grid = fmin(res, RASTER_MAX_RES);
+    uint32_t p = (uint32_t)ceil(pad * grid / res - 1e-12);
+    sk__raster_in in = {nc, off, {orig, boxed}, area, eoff, e, (uint32_t)grid, p, (p + 1) / 2};
+    double rs = 0;
+    if (total > 0 && !(st = sk__raster_pack(&in, s0, 1.0 / sqrt(total), packed, &rs, ok, err)))
+        *ok = *ok && rs > s0;
+    if (*ok) {
+        memcpy(uv, packed, 2 * n * sizeof(double));
+        *scale = rs;
+    }
+done:
+    sk__free(packed);
+    sk__free(eoff);
+    sk__free(e);
+    sk__free(area);
+    sk__free(boxed);
+    return st;
+}
+
+sk_status sk__pack_charts(size_t nc, const uint32_t *off, const uint32_t *uv_chart, double *uv,
+                          size_t ne, const uint32_t *edges, double res, double pad,
                           double *scale, sk_error *err)
 {
     sk_status st = SK_OK;
+    double gutter = pad / res;
+    bool raster = nc <= RASTER_MAX_CHARTS && ne > 0 && res >= 1;
+    double *orig = raster ? sk__malloc_array(2 * (off[nc] ? off[nc] : 1), sizeof(double)) : NULL;
     uint8_t *rot = NULL;
     skyline k = {0};
     size_t maxn = 1;
@@ -270,10 +342,12 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
     double *pos = sk__malloc_array(2 * (nc ? nc : 1), sizeof(double));
     double *scratch = sk__malloc_array(2 * maxn, sizeof(double));
     double *hull = sk__malloc_array(4 * maxn + 4, sizeof(double));
-    if (!r || !pos || !scratch || !hull) {
+    if (!r || !pos || !scratch || !hull || (raster && !orig)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
+    if (raster)
+        memcpy(orig, uv, 2 * (size_t)off[nc] * sizeof(double));
     double area = 0;
     for (size_t c = 0; c < nc; ++c) {
         r[c].chart = (uint32_t)c;
@@ -320,6 +394,12 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
             best_order = order;
         }
     }
+    if (raster && lo > 0) {
+        bool won = false;
+        if ((st = try_raster(nc, off, uv_chart, orig, uv, ne, edges, res, pad, lo, scale, &won,
+                             err)) || won)
+            goto done;
+    }
     sort_rects(r, nc, best_order);
     bool ok = lo > 0 && (sky ? skyline_pack(r, nc, lo, gutter, pos, rot, &k, &nomem)
                              : shelves(r, nc, lo, gutter, pos));
@@ -348,6 +428,7 @@ sk_status sk__pack_charts(size_t nc, const uint32_t *off, double *uv, double gut
     }
     *scale = lo;
 done:
+    sk__free(orig);
     sk__free(rot);
     sk__free(k.x);
     sk__free(k.y);

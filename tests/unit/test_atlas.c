@@ -287,6 +287,148 @@ static void check_atlas(const char *name, const sk_mesh *m, size_t min_charts)
     sk_atlas_destroy(&a);
 }
 
+/* ---- the gutter, measured independently: texel distance between different charts ---- */
+
+static double seg_point_dist(const double *a, const double *b, const double *p)
+{
+    double d[2] = {b[0] - a[0], b[1] - a[1]}, l2 = d[0] * d[0] + d[1] * d[1];
+    double t = l2 > 0 ? ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2 : 0;
+    t = fmin(1.0, fmax(0.0, t));
+    return hypot(a[0] + t * d[0] - p[0], a[1] + t * d[1] - p[1]);
+}
+
+static bool segs_meet(const double *a, const double *b, const double *c, const double *d)
+{
+    int o1 = sk_orient2d(a, b, c), o2 = sk_orient2d(a, b, d);
+    int o3 = sk_orient2d(c, d, a), o4 = sk_orient2d(c, d, b);
+    if (o1 == 0 && o2 == 0) /* collinear: do the boxes meet? */
+        return fmax(fmin(a[0], b[0]), fmin(c[0], d[0])) <= fmin(fmax(a[0], b[0]), fmax(c[0], d[0])) &&
+               fmax(fmin(a[1], b[1]), fmin(c[1], d[1])) <= fmin(fmax(a[1], b[1]), fmax(c[1], d[1]));
+    return o1 * o2 <= 0 && o3 * o4 <= 0;
+}
+
+static bool inside_closed(const double *t, const double *p)
+{
+    return sk_orient2d(t, t + 2, p) >= 0 && sk_orient2d(t + 2, t + 4, p) >= 0 &&
+           sk_orient2d(t + 4, t, p) >= 0;
+}
+
+/* distance between two counter-clockwise triangles (0 when they meet) */
+static double tri_dist(const double *s, const double *t)
+{
+    double d = INFINITY;
+    for (int i = 0; i < 3; ++i) {
+        if (inside_closed(t, s + 2 * i) || inside_closed(s, t + 2 * i))
+            return 0;
+        for (int j = 0; j < 3; ++j) {
+            const double *a = s + 2 * i, *b = s + 2 * ((i + 1) % 3);
+            const double *c = t + 2 * j, *e = t + 2 * ((j + 1) % 3);
+            if (segs_meet(a, b, c, e))
+                return 0;
+            d = fmin(d, fmin(seg_point_dist(a, b, c), seg_point_dist(c, e, a)));
+        }
+    }
+    return d;
+}
+
+/* Smallest distance (texels at res) between uv triangles of different charts that are closer
+ * than r texels (INFINITY when none is): every triangle goes into the cells (of 4 r texels) that
+ * its box grown by r / 2 touches, so two triangles closer than r share a cell. */
+static double chart_gap(const sk_mesh *m, const sk_atlas *a, double res, double r)
+{
+    size_t nf = m->num_faces;
+    double cell = 4 * r;
+    size_t nside = (size_t)ceil((res + 2 * r) / cell) + 1, ncell = nside * nside;
+    double *tri = malloc(6 * nf * sizeof *tri);
+    size_t *box = malloc(4 * nf * sizeof *box), *start = calloc(ncell + 1, sizeof *start);
+    for (size_t f = 0; f < nf; ++f) {
+        uint32_t h = m->f_halfedge[f];
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            for (int c = 0; c < 2; ++c) {
+                double v = res * a->uvs[2 * (size_t)a->corner_uv[h] + (size_t)c];
+                tri[6 * f + 2 * (size_t)k + (size_t)c] = v;
+                lo[c] = fmin(lo[c], v);
+                hi[c] = fmax(hi[c], v);
+            }
+        for (int c = 0; c < 2; ++c) { /* cells, shifted by r so that lo - r / 2 >= 0 */
+            box[4 * f + (size_t)c] = (size_t)((lo[c] + 0.5 * r) / cell);
+            box[4 * f + 2 + (size_t)c] = (size_t)((hi[c] + 1.5 * r) / cell);
+        }
+        for (size_t y = box[4 * f + 1]; y <= box[4 * f + 3]; ++y)
+            for (size_t x = box[4 * f]; x <= box[4 * f + 2]; ++x)
+                start[y * nside + x + 1]++;
+    }
+    for (size_t c = 0; c < ncell; ++c)
+        start[c + 1] += start[c];
+    uint32_t *in = malloc((start[ncell] + 1) * sizeof *in);
+    size_t *fill = malloc(ncell * sizeof *fill);
+    memcpy(fill, start, ncell * sizeof *fill);
+    for (size_t f = 0; f < nf; ++f)
+        for (size_t y = box[4 * f + 1]; y <= box[4 * f + 3]; ++y)
+            for (size_t x = box[4 * f]; x <= box[4 * f + 2]; ++x)
+                in[fill[y * nside + x]++] = (uint32_t)f;
+    double gap = INFINITY;
+    for (size_t c = 0; c < ncell; ++c)
+        for (size_t i = start[c]; i < start[c + 1]; ++i)
+            for (size_t j = i + 1; j < start[c + 1]; ++j)
+                if (a->face_chart[in[i]] != a->face_chart[in[j]])
+                    gap = fmin(gap, tri_dist(tri + 6 * (size_t)in[i], tri + 6 * (size_t)in[j]));
+    free(tri);
+    free(box);
+    free(start);
+    free(in);
+    free(fill);
+    return gap;
+}
+
+/* Given the packed atlas of a few shared meshes (default padding 2 at 1024, padding 4 at 512, 3 at
+ * 4096), then no two triangles of different charts are closer than the padding in texels, and
+ * every chart has the same scale: its uv area over its 3D area is the report's scale squared. */
+static void test_pack_gutter_and_scale(void **state)
+{
+    (void)state;
+    const char *names[] = {"holes.off", "cow.off", "mask_cone.off", "eight.off"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+        for (int v = 0; v < 3; ++v) {
+            sk_mesh *m = skt_read_mesh(skt_shared_mesh(names[i]));
+            sk_atlas_opts o = {0};
+            const unsigned res[3] = {1024, 512, 4096}; /* 4096: the packer's coarser grid */
+            const double pad[3] = {2, 4, 3};
+            o.resolution = res[v];
+            o.padding = pad[v];
+            sk_atlas *a = NULL;
+            sk_atlas_stats st;
+            sk_error err;
+            if (sk_atlas_build(m, &o, &a, &st, &err))
+                fail_msg("%s: %s", names[i], err.message);
+            double gap = chart_gap(m, a, o.resolution, o.padding + 1.0);
+            print_message("%-16s res %4u padding %g: %4zu charts, utilization %.3f, smallest "
+                          "gap %.4f texels\n", names[i], o.resolution, o.padding, st.charts,
+                          st.utilization, gap);
+            if (!(gap >= o.padding - 1e-6))
+                fail_msg("%s: charts %.6f texels apart, padding %g", names[i], gap, o.padding);
+            size_t nc = a->num_charts;
+            double *ar = calloc(2 * nc, sizeof *ar);
+            for (size_t f = 0; f < m->num_faces; ++f) {
+                uint32_t h = m->f_halfedge[f];
+                const double *q[3];
+                for (int k = 0; k < 3; ++k, h = m->h_next[h])
+                    q[k] = a->uvs + 2 * (size_t)a->corner_uv[h];
+                ar[2 * a->face_chart[f]] += sk_mesh_face_area(m, (uint32_t)f);
+                ar[2 * a->face_chart[f] + 1] += 0.5 * ((q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) -
+                                                        (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]));
+            }
+            for (size_t c = 0; c < nc; ++c)
+                if (fabs(ar[2 * c + 1] / ar[2 * c] / (st.scale * st.scale) - 1) > 1e-9)
+                    fail_msg("%s: chart %zu has scale^2 %.12g, the atlas %.12g", names[i], c,
+                             ar[2 * c + 1] / ar[2 * c], st.scale * st.scale);
+            free(ar);
+            sk_atlas_destroy(&a);
+            sk_mesh_destroy(&m);
+        }
+}
+
 static void test_shared_meshes(void **state)
 {
     (void)state;
@@ -666,6 +808,7 @@ int main(void)
         cmocka_unit_test(test_max_charts),
         cmocka_unit_test(test_creases),
         cmocka_unit_test(test_checker_seams),
+        cmocka_unit_test(test_pack_gutter_and_scale),
         cmocka_unit_test(test_shared_meshes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -188,15 +188,15 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
         OPT_FLAG("--no-normalize", a->po.raw, "keep each method's own uv scale"),
         OPT_FLAG("--atlas", a->atlas, "an atlas even for a disk"),
         OPT_DOUBLE("--max-distortion", a->ao.max_distortion, 1, 0, CLI_LO_OPEN, "D",
-                   "atlas: per chart, area-weighted mean sigma1/sigma2 (default 1.25)"),
+                   "atlas: per chart, area-weighted mean sigma1/sigma2 (default 1.05)"),
         OPT_DOUBLE("--max-stretch", a->ao.max_stretch, 1, 0, CLI_LO_OPEN, "S",
                    "atlas: per chart, exp of the area-weighted mean |log area scale / chart's\n"
-                   "mean| (default 1.25)"),
+                   "mean| (default 1.15)"),
         OPT_DOUBLE("--area-theta", a->ao.area_theta, -1, 8, 0, "T",
                    "atlas: each chart refined by MIPS times (area scale + 1/area scale)^T\n"
-                   "(default 1; negative: off)"),
+                   "(default 0.5; negative: off)"),
         OPT_DOUBLE("--crease-angle", a->ao.crease_angle, -1, 180, 0, "DEG",
-                   "atlas: charts follow edges with a dihedral angle >= DEG (default 40;\n"
+                   "atlas: charts follow edges with a dihedral angle >= DEG (default 60;\n"
                    "negative: off), regions under 2% of the area aside"),
         OPT_INT("--resolution", a->ao.resolution, 16, 1u << 20, "R",
                 "atlas: texels across, for --padding (default 1024)"),
@@ -204,6 +204,10 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                    "atlas: gutter of P texels between charts (default 2)"),
         OPT_INT("--charts", a->ao.max_charts, 1, 0, "N",
                 "atlas: at most N charts where the bounds allow (neighbours merged)"),
+        OPT_INT("--merge-faces", a->ao.merge_faces, 1, 0, "N",
+                "atlas: neighbouring charts of at most N triangles together merged\n"
+                "while the bounds hold (default 2000)"),
+        OPT_FLAG("--no-merge", a->ao.no_merge, "atlas: no merging of neighbouring charts"),
         OPT_FLAG("--mips-charts", a->ao.mips_only,
                  "atlas: hierarchical MIPS on every chart (default: a chart keeps its\n"
                  "LSCM layout when that is flip-free, overlap-free and within the bounds)"),
@@ -249,7 +253,8 @@ static int parse_args(int argc, char **argv, param_args *a)
     static const char *const atlas_only[] = {"--max-distortion", "--max-stretch", "--area-theta",
                                              "--crease-angle", "--resolution", "--padding",
                                              "--split-seams",
-                                             "--mips-charts", "--charts"};
+                                             "--mips-charts", "--charts", "--merge-faces",
+                                             "--no-merge"};
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
         a->atlas |= cli_given(&args, atlas_only[k]);
     static const char *const disk_only[] = {"--flat", "--hierarchical", "--boundary",

@@ -26,11 +26,13 @@ extern "C" {
 #endif
 
 typedef struct sk_atlas_opts {
-    /* Per-chart bounds; a chart above either is split (unless it has fewer than 8 triangles).
-     * max_distortion: 3D-area-weighted mean of sigma1/sigma2 over the chart; 0 = 1.25.
-     * max_stretch: exp of the 3D-area-weighted mean |log(area scale / chart's mean area scale)|,
-     * i.e. how far a triangle's area scale typically is from its chart's; 0 = 1.25 (bench/atlas.sh:
-     * on cow it brings the area-log mean from 0.155 at 1.5 to 0.098 for 10% more charts).
+    /* Per-chart bounds; a chart above either is split (a single triangle never; below 8
+     * triangles only for the angle bound). max_distortion: 3D-area-weighted mean of
+     * sigma1/sigma2 over the chart; 0 = 1.05. max_stretch: exp of the 3D-area-weighted mean
+     * |log(area scale / chart's mean area scale)|, i.e. how far a triangle's area scale
+     * typically is from its chart's; 0 = 1.15. Tight, because the merging (merge_faces) joins
+     * the pieces again where the union stays within them (bench/atlas.sh: cow MIPS mean 2.0045,
+     * seams 17.1 x sqrt(area), against 2.0134 and 22.4 at 1.25 / 1.25 without merging).
      * Negative: no bound. */
     double max_distortion;
     double max_stretch;
@@ -45,14 +47,20 @@ typedef struct sk_atlas_opts {
      * layout is flip-free, overlap-free and within both bounds; stats.charts says whether the
      * target was met. 0 = no target. */
     unsigned max_charts;
+    /* Without max_charts: after the splitting, neighbouring charts of one crease region and of
+     * at most merge_faces triangles together are merged, smallest pairs first, while the union is
+     * a disk whose layout is flip-free, overlap-free and within both bounds (shorter seams).
+     * 0 = the default (2000). no_merge: none. */
+    unsigned merge_faces;
+    bool no_merge;
     /* Area term: every accepted chart layout is refined by MIPS with the area factor
      * (sk_mips_opts.area_theta), kept when it stays flip-free and overlap-free and lowers the
-     * chart's area distortion. 0 = the default (1.0); negative = off (plain MIPS / LSCM). */
+     * chart's area distortion. 0 = the default (0.5); negative = off (plain MIPS / LSCM). */
     double area_theta;
     /* Charts follow sharp edges: the first charts are the regions of faces joined across edges
      * whose dihedral angle (between the face normals) is below crease_angle degrees, a region
      * with less than 2% of its component's area (the scattered sharp edges of a scan) merged into
-     * its neighbour; the cube gets its 6 squares. 0 = 40 (the smooth pipeline's crease angle);
+     * its neighbour; the cube gets its 6 squares. 0 = 60 (the icosahedron's 41.8 stays smooth);
      * negative = off (the components are the first charts). */
     double crease_angle;
     uint64_t seed;

@@ -54,7 +54,18 @@ sk_status sk__chart_grow_disk(const sk_mesh *m, uint32_t *faces, size_t nf, uint
 size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
                             sk__chart_work *w, uint32_t *sizes);
 
+#define SK__ATLAS_MERGE_FACES 2000
+
 /* ---- creases.c ---- */
+
+/* The atlas's default sk_atlas_opts.crease_angle in degrees. Not the smooth pipeline's 40: the
+ * icosahedron (41.8 degrees between face normals) then fell apart into 20 one-triangle charts
+ * (seams 10.2 x sqrt(area) against Blender's 6.1 and xatlas's 4.8); at 60 it is one region, cut
+ * into 4 charts (seams 4.1). Every other shared mesh (cube 90, fandisk, mech-holes-shark, the
+ * scans) gets the same atlas for any angle from 42 to 70 (bench/atlas.sh rows, issue 11); 60
+ * keeps the dodecahedron's faces (63.4) and the cube's, and is close to Blender's Smart UV
+ * Project angle limit (66). */
+#define SK__ATLAS_CREASE_ANGLE 60.0
 
 /* Regions of the faces that touch across edges with a dihedral angle below angle_deg (degrees),
  * a region under min_frac of its component's area merged into the neighbour it shares the most
@@ -78,8 +89,16 @@ typedef struct sk__chart_quality {
 sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__chart_quality *q,
                           sk_error *err);
 
-/* The atlas's default sk_atlas_opts.area_theta (bench/atlas.sh). */
-#define SK__ATLAS_AREA_THETA 1.0
+/* The atlas's defaults: sk_atlas_opts.max_distortion, max_stretch, area_theta, merge_faces.
+ * Chosen together with the merging (bench/atlas.sh, SK_ATLAS_BIG=0, issue 11): tight bounds
+ * split the charts down to nearly flat pieces (cow without merging: 332 charts, MIPS mean
+ * 2.0021, seams 28.1 x sqrt(area)) and the merging joins neighbours while the union stays within
+ * them (40 charts, MIPS 2.0045, seams 17.1, area-log 0.066; xatlas 2.0049, 19.9, 0.337; the old
+ * defaults 1.25 / 1.25 / 1 without merging 2.0134, 22.4, 0.037). A theta of 0.5 instead of 1
+ * lowers MIPS where the stretch bound leaves room; 2000 triangles bounds the merging's solves. */
+#define SK__ATLAS_MAX_DISTORTION 1.05
+#define SK__ATLAS_MAX_STRETCH 1.15
+#define SK__ATLAS_AREA_THETA 0.5
 
 /* MIPS with the area term (sk_mips_opts.area_theta = theta, free boundary) from the layout in uv,
  * scaled and measured into q; *ok false (uv then undefined) when it failed or flipped. Errors are

@@ -277,10 +277,10 @@ static void check_atlas(const char *name, const sk_mesh *m, size_t min_charts)
     assert_true(fabs(area_uv - st.scale * st.scale * area3) < 1e-9 * area_uv);
     assert_true(fabs(area_uv - st.utilization) < 1e-9);
     assert_true(st.utilization > 0.15 && st.utilization <= 1.0);
-    /* charts under 8 triangles are never split for distortion: the 5-face tetrahedron case has 2.8 */
+    /* a chart under 8 triangles is split for the angle bound only: the 5-face tetrahedron case */
     assert_true(st.mips_mean >= 2.0 - 1e-12 && st.mips_mean < (nf < 64 ? 3.0 : 2.05));
     check_charts_are_disks(m, a, name);
-    check_chart_bounds(name, m, a, 1.25, 1.25); /* the defaults */
+    check_chart_bounds(name, m, a, 1.05, 1.15); /* the defaults */
     assert_true(st.lscm_charts <= st.charts);
     assert_true(st.splits_predicted <= st.splits_distortion);
     free(tri);
@@ -530,6 +530,7 @@ static void test_area_term(void **state)
     sk_atlas *a = NULL, *b = NULL;
     sk_atlas_stats on, off;
     sk_atlas_opts o = {0};
+    o.no_merge = true; /* the charts of the splitting (the merging refines every union tried) */
     assert_int_equal(sk_atlas_build(m, &o, &a, &on, NULL), SK_OK);
     o.area_theta = -1;
     assert_int_equal(sk_atlas_build(m, &o, &b, &off, NULL), SK_OK);
@@ -557,6 +558,7 @@ static void test_area_term(void **state)
     m = skt_read_mesh(skt_shared_mesh("nefertiti.off"));
     o.area_theta = 0;
     o.max_stretch = 1.1;
+    o.max_distortion = 1.25; /* nefertiti's angle distortion is above the default 1.05 */
     assert_int_equal(sk_atlas_build(m, &o, &a, &on, NULL), SK_OK);
     assert_int_equal(on.charts, 1);
     assert_int_equal(on.flipped + on.overlaps, 0);
@@ -572,6 +574,7 @@ static void test_lscm_first_and_mips_only(void **state)
     sk_atlas_stats lf, again, mo;
     sk_atlas_opts o = {0};
     o.area_theta = -1; /* the plain layouts (with the area term: test_area_term) */
+    o.no_merge = true; /* the charts of the splitting */
     assert_int_equal(sk_atlas_build(m, &o, &a, &lf, NULL), SK_OK);
     assert_int_equal(sk_atlas_build(m, &o, &b, &again, NULL), SK_OK);
     o.mips_only = true;
@@ -605,17 +608,19 @@ static void test_predictor_needs_bounds(void **state)
     sk_atlas_opts o = {0};
     o.max_distortion = -1;
     o.max_stretch = -1;
+    o.no_merge = true; /* without bounds the merging would join charts at will */
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_int_equal(st.splits_predicted, 0);
     assert_true(st.lscm_charts > 0); /* no bound: LSCM passes wherever it is clean */
-    assert_true(chart_bound_violations("lion-head", m, a, 1.25, 1.25, false) > 0);
+    assert_true(chart_bound_violations("lion-head", m, a, 1.05, 1.15, false) > 0);
     sk_atlas_destroy(&a);
     o.max_distortion = 0;
     o.max_stretch = 0; /* the defaults: lion-head's neck and face need many charts */
+    o.no_merge = false;
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_true(st.splits_predicted > 0);
     assert_true(st.charts > 10);
-    check_chart_bounds("lion-head", m, a, 1.25, 1.25);
+    check_chart_bounds("lion-head", m, a, 1.05, 1.15);
     sk_atlas_destroy(&a);
     sk_mesh_destroy(&m);
 }
@@ -630,10 +635,12 @@ static void test_max_charts(void **state)
     sk_atlas *a = NULL;
     sk_atlas_stats free_st, st;
     sk_atlas_opts o = {0};
+    o.no_merge = true;
     assert_int_equal(sk_atlas_build(m, &o, &a, &free_st, NULL), SK_OK);
     sk_atlas_destroy(&a);
     assert_int_equal(free_st.merges, 0);
     o.max_charts = 10;
+    o.no_merge = false; /* max_charts decides */
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_true(st.merges > 0);
     assert_int_equal(st.charts, a->num_charts);
@@ -653,6 +660,8 @@ static void test_max_charts(void **state)
     sk_mesh_destroy(&m);
     m = skt_read_mesh(skt_shared_mesh("sphere.off"));
     o.max_charts = 3;
+    o.max_distortion = 1.25; /* within the default bounds 4 charts are the fewest */
+    o.max_stretch = 1.25;
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_int_equal(st.charts, 3);
     assert_int_equal(st.flipped + st.overlaps, 0);
@@ -663,7 +672,8 @@ static void test_max_charts(void **state)
 
 /* Charts follow sharp edges: the cube's six squares (flat, so MIPS exactly 2 and no area
  * distortion); with the crease cut off, fewer distorted charts; a scan (cow: its scattered sharp
- * edges bound regions under 2% of the area) gets the very same charts either way. */
+ * edges bound regions under 2% of the area) gets the very same charts either way; the
+ * icosahedron is not shattered into its triangles at the default angle. */
 static void test_creases(void **state)
 {
     (void)state;
@@ -690,9 +700,15 @@ static void test_creases(void **state)
             assert_int_equal(a->face_chart[f] == a->face_chart[g], same);
         }
     o.crease_angle = -1;
+    o.max_distortion = -1; /* no angle bound: a chart may bend over a cube edge; no merging (it
+                              would join flat unfoldings of the squares) */
+    o.max_stretch = 1.25;
+    o.no_merge = true;
     assert_int_equal(sk_atlas_build(m, &o, &b, &off, NULL), SK_OK);
     assert_int_equal(off.crease_regions, 1);
     assert_true(off.charts < 6 && off.mips_mean > 2.0 + 1e-3);
+    o.max_distortion = o.max_stretch = 0;
+    o.no_merge = false;
     sk_atlas_destroy(&a);
     sk_atlas_destroy(&b);
     sk_mesh_destroy(&m);
@@ -707,6 +723,74 @@ static void test_creases(void **state)
     assert_int_equal(on.area_log_mean == off.area_log_mean, 1);
     sk_atlas_destroy(&a);
     sk_atlas_destroy(&b);
+    sk_mesh_destroy(&m);
+    /* the icosahedron (41.8 degrees between neighbouring face normals): at 40 degrees every
+     * triangle is a region and a chart; the default (60) keeps it one surface, cut into a few
+     * charts with much shorter seams */
+    m = skt_read_mesh(skt_shared_mesh("icosahedron.off"));
+    o.crease_angle = 40;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &off, NULL), SK_OK);
+    o.crease_angle = 0;
+    assert_int_equal(sk_atlas_build(m, &o, &b, &on, NULL), SK_OK);
+    print_message("icosahedron: 40 degrees %zu charts seams %.3f, default %zu charts seams %.3f\n",
+                  off.charts, off.seam_length_rel, on.charts, on.seam_length_rel);
+    assert_int_equal(off.crease_regions, 20);
+    assert_int_equal(off.charts, 20);
+    assert_int_equal(on.crease_regions, 1);
+    assert_true(on.charts >= 2 && on.charts <= 6);
+    assert_true(on.seam_length_rel < 0.5 * off.seam_length_rel);
+    assert_int_equal(on.flipped + on.overlaps, 0);
+    check_charts_are_disks(m, b, "icosahedron");
+    sk_atlas_destroy(&a);
+    sk_atlas_destroy(&b);
+    sk_mesh_destroy(&m);
+}
+
+/* The merging (default): on cow, fewer charts and shorter seams than the splitting alone, every
+ * chart a disk within the default bounds, flip-free and overlap-free, the charts' triangles all
+ * accounted for; a smaller merge_faces merges less; on the cube no two faces merge (the crease
+ * regions stay apart, though two squares would unfold flat). */
+static void test_merge(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("cow.off"));
+    sk_atlas *a = NULL, *b = NULL;
+    sk_atlas_stats on, off, small;
+    sk_atlas_opts o = {0};
+    assert_int_equal(sk_atlas_build(m, &o, &a, &on, NULL), SK_OK);
+    o.no_merge = true;
+    assert_int_equal(sk_atlas_build(m, &o, &b, &off, NULL), SK_OK);
+    sk_atlas_destroy(&b);
+    o.no_merge = false;
+    o.merge_faces = 100;
+    assert_int_equal(sk_atlas_build(m, &o, &b, &small, NULL), SK_OK);
+    print_message("cow: merged %zu charts seams %.2f mips %.4f area-log %.4f; merge_faces 100: "
+                  "%zu charts seams %.2f; none: %zu charts seams %.2f mips %.4f\n", on.charts,
+                  on.seam_length_rel, on.mips_mean, on.area_log_mean, small.charts,
+                  small.seam_length_rel, off.charts, off.seam_length_rel, off.mips_mean);
+    assert_int_equal(off.merges, 0);
+    assert_true(on.merges > 0 && small.merges > 0 && small.merges < on.merges);
+    assert_int_equal(on.charts + on.merges, off.charts);
+    assert_int_equal(small.charts + small.merges, off.charts);
+    assert_true(on.charts < off.charts / 2);
+    assert_true(on.seam_length_rel < 0.8 * off.seam_length_rel);
+    assert_true(on.seam_length_rel < small.seam_length_rel);
+    assert_int_equal(on.flipped + on.overlaps + small.flipped + small.overlaps, 0);
+    check_chart_bounds("cow merged", m, a, 1.05, 1.15);
+    check_charts_are_disks(m, a, "cow merged");
+    size_t nf = 0;
+    for (size_t c = 0; c < a->num_charts; ++c)
+        nf += a->chart_faces[c];
+    assert_int_equal(nf, m->num_faces);
+    sk_atlas_destroy(&a);
+    sk_atlas_destroy(&b);
+    sk_mesh_destroy(&m);
+    m = skt_read_mesh(skt_shared_mesh("cube.off"));
+    o.merge_faces = 0;
+    assert_int_equal(sk_atlas_build(m, &o, &a, &on, NULL), SK_OK);
+    assert_int_equal(on.charts, 6);
+    assert_int_equal(on.merges, 0);
+    sk_atlas_destroy(&a);
     sk_mesh_destroy(&m);
 }
 
@@ -807,6 +891,7 @@ int main(void)
         cmocka_unit_test(test_predictor_needs_bounds),
         cmocka_unit_test(test_max_charts),
         cmocka_unit_test(test_creases),
+        cmocka_unit_test(test_merge),
         cmocka_unit_test(test_checker_seams),
         cmocka_unit_test(test_pack_gutter_and_scale),
         cmocka_unit_test(test_shared_meshes),

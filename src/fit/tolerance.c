@@ -192,8 +192,65 @@ static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
     return SK_OK;
 }
 
+/* The level estimate: the coarsest level whose own triangles (the piecewise linear surface
+ * through its vertices) are within T both ways, by bisection (the input itself is). A level's
+ * linear check costs a BVH over its triangles and the walks, no VC1 build. */
+static sk_status estimate_level(tol_run *t, size_t *est, sk_error *err)
+{
+    double t0 = sk_seconds();
+    size_t lo = 0, hi = t->c.levels - 1;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        double mx = INFINITY;
+        sk__tol_level_cut(&t->c, mid, t->alive);
+        sk_status st = sk__tol_check_linear(&t->c, t->alive, &t->b, &mx, err);
+        if (st)
+            return st;
+        t->stats->linear_tried++;
+        if (mx <= t->c.tol)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    *est = hi;
+    t->stats->estimate_level = hi;
+    t->stats->seconds_estimate = sk_seconds() - t0;
+    return SK_OK;
+}
+
+/* Which level the search builds next: from the estimate, steps of 1, 2, 4, ... downwards while
+ * the levels meet T (upwards while they miss), then bisection between the last miss and the
+ * last met level (bisection throughout without an estimate). The fine levels are the costly
+ * ones; a good estimate builds two surfaces, the level and the one below. */
+typedef struct probe {
+    size_t next, step;
+    int dir;      /* -1 going down (met so far), 1 going up (missed so far), 0 at the start */
+    bool bisect;
+} probe;
+
+static size_t probe_level(const probe *p, size_t lo, size_t hi)
+{
+    if (!p->bisect && p->next >= lo && p->next < hi)
+        return p->next;
+    return lo + (hi - lo) / 2;
+}
+
+static void probe_update(probe *p, size_t j, bool met)
+{
+    if (p->bisect)
+        return;
+    if (met ? p->dir > 0 || j == 0 : p->dir < 0) {
+        p->bisect = true; /* bracketed */
+        return;
+    }
+    p->dir = met ? -1 : 1;
+    p->next = met ? (j >= p->step ? j - p->step : 0) : j + p->step;
+    p->step *= 2;
+}
+
 /* The search: the coarsest level that meets T (*coarsest_met; the number of levels when none
- * does), assuming finer levels are closer; the best surface seen is kept in t->best. */
+ * does), assuming finer levels are closer, starting from the level estimate; the best surface
+ * seen is kept in t->best. */
 static sk_status search_levels(tol_run *t, size_t *coarsest_met, sk_error *err)
 {
     sk_status st = SK_OK;
@@ -201,11 +258,14 @@ static sk_status search_levels(tol_run *t, size_t *coarsest_met, sk_error *err)
     size_t L = t->c.levels, lo = 0, hi = L - 1;
     bool hi_met = false;
     cut_result *at_hi = &t->at_hi; /* the surface of the met level hi */
+    probe p = {.next = hi, .step = 1, .bisect = t->o.no_estimate};
+    if (!p.bisect && (st = estimate_level(t, &p.next, err)))
+        return st;
     for (;;) {
         bool last = lo >= hi; /* only hi is left: the input itself (or a met level) */
         if (last && hi_met)
             break;
-        size_t j = last ? hi : lo + (hi - lo) / 2, end = last ? hi + 1 : hi;
+        size_t j = last ? hi : probe_level(&p, lo, hi), end = last ? hi + 1 : hi;
         sk_status vs = SK_OK;
         /* from the middle upwards to the first level where VC1 can be built */
         for (; j < end; ++j) {
@@ -230,6 +290,7 @@ static sk_status search_levels(tol_run *t, size_t *coarsest_met, sk_error *err)
             continue;
         }
         t->stats->singular_levels += t->r.singular > 0;
+        probe_update(&p, j, t->r.met);
         if (t->r.met) {
             hi = j;
             hi_met = true;

@@ -151,20 +151,16 @@ static void surface_samples(const walk *w, size_t begin, size_t end)
     }
 }
 
-/* Distances both ways between the surface s and the fine mesh (mesh_faces, mesh_vertices,
- * surface_samples: exact
- * beyond T, bounded within it). With bad, the fine vertices where the tolerance is exceeded
+/* Distances both ways between a surface's triangles ts and the fine mesh (mesh_faces,
+ * mesh_vertices, surface_samples: exact beyond T, bounded within it). With bad, the fine vertices where the tolerance is exceeded
  * (their own distance, or a face of theirs) are collected into bad (a flag per fine vertex);
  * without (the search), the check stops at the first sample of the mesh side beyond T.
  * *max_out: the largest distance found (exact when beyond T). */
-static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, check_buf *b,
-                       uint8_t *bad, double *max_out, sk_error *err)
+static sk_status check_soup(tol_ctx *c, const sk_soup *ts, const uint8_t *alive, check_buf *b,
+                            uint8_t *bad, double *max_out, sk_error *err)
 {
-    sk_soup *ts = NULL;
     sk_bvh *bs = NULL;
-    sk_status st = sk_patch_set_tessellate(&s->surface, c->tess, &ts, err);
-    if (!st)
-        st = sk_bvh_build(ts, &bs, err);
+    sk_status st = sk_bvh_build(ts, &bs, err);
     if (st)
         goto done;
     size_t need = ts->num_faces + ts->num_vertices;
@@ -210,7 +206,37 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, che
     *max_out = mx;
 done:
     sk_bvh_destroy(&bs);
+    return st;
+}
+
+/* check_soup of the surface's tessellation */
+static sk_status check(tol_ctx *c, const sk_smooth *s, const uint8_t *alive, check_buf *b,
+                       uint8_t *bad, double *max_out, sk_error *err)
+{
+    sk_soup *ts = NULL;
+    sk_status st = sk_patch_set_tessellate(&s->surface, c->tess, &ts, err);
+    if (!st)
+        st = check_soup(c, ts, alive, b, bad, max_out, err);
     sk_soup_destroy(&ts);
+    return st;
+}
+
+sk_status sk__tol_check_linear(tol_ctx *c, uint8_t *alive, check_buf *b, double *max_out,
+                               sk_error *err)
+{
+    sk_mesh *m = NULL;
+    sk_soup *ts = NULL;
+    uint32_t *m2f = sk__malloc_array(c->nv, sizeof *m2f);
+    sk_status st = m2f ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    if (!st)
+        st = sk__tol_build_cut(c, alive, &m, m2f, err);
+    if (!st)
+        st = sk_mesh_to_soup(m, &ts, err);
+    if (!st)
+        st = check_soup(c, ts, alive, b, NULL, max_out, err);
+    sk_soup_destroy(&ts);
+    sk_mesh_destroy(&m);
+    sk__free(m2f);
     return st;
 }
 

@@ -75,6 +75,10 @@ void sk__tol_check_buf_free(check_buf *b);
 void sk__tol_cut_result_free(cut_result *r);
 void sk__tol_record_try(sk_tolerance_stats *stats, size_t level, bool refined, sk_status status,
                         size_t vertices, const cut_result *r);
+/* The search's check (stops at the first sample of the mesh side beyond T) of the cut alive's
+ * own triangles, the piecewise linear surface through its vertices: the level estimate */
+sk_status sk__tol_check_linear(tol_ctx *c, uint8_t *alive, check_buf *b, double *max_out,
+                               sk_error *err);
 sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_t *bad,
                                 cut_result *r, sk_status *vc1_status, size_t *vertices,
                                 sk_tolerance_stats *stats, sk_error *err);

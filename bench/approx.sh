@@ -14,11 +14,13 @@
 # Coarse-level G1 (issue 13, the coarse-level half): `surfkit smooth --tolerance-rel R` on
 # bunny00, armadillo, cow and armadillo after two Loop subdivisions (832k triangles, closed), at
 # R = 1e-3 and 1e-4: patches, STEP size, two-sided max / RMS deviation, normal jumps, singular
-# patches, wall and CPU seconds.
+# patches, seconds per stage (wall: search, refinement, of both the VC1 builds and the checks,
+# and the final deviation), wall and CPU seconds, peak MB, the load average before the run.
 #   bench/approx.sh [SCRATCH_DIR]      env: BUILD (default build-bench), SHARED, GRID (default 60),
 #                                      REL (default 1e-3), MESHES, PARTS (default "fit coarse"),
 #                                      SHARE (surfkit fit --refine-share; default its own),
 #                                      COARSE_MESHES, COARSE_RELS (default "1e-3 1e-4"),
+#                                      SK (a built surfkit to run instead of building one),
 #                                      SK_BENCH_ROWS (a file: also one tab-separated row per
 #                                      disk for bench/all.sh)
 set -eu
@@ -32,9 +34,12 @@ PARTS=${PARTS:-"fit coarse"}
 COARSE_MESHES=${COARSE_MESHES:-"cow armadillo bunny00 armadillo-loop2"}
 COARSE_RELS=${COARSE_RELS:-"1e-3 1e-4"}
 mkdir -p "$SCRATCH"
-cmake -S "$SRC" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_BUILD_TESTS=OFF > /dev/null
-cmake --build "$BUILD" -j2 --target surfkit > /dev/null
-SK=$BUILD/surfkit M=$SHARED/data/meshes
+if [ -z "${SK:-}" ]; then
+  cmake -S "$SRC" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_BUILD_TESTS=OFF > /dev/null
+  cmake --build "$BUILD" -j2 --target surfkit > /dev/null
+  SK=$BUILD/surfkit
+fi
+M=$SHARED/data/meshes
 export HOME=$SCRATCH/home; mkdir -p "$HOME"
 if [[ " $PARTS " == *" fit "* ]]; then
 command -v freecadcmd > /dev/null || { echo "freecadcmd not installed (scripts/setup.sh --interop)"; exit 1; }
@@ -110,8 +115,8 @@ fi
 if [[ " $PARTS " == *" coarse "* ]]; then
 echo
 echo "# coarse-level G1: load average $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores"
-echo "| mesh | triangles | T / diag | patches | triangles per patch | STEP MB | max / diag | RMS mesh->surface / diag | RMS surface->mesh / diag | max normal jump deg | singular | met | levels tried, rounds | wall s | CPU s |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| mesh | triangles | T / diag | patches | triangles per patch | STEP MB | max / diag | RMS mesh->surface / diag | RMS surface->mesh / diag | max normal jump deg | singular | met | levels tried, rounds | search / refine / vc1 / check / deviation s | wall s | CPU s | peak MB | load |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for mesh in $COARSE_MESHES; do
   in=$M/$mesh.off
   if [ "$mesh" = armadillo-loop2 ]; then
@@ -120,7 +125,8 @@ for mesh in $COARSE_MESHES; do
   fi
   for rel in $COARSE_RELS; do
     out=$SCRATCH/$mesh-$rel
-    /usr/bin/time -f "%e %U %S" -o "$out.time" timeout 3600 "$SK" smooth "$in" -o "$out.step" \
+    cut -d' ' -f1 /proc/loadavg > "$out.load"
+    /usr/bin/time -f "%e %U %S %M" -o "$out.time" timeout 3600 "$SK" smooth "$in" -o "$out.step" \
       --tolerance-rel "$rel" --allow-fail --json -q > "$out.json" 2> "$out.err" || true
     python3 - "$mesh" "$rel" "$out" <<'PY'
 import json, os, sys
@@ -128,16 +134,19 @@ mesh, rel, out = sys.argv[1:]
 try:
     d = json.load(open(out + ".json"))
 except (OSError, ValueError):
-    print("| %s | | %s | failed: %s | | | | | | | | | | | |" % (mesh, rel, open(out + ".err").read().strip()[:80]))
+    print("| %s | | %s | failed: %s | | | | | | | | | | | | | | |" % (mesh, rel, open(out + ".err").read().strip()[:80]))
     sys.exit(0)
-wall, user, sys_ = map(float, open(out + ".time").read().split()[-3:])
+wall, user, sys_, kb = map(float, open(out + ".time").read().split()[-4:])
+ss = d["stage_seconds"]
 dev, diag = d["deviation"], d["deviation"]["diagonal"]
 step = os.path.getsize(out + ".step") / 1e6 if os.path.exists(out + ".step") else float("nan")
-print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d, %d | %.1f | %.1f |" % (
+print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d, %d | %s | %.1f | %.1f | %d | %s |" % (
     mesh, d["input_faces"], rel, d["patches"], d["input_faces"] / d["patches"], step,
     dev["hausdorff"] / diag, dev["mesh_to_surface_rms"] / diag, dev["surface_to_mesh_rms"] / diag,
     d["max_normal_jump_deg"], d["singular_patches"], "yes" if d["met"] else "no",
-    d["levels_tried"], d["refinement_rounds"], wall, user + sys_))
+    d["levels_tried"], d["refinement_rounds"],
+    " / ".join("%.1f" % ss[k] for k in ("search", "refine", "vc1", "check", "deviation")),
+    wall, user + sys_, kb / 1024, open(out + ".load").read().strip()))
 PY
   done
 done

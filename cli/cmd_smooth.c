@@ -530,6 +530,8 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_kbool(&j, "pass_g1", r->pass_g1);
     json_kbool(&j, "pass_gap", r->pass_gap);
     json_kuint(&j, "hierarchy_levels", t->levels);
+    json_kuint(&j, "estimate_level", t->estimate_level);
+    json_kuint(&j, "linear_levels_tried", t->linear_tried);
     json_kuint(&j, "levels_tried", t->levels_tried);
     json_kuint(&j, "failed_levels", t->failed_levels);
     json_kuint(&j, "singular_levels", t->singular_levels);
@@ -564,6 +566,7 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_knum(&j, "normals", t->seconds_normals);
     json_knum(&j, "hierarchy", t->seconds_hierarchy);
     json_knum(&j, "search", t->seconds_search);
+    json_knum(&j, "estimate", t->seconds_estimate);
     json_knum(&j, "refine", t->seconds_refine);
     json_knum(&j, "vc1", t->seconds_vc1);
     json_knum(&j, "check", t->seconds_check);

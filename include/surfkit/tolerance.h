@@ -46,6 +46,9 @@ typedef struct sk_tolerance_opts {
                                 missing collapses around the offending vertices and the
                                 corners of singular patches; a round within T with singular
                                 patches goes on while their number falls */
+    bool no_estimate;        /* search the levels by bisection alone (the old search), without
+                                starting from the level estimate (the coarsest level whose own
+                                triangles are within T) */
     uint64_t seed;           /* hierarchy seed (0 = 1, as surfkit simplify) */
     sk_collapse_opts collapse; /* the hierarchy's collapses: 0 = a face normal turns by at most
                                 15 degrees, interior valence at least 4 */
@@ -78,7 +81,10 @@ typedef struct sk_tolerance_stats {
     size_t levels;           /* levels of the hierarchy (input included) */
     size_t num_tried;        /* surfaces built (the first SK_TOLERANCE_MAX_TRIED listed) */
     sk_tolerance_try tried[SK_TOLERANCE_MAX_TRIED];
-    size_t levels_tried;     /* full levels tried by the search */
+    size_t estimate_level;   /* the coarsest level whose piecewise linear surface (its own
+                                triangles) is within T both ways: where the search starts */
+    size_t linear_tried;     /* levels whose linear surface was checked for the estimate */
+    size_t levels_tried;     /* full levels tried by the search (VC1 surfaces built) */
     size_t failed_levels;    /* of them, where VC1 could not be built (skipped to a finer one) */
     size_t singular_levels;  /* of them, whose surface has singular patches */
     size_t coarsest_met;     /* the coarsest full level found to meet T (levels - 1 when none) */
@@ -94,6 +100,7 @@ typedef struct sk_tolerance_stats {
     bool met;                /* deviation.hausdorff <= tolerance */
     sk_deviation_report deviation; /* the result against the input (sk_deviation, both ways) */
     double seconds_normals, seconds_hierarchy, seconds_search, seconds_refine, seconds_deviation;
+    double seconds_estimate; /* of the search: the level estimate */
     double seconds_vc1, seconds_check; /* of search and refinement: VC1 builds, distance checks */
 } sk_tolerance_stats;
 

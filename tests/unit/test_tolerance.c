@@ -159,6 +159,43 @@ static void scans_met(void **state)
         run_met("bunny00.off", 1e-3, true);
 }
 
+/* the search from the level estimate (the default) and the bisection alone (no_estimate) find
+ * the same coarsest level, so the refinement starts from the same base and the surfaces are the
+ * same to the bit */
+static void estimate_same(const char *name, double rel)
+{
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh(name));
+    sk_smooth *s[2] = {NULL, NULL};
+    sk_tolerance_stats st[2];
+    for (int k = 0; k < 2; ++k) {
+        sk_tolerance_opts o = {.tolerance_rel = rel, .no_estimate = k == 1};
+        assert_int_equal(sk_smooth_tolerance(m, &o, &s[k], NULL, &st[k], NULL), SK_OK);
+        assert_true(st[k].met);
+    }
+    print_message("%s T = %g diag: estimate level %zu (%zu linear checks), coarsest met %zu; "
+                  "VC1 levels built %zu, bisection alone %zu\n", name, rel, st[0].estimate_level,
+                  st[0].linear_tried, st[0].coarsest_met, st[0].levels_tried, st[1].levels_tried);
+    assert_true(st[0].linear_tried > 0 && st[0].linear_tried <= (size_t)ceil(log2((double)st[0].levels)) + 1);
+    assert_true(st[0].estimate_level < st[0].levels);
+    assert_int_equal(st[1].linear_tried, 0);
+    assert_int_equal(st[0].coarsest_met, st[1].coarsest_met);
+    assert_int_equal(st[0].base_level, st[1].base_level);
+    assert_int_equal(s[0]->surface.count, s[1]->surface.count);
+    assert_int_equal(s[0]->surface.num_points, s[1]->surface.num_points);
+    assert_memory_equal(s[0]->surface.points, s[1]->surface.points,
+                        3 * s[0]->surface.num_points * sizeof(double));
+    sk_smooth_destroy(&s[0]);
+    sk_smooth_destroy(&s[1]);
+    sk_mesh_destroy(&m);
+}
+
+static void estimate_start(void **state)
+{
+    (void)state;
+    estimate_same("sphere.off", 1e-2);
+    estimate_same("mushroom.off", 1e-2);
+}
+
 static void unreachable(void **state)
 {
     (void)state;
@@ -209,6 +246,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(plane_levels),
         cmocka_unit_test(sphere_met),
+        cmocka_unit_test(estimate_start),
         cmocka_unit_test(unreachable),
         cmocka_unit_test(bad_options),
         cmocka_unit_test(scans_met),

@@ -13,51 +13,24 @@
 #define SK_AMG_MAX_LEVELS 40
 #define SK_AMG_OMEGA (2.0 / 3.0)
 
-/* A weighted undirected graph in rows (no self loops). */
-typedef struct graph {
-    size_t n;
-    size_t *ptr;
-    uint32_t *adj;
-    double *w;
-} graph;
-
-static void graph_free(graph *g)
-{
-    sk__free(g->ptr);
-    sk__free(g->adj);
-    sk__free(g->w);
-    memset(g, 0, sizeof *g);
-}
-
-static sk_status graph_alloc(graph *g, size_t n, size_t nnz, sk_error *err)
-{
-    g->n = n;
-    g->ptr = sk__calloc_array(n + 1, sizeof *g->ptr);
-    g->adj = sk__malloc_array(nnz ? nnz : 1, sizeof *g->adj);
-    g->w = sk__malloc_array(nnz ? nnz : 1, sizeof *g->w);
-    if (!g->ptr || !g->adj || !g->w) {
-        graph_free(g);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a graph of %zu nodes", n);
-    }
-    return SK_OK;
-}
+/* Graphs are sk__csr (rows = cols = nodes, no self loops, val the edge weights). */
 
 /* The unknowns' strength graph: max(-a_ij, 0) for i != j of the same component (i = j mod dim). */
-static sk_status unknown_graph(const sk__csr *a, unsigned dim, graph *g, sk_error *err)
+static sk_status unknown_graph(const sk__csr *a, unsigned dim, sk__csr *g, sk_error *err)
 {
     size_t n = a->rows, nnz = 0;
     for (size_t i = 0; i < n; ++i)
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             nnz += a->col[k] != i && a->col[k] % dim == i % dim;
-    sk_status st = graph_alloc(g, n, nnz, err);
+    sk_status st = sk__csr_alloc(g, n, n, nnz, err);
     if (st)
         return st;
     size_t q = 0;
     for (size_t i = 0; i < n; ++i) {
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             if (a->col[k] != i && a->col[k] % dim == i % dim) {
-                g->adj[q] = a->col[k];
-                g->w[q++] = a->val[k] < 0 ? -a->val[k] : 0;
+                g->col[q] = a->col[k];
+                g->val[q++] = a->val[k] < 0 ? -a->val[k] : 0;
             }
         g->ptr[i + 1] = q;
     }
@@ -87,25 +60,25 @@ static void acc_store(const double *acc, const uint32_t *cols, double *vals, siz
 
 /* The graph of the groups map[i] (count of them): the weights between two groups summed, the
  * couplings inside a group dropped. */
-static sk_status contract(const graph *g, const uint32_t *map, size_t count, graph *out,
+static sk_status contract(const sk__csr *g, const uint32_t *map, size_t count, sk__csr *out,
                           sk_error *err)
 {
     memset(out, 0, sizeof *out);
     sk_status st = SK_OK;
     size_t *start = sk__calloc_array(count + 1, sizeof *start);
-    uint32_t *members = sk__malloc_array(g->n ? g->n : 1, sizeof *members);
+    uint32_t *members = sk__malloc_array(g->rows ? g->rows : 1, sizeof *members);
     size_t *mark = sk__malloc_array(count ? count : 1, sizeof *mark);
     double *acc = sk__malloc_array(count ? count : 1, sizeof *acc);
     if (!start || !members || !mark || !acc ||
-        (st = graph_alloc(out, count, g->ptr[g->n], err))) {
+        (st = sk__csr_alloc(out, count, count, g->ptr[g->rows], err))) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a graph of %zu nodes", count);
         goto done;
     }
-    for (size_t i = 0; i < g->n; ++i)
+    for (size_t i = 0; i < g->rows; ++i)
         start[map[i] + 1]++;
     for (size_t c = 0; c < count; ++c)
         start[c + 1] += start[c];
-    for (size_t i = 0; i < g->n; ++i)
+    for (size_t i = 0; i < g->rows; ++i)
         members[start[map[i]]++] = (uint32_t)i;
     for (size_t c = count; c > 0; --c) /* back to the starts */
         start[c] = start[c - 1];
@@ -118,12 +91,12 @@ static sk_status contract(const graph *g, const uint32_t *map, size_t count, gra
         for (size_t s = start[c]; s < start[c + 1]; ++s) {
             uint32_t i = members[s];
             for (size_t k = g->ptr[i]; k < g->ptr[i + 1]; ++k) {
-                uint32_t d = map[g->adj[k]];
+                uint32_t d = map[g->col[k]];
                 if (d != c)
-                    acc_add(mark, acc, out->adj, row, &q, d, g->w[k]);
+                    acc_add(mark, acc, out->col, row, &q, d, g->val[k]);
             }
         }
-        acc_store(acc, out->adj, out->w, row, q);
+        acc_store(acc, out->col, out->val, row, q);
         out->ptr[c + 1] = q;
     }
 done:
@@ -132,7 +105,7 @@ done:
     sk__free(mark);
     sk__free(acc);
     if (st)
-        graph_free(out);
+        sk__csr_free(out);
     return st;
 }
 
@@ -140,31 +113,31 @@ done:
  * neighbour; a node left without one joins its strongest neighbour's aggregate, an isolated
  * node stays alone. */
 /* Node i's strongest neighbour (among the unmatched ones when unmatched_only); SK_INVALID if none. */
-static uint32_t strongest(const graph *g, size_t i, const uint32_t *agg, bool unmatched_only)
+static uint32_t strongest(const sk__csr *g, size_t i, const uint32_t *agg, bool unmatched_only)
 {
     uint32_t best = SK_INVALID;
     double bw = -1;
     for (size_t e = g->ptr[i]; e < g->ptr[i + 1]; ++e)
-        if ((!unmatched_only || agg[g->adj[e]] == SK_INVALID) && g->w[e] > bw) {
-            bw = g->w[e];
-            best = g->adj[e];
+        if ((!unmatched_only || agg[g->col[e]] == SK_INVALID) && g->val[e] > bw) {
+            bw = g->val[e];
+            best = g->col[e];
         }
     return best;
 }
 
-static void match(const graph *g, uint32_t *agg, size_t *count)
+static void match(const sk__csr *g, uint32_t *agg, size_t *count)
 {
     size_t k = 0;
-    for (size_t i = 0; i < g->n; ++i)
+    for (size_t i = 0; i < g->rows; ++i)
         agg[i] = SK_INVALID;
-    for (size_t i = 0; i < g->n; ++i) {
+    for (size_t i = 0; i < g->rows; ++i) {
         if (agg[i] != SK_INVALID)
             continue;
         uint32_t best = strongest(g, i, agg, true);
         if (best != SK_INVALID)
             agg[i] = agg[best] = (uint32_t)k++;
     }
-    for (size_t i = 0; i < g->n; ++i) {
+    for (size_t i = 0; i < g->rows; ++i) {
         if (agg[i] != SK_INVALID)
             continue;
         /* every neighbour is matched now (an unmatched one would have been paired) */
@@ -184,7 +157,7 @@ sk_status sk__amg_aggregate(const sk__csr *a, unsigned dim, uint32_t *agg, size_
         return sk__fail(err, SK_ERR_ARG, "aggregation of a %zu x %zu matrix in blocks of %u",
                         a->rows, a->cols, dim);
     size_t nb = a->rows / dim;
-    graph g0 = {0}, g = {0}, g1 = {0};
+    sk__csr g0 = {0}, g = {0}, g1 = {0};
     uint32_t *map = NULL, *first = sk__malloc_array(nb ? nb : 1, sizeof *first);
     sk_status st = first ? unknown_graph(a, dim, &g0, err)
                          : sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -199,7 +172,7 @@ sk_status sk__amg_aggregate(const sk__csr *a, unsigned dim, uint32_t *agg, size_
             map[i] = (uint32_t)(i / dim);
         if ((st = contract(&g0, map, nb, &g, err)))
             goto done;
-        graph_free(&g0);
+        sk__csr_free(&g0);
     } else {
         g = g0;
         memset(&g0, 0, sizeof g0);
@@ -214,9 +187,9 @@ sk_status sk__amg_aggregate(const sk__csr *a, unsigned dim, uint32_t *agg, size_
     memcpy(agg, first, nb * sizeof *agg);
     *count = c2;
 done:
-    graph_free(&g0);
-    graph_free(&g);
-    graph_free(&g1);
+    sk__csr_free(&g0);
+    sk__csr_free(&g);
+    sk__csr_free(&g1);
     sk__free(map);
     sk__free(first);
     return st;
@@ -227,18 +200,13 @@ sk_status sk__amg_prolongation(const sk__csr *a, unsigned dim, const uint32_t *a
 {
     if (dim == 0)
         dim = 1;
-    memset(p, 0, sizeof *p);
     size_t n = a->rows, nc = dim * count;
-    size_t nnz = smooth ? a->ptr[n] + n : n;
-    p->rows = n;
-    p->cols = nc;
-    p->ptr = sk__calloc_array(n + 1, sizeof *p->ptr);
-    p->col = sk__malloc_array(nnz ? nnz : 1, sizeof *p->col);
-    p->val = sk__malloc_array(nnz ? nnz : 1, sizeof *p->val);
+    sk_status st = sk__csr_alloc(p, n, nc, smooth ? a->ptr[n] + n : n, err);
+    if (st)
+        return st;
     size_t *mark = smooth ? sk__malloc_array(nc ? nc : 1, sizeof *mark) : NULL;
     double *acc = smooth ? sk__malloc_array(nc ? nc : 1, sizeof *acc) : NULL;
-    sk_status st = SK_OK;
-    if (!p->ptr || !p->col || !p->val || (smooth && (!mark || !acc))) {
+    if (smooth && (!mark || !acc)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu prolongation", n, nc);
         goto done;
     }

@@ -23,7 +23,7 @@ void sk__csr_free(sk__csr *a)
     memset(a, 0, sizeof *a);
 }
 
-static sk_status csr_alloc(sk__csr *a, size_t rows, size_t cols, size_t nnz, sk_error *err)
+sk_status sk__csr_alloc(sk__csr *a, size_t rows, size_t cols, size_t nnz, sk_error *err)
 {
     memset(a, 0, sizeof *a);
     a->rows = rows;
@@ -47,7 +47,7 @@ sk_status sk__csr_from_sparse(const sk_sparse *a, sk__csr *out, sk_error *err)
     for (size_t c = 0; c < n; ++c)
         for (int k = a->colptr[c]; k < a->colptr[c + 1]; ++k)
             nnz += (lower && (size_t)a->rowind[k] != c) ? 2 : 1;
-    sk_status st = csr_alloc(out, n, n, nnz, err);
+    sk_status st = sk__csr_alloc(out, n, n, nnz, err);
     if (st)
         return st;
     size_t *next = out->ptr + 1; /* counts, then insertion positions shifted by one */
@@ -87,7 +87,7 @@ sk_status sk__csr_from_sparse(const sk_sparse *a, sk__csr *out, sk_error *err)
 sk_status sk__csr_transpose(const sk__csr *a, sk__csr *out, sk_error *err)
 {
     size_t nnz = a->ptr[a->rows];
-    sk_status st = csr_alloc(out, a->cols, a->rows, nnz, err);
+    sk_status st = sk__csr_alloc(out, a->cols, a->rows, nnz, err);
     if (st)
         return st;
     for (size_t k = 0; k < nnz; ++k)

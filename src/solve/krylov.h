@@ -25,6 +25,8 @@ typedef struct sk__csr {
 } sk__csr;
 
 void sk__csr_free(sk__csr *a);
+/* a with rows + 1 zeroed row pointers and room for nnz entries (NULL arrays on failure). */
+sk_status sk__csr_alloc(sk__csr *a, size_t rows, size_t cols, size_t nnz, sk_error *err);
 /* The full matrix of a (a lower-stored matrix is mirrored) in rows. */
 sk_status sk__csr_from_sparse(const sk_sparse *a, sk__csr *out, sk_error *err);
 /* out = a^T */

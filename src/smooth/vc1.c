@@ -336,15 +336,19 @@ static sk_status check_input(const sk_mesh *mesh, sk_error *err)
 
 /* The unit normals the surface interpolates: the file's (checked), or estimated. */
 static sk_status input_normals(const sk_mesh *mesh, const sk_smooth_opts *opts, double **out,
-                               sk_error *err)
+                               size_t *folded, sk_error *err)
 {
     size_t nv = mesh->num_vertices;
     double *normals = sk__malloc_array(nv + 1, 3 * sizeof(double));
     if (!normals)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     *out = normals;
-    if (!mesh->normals || opts->estimate_normals)
-        return sk_mesh_vertex_normals(mesh, opts->normals, normals, err);
+    if (!mesh->normals || opts->estimate_normals) {
+        sk_status st = sk_mesh_vertex_normals(mesh, opts->normals, normals, err);
+        if (st == SK_OK && opts->scheme == SK_SMOOTH_VC1) /* folded stars (fold_normals.c) */
+            *folded = sk__fold_normals(mesh, normals);
+        return st;
+    }
     for (size_t v = 0; v < nv; ++v) {
         double *n = normals + 3 * v;
         memcpy(n, mesh->normals + 3 * v, 3 * sizeof(double));
@@ -441,7 +445,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     s->scheme = opts.scheme;
     double t0 = sk_seconds();
     if ((st = check_input(mesh, err)) != SK_OK ||
-        (st = input_normals(mesh, &opts, &normals, err)) != SK_OK)
+        (st = input_normals(mesh, &opts, &normals, &s->stats.folded_normals, err)) != SK_OK)
         goto fail;
     s->stats.seconds_normals = sk_seconds() - t0;
     bool file_normals = mesh->normals && !opts.estimate_normals;

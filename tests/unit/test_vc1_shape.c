@@ -642,16 +642,10 @@ static double star_smallest_cos(const sk_mesh *m, uint32_t v, const double *n)
     uint32_t h0 = m->v_halfedge[v], h = h0;
     do {
         if (m->h_face[h] != SK_INVALID) {
-            const double *a = m->positions + 3 * (size_t)v;
-            const double *b = m->positions + 3 * (size_t)sk_to(m, h);
-            const double *c = m->positions + 3 * (size_t)sk_to(m, m->h_next[h]);
-            double u[3], w[3], f[3];
-            sub(u, b, a);
-            sub(w, c, a);
-            cross(f, u, w);
-            double l = sqrt(dot(f, f));
-            if (l > 0.0)
-                lo = fmin(lo, dot(f, n) / l);
+            double f[3];
+            face_normal(m, m->h_face[h], f);
+            if (dot(f, f) > 0.0)
+                lo = fmin(lo, dot(f, n));
         }
         h = sk_cw_out(m, h);
     } while (h != h0);

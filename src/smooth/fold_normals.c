@@ -89,8 +89,13 @@ size_t sk__fold_normals(const sk_mesh *m, double *normals)
 {
     size_t changed = 0;
     double lim = cos(SK_FOLD_DEG * M_PI / 180.0), see = cos(SK_FOLD_SEE_DEG * M_PI / 180.0);
-    for (uint32_t v = 0; v < m->num_vertices; ++v) {
-        uint32_t h0 = m->v_halfedge[v], h = h0;
+    long nvl = (long)m->num_vertices;
+    /* each vertex reads the positions and writes only its own normal */
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : changed)
+#endif
+    for (long i = 0; i < nvl; ++i) {
+        uint32_t v = (uint32_t)i, h0 = m->v_halfedge[v], h = h0;
         if (m->v_deleted[v] || h0 == SK_INVALID)
             continue;
         double F[3 * SK_FOLD_MAX_FACES];

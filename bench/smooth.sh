@@ -8,7 +8,8 @@
 # mesh (armadillo Loop-subdivided twice, 832,000 triangles) by stage; target (DESIGN.md) under 3 s.
 # Usage: bench/smooth.sh [BUILD_DIR]   (default build/; scratch files in BUILD_DIR/bench-smooth)
 #        SK_BENCH_LARGE=0 skips the 1M-triangle part; SK_BENCH_MESHES="cow pig" picks meshes.
-#        SK_BENCH_BEFORE=OLD_SURFKIT adds the per-stage CPU table, old build against this one
+#        SK_BENCH_BEFORE=OLD_SURFKIT adds a vc1-before row per mesh (the old build's default VC1)
+#        to the shape table and the per-stage CPU table, old build against this one
 #        (SK_BENCH_STAGE_MESHES, SK_BENCH_RUNS); SK_BENCH_MESHES="" skips the shape table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,13 +24,15 @@ echo
 for name in $meshes; do
   in=../shared/data/meshes/$name.off
   # vc1-lsq: the free points by least squares to the wire frame alone (before the fair points)
-  for scheme in vc1-lsq vc1 pn; do
-    out="$scratch/$name-$scheme.json" note="" args="--scheme ${scheme%-lsq}"
+  # vc1-before: the default VC1 of SK_BENCH_BEFORE (an earlier build), beside this build's vc1
+  for scheme in vc1-lsq ${SK_BENCH_BEFORE:+vc1-before} vc1 pn; do
+    out="$scratch/$name-$scheme.json" note="" args="--scheme ${scheme%-*}" bin="$build/surfkit"
     [ "$scheme" = vc1-lsq ] && args="$args --free-points lsq"
+    [ "$scheme" = vc1-before ] && bin=$SK_BENCH_BEFORE
     # exit 1: an odd closed component (no edge deletion exists): split an edge as the CLI offers
-    if ! "$build/surfkit" smooth "$in" $args --json --allow-fail -q > "$out" 2> "$out.err"; then
+    if ! "$bin" smooth "$in" $args --json --allow-fail -q > "$out" 2> "$out.err"; then
       note=split
-      "$build/surfkit" smooth "$in" $args --json --allow-fail --allow-split -q \
+      "$bin" smooth "$in" $args --json --allow-fail --allow-split -q \
         > "$out" 2> "$out.err" || note="failed: $(head -1 "$out.err")"
     fi
     echo "$name $scheme $in $out $note"

@@ -84,6 +84,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
     json_kuint(&j, "split_edges", s->stats.split_edges);
     json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
+    json_kuint(&j, "folded_normals", s->stats.folded_normals);
     json_knum(&j, "max_gap", r->max_gap);
     json_knum(&j, "mean_gap", r->mean_gap);
     json_knum(&j, "max_normal_jump_deg", r->max_normal_jump_deg);

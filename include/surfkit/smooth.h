@@ -116,6 +116,7 @@ typedef struct sk_smooth_opts {
 typedef struct sk_smooth_stats {
     sk_edge_deletion_stats deletion;
     size_t flipped_edges;      /* edges flipped by the triangulation pass before the deletion */
+    size_t folded_normals;     /* estimated normals refitted at folded stars (fold_normals.c) */
     size_t split_edges;        /* 1 when --allow-split split an edge */
     size_t vertex_systems;     /* vertices whose system (8) was solved */
     size_t max_iterations;     /* Gauss-Newton iterations of the hardest vertex */

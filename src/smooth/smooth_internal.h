@@ -142,6 +142,12 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *f
 sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
                                          size_t *flipped, sk_error *err);
 
+/* Estimated normals at folded stars (fold_normals.c): where a face around v is more than 90
+ * degrees off normals[v], the normal becomes the direction with the largest smallest cosine to
+ * the faces around v when that sees every face within 84 degrees and gains; vertices with
+ * skip[v] set (skip may be NULL) are left alone; returns how many vertices changed. */
+size_t sk__fold_normals(const sk_mesh *m, double *normals, const uint8_t *skip);
+
 /* Flips the interior edge of half-edge h of a triangle mesh (edge_flips.c): the two triangles
  * abc, bad become cdb... the edge joins the two opposite vertices instead, its id kept. */
 void sk__flip_edge(sk_mesh *m, uint32_t h);

@@ -98,7 +98,8 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
 }
 
 /* Step 2: the vertex systems (8), least squares to the targets; status[v] gets the code of
- * sk__vc1_solve_vertex; the solver figures go to s->stats. */
+ * sk__vc1_solve_vertex; the solver figures go to s->stats (the mean target deviation summed in
+ * vertex order from dev, per vertex: the same for any number of threads). */
 static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *status, sk_error *err)
 {
     const sk_mesh *m = W->m;
@@ -107,9 +108,12 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
     long nvl = (long)nv;
     int too_many = -1;
+    double *dev = sk__calloc_array(nv + 1, sizeof *dev);
+    if (!dev)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the vertex systems");
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
-    reduction(+ : dev_sum, dev_n, fallback, relaxed) reduction(max : max_it)
+    reduction(+ : dev_n, fallback, relaxed) reduction(max : max_it)
 #endif
     for (long i = 0; i < nvl; ++i) {
         uint32_t v = (uint32_t)i;
@@ -132,12 +136,15 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
         for (int k = 0; k < sys.n_edges; ++k) {
             double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
             if (len > 0.0) {
-                dev_sum += hypot(sys.p[2 * k] - sys.pstar[2 * k],
-                                 sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
+                dev[v] += hypot(sys.p[2 * k] - sys.pstar[2 * k],
+                                sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
                 dev_n++;
             }
         }
     }
+    for (size_t v = 0; v < nv; ++v)
+        dev_sum += dev[v];
+    sk__free(dev);
     if (too_many >= 0)
         return sk__fail(err, SK_ERR_TOPOLOGY, "vertex %d has more than %d edges", too_many,
                         SK_VSYS_MAX);

@@ -126,27 +126,22 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kbool(&j, "pass_g1", r->pass_g1); /* normal jumps within max_angle_deg (0.5) */
     json_kbool(&j, "pass_gap", r->pass_gap);   /* gaps within max_gap (0.005) */
     json_kbool(&j, "pass_intersections", r->pass_intersections);
-    json_key(&j, "stage_seconds");
-    json_obj_open(&j);
-    json_knum(&j, "normals", s->stats.seconds_normals);
-    json_knum(&j, "edge_deletion", s->stats.seconds_deletion);
-    json_knum(&j, "vertex_systems", s->stats.seconds_systems);
-    json_knum(&j, "fair_points", s->stats.seconds_fair);
-    json_knum(&j, "patches", s->stats.seconds_patches);
-    json_knum(&j, "repair", s->stats.seconds_repair);
-    json_knum(&j, "report", c->report_seconds);
-    json_obj_close(&j);
-    json_key(&j, "stage_cpu_seconds"); /* all threads: meaningful on a loaded machine */
-    json_obj_open(&j);
-    json_knum(&j, "normals", s->stats.cpu_normals);
-    json_knum(&j, "flips", s->stats.cpu_flips);
-    json_knum(&j, "edge_deletion", s->stats.cpu_deletion);
-    json_knum(&j, "vertex_systems", s->stats.cpu_systems);
-    json_knum(&j, "fair_points", s->stats.cpu_fair);
-    json_knum(&j, "patches", s->stats.cpu_patches);
-    json_knum(&j, "repair", s->stats.cpu_repair);
-    json_knum(&j, "report", c->report_cpu_seconds);
-    json_obj_close(&j);
+    const sk_smooth_stats *t = &s->stats;
+    const double wall[] = {t->seconds_normals, t->seconds_flips,   t->seconds_deletion,
+                           t->seconds_systems, t->seconds_fair,    t->seconds_patches,
+                           t->seconds_repair,  c->report_seconds};
+    const double cpu[] = {t->cpu_normals, t->cpu_flips, t->cpu_deletion, t->cpu_systems,
+                          t->cpu_fair,    t->cpu_patches, t->cpu_repair, c->report_cpu_seconds};
+    static const char *const stage[] = {"normals",     "flips",   "edge_deletion", "vertex_systems",
+                                        "fair_points", "patches", "repair",        "report"};
+    for (int k = 0; k < 2; ++k) { /* CPU seconds: all threads, meaningful on a loaded machine */
+        json_key(&j, k ? "stage_cpu_seconds" : "stage_seconds");
+        json_obj_open(&j);
+        for (size_t i = 0; i < sizeof stage / sizeof *stage; ++i)
+            if (k || i != 1) /* (the wall seconds have no flips entry) */
+                json_knum(&j, stage[i], k ? cpu[i] : wall[i]);
+        json_obj_close(&j);
+    }
     json_knum(&j, "seconds", c->seconds);
     json_obj_close(&j);
     json_end(&j);

@@ -51,7 +51,7 @@ typedef struct report_ctx {
     const sk_continuity_report *r;
     const char *normals_src;
     sk_triangulate_stats tri;
-    double seconds, report_seconds;
+    double seconds, report_seconds, report_cpu_seconds;
 } report_ctx;
 
 static void write_report(FILE *fp, const report_ctx *c)
@@ -127,16 +127,22 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kbool(&j, "pass_g1", r->pass_g1); /* normal jumps within max_angle_deg (0.5) */
     json_kbool(&j, "pass_gap", r->pass_gap);   /* gaps within max_gap (0.005) */
     json_kbool(&j, "pass_intersections", r->pass_intersections);
-    json_key(&j, "stage_seconds");
-    json_obj_open(&j);
-    json_knum(&j, "normals", s->stats.seconds_normals);
-    json_knum(&j, "edge_deletion", s->stats.seconds_deletion);
-    json_knum(&j, "vertex_systems", s->stats.seconds_systems);
-    json_knum(&j, "fair_points", s->stats.seconds_fair);
-    json_knum(&j, "patches", s->stats.seconds_patches);
-    json_knum(&j, "repair", s->stats.seconds_repair);
-    json_knum(&j, "report", c->report_seconds);
-    json_obj_close(&j);
+    const sk_smooth_stats *t = &s->stats;
+    const double wall[] = {t->seconds_normals, t->seconds_flips,   t->seconds_deletion,
+                           t->seconds_systems, t->seconds_fair,    t->seconds_patches,
+                           t->seconds_repair,  c->report_seconds};
+    const double cpu[] = {t->cpu_normals, t->cpu_flips, t->cpu_deletion, t->cpu_systems,
+                          t->cpu_fair,    t->cpu_patches, t->cpu_repair, c->report_cpu_seconds};
+    static const char *const stage[] = {"normals",     "flips",   "edge_deletion", "vertex_systems",
+                                        "fair_points", "patches", "repair",        "report"};
+    for (int k = 0; k < 2; ++k) { /* CPU seconds: all threads, meaningful on a loaded machine */
+        json_key(&j, k ? "stage_cpu_seconds" : "stage_seconds");
+        json_obj_open(&j);
+        for (size_t i = 0; i < sizeof stage / sizeof *stage; ++i)
+            if (k || i != 1) /* (the wall seconds have no flips entry) */
+                json_knum(&j, stage[i], k ? cpu[i] : wall[i]);
+        json_obj_close(&j);
+    }
     json_knum(&j, "seconds", c->seconds);
     json_obj_close(&j);
     json_end(&j);
@@ -438,7 +444,7 @@ int cmd_smooth(int argc, char **argv)
         st = sk_smooth_build(mesh, &a.so, &s, &err);
     }
     cli_progress_done(&bar);
-    double t1 = sk_seconds();
+    double t1 = sk_seconds(), c1 = sk_cpu_seconds();
     if (st == SK_OK)
         st = sk_smooth_continuity(s, NULL, &rep, &err);
     cli_name_input(a.in, st, &err);
@@ -446,14 +452,14 @@ int cmd_smooth(int argc, char **argv)
         rc = cli_fail(st, &err);
         goto done;
     }
-    double t2 = sk_seconds();
+    double t2 = sk_seconds(), c2 = sk_cpu_seconds();
     /* the surface fails its own report (a singular patch has no tangent plane somewhere, e.g.
      * every patch of a thin strip): the report is written, the surface only on request */
     bool failed = !(rep.pass_g1 && rep.pass_gap) || rep.singular_patches > 0;
     bool refuse = failed && s->scheme == SK_SMOOTH_VC1 && !a.allow_fail;
     if (!refuse && (rc = write_surface(&a, s)) != EXIT_OK)
         goto done;
-    report_ctx rc_ctx = {a.in, s, &rep, normals_src, tri, t2 - t0, t2 - t1};
+    report_ctx rc_ctx = {a.in, s, &rep, normals_src, tri, t2 - t0, t2 - t1, c2 - c1};
     if (a.report && (rc = cli_write_file(a.report, report_json, &rc_ctx)) != EXIT_OK)
         goto done;
     if (a.json)

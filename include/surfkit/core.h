@@ -70,6 +70,10 @@ SK_API const char *sk_status_string(sk_status status);
 /* Monotonic clock in seconds (for timings in reports and benchmarks). */
 SK_API double sk_seconds(void);
 
+/* CPU seconds of the whole process, all threads (CLOCK_PROCESS_CPUTIME_ID): the timings that stay
+ * meaningful on a loaded machine. */
+SK_API double sk_cpu_seconds(void);
+
 /* Library version string, "MAJOR.MINOR.PATCH": SK_VERSION_STRING of the library linked, which may
  * differ from the header a program was compiled with. */
 SK_API const char *sk_version(void);

@@ -135,6 +135,8 @@ typedef struct sk_smooth_stats {
     double seconds_fair;
     double fair_energy_before; /* bending energy (Miao et al.) of all patches before and after */
     double fair_energy_after;  /* the fair free points (after: from the model they minimise) */
+    /* CPU seconds (sk_cpu_seconds: all threads) of the stages timed by the seconds_ fields */
+    double cpu_normals, cpu_flips, cpu_deletion, cpu_systems, cpu_patches, cpu_fair, cpu_repair;
 } sk_smooth_stats;
 
 typedef struct sk_smooth {

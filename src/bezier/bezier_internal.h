@@ -9,6 +9,28 @@
 
 /* Bernstein basis B_i^n(t), i = 0..n, into B, and dB_i^n/dt into dB unless it is NULL. */
 void sk__bernstein(unsigned n, double t, double *B, double *dB);
+/* sk__bernstein inlined (the same operations): callers with a constant degree get it unrolled */
+static inline __attribute__((always_inline)) void sk__bernstein_n(const unsigned n, double t,
+                                                              double *B, double *dB)
+{
+    double s = 1.0 - t;
+    B[0] = 1.0;
+    for (unsigned r = 1; r <= n; ++r) {
+        if (r == n && dB) { /* dB_i^n = n (B_{i-1}^{n-1} - B_i^{n-1}) */
+            for (unsigned i = 0; i <= n; ++i)
+                dB[i] = (double)n * ((i > 0 ? B[i - 1] : 0.0) - (i < n ? B[i] : 0.0));
+        }
+        double saved = 0.0;
+        for (unsigned i = 0; i < r; ++i) {
+            double tmp = B[i];
+            B[i] = saved + s * tmp;
+            saved = t * tmp;
+        }
+        B[r] = saved;
+    }
+    if (n == 0 && dB)
+        dB[0] = 0.0;
+}
 
 /* de Casteljau on a curve of degree n: point and derivative (d may be NULL) at t. */
 void sk__curve_eval(const double *cp, unsigned n, double t, double pt[3], double d[3]);

@@ -23,20 +23,15 @@ void sk__curve_eval(const double *cp, unsigned n, double t, double pt[3], double
     memcpy(pt, w, 3 * sizeof(double));
 }
 
-/* The first level of de Casteljau reads the control points in place (no copy of the net). */
-void sk__tri_eval(const double *cp, unsigned n, double v, double w, double pt[3], double d1[3],
-                  double d2[3])
+/* The first level of de Casteljau reads the control points in place (no copy of the net).
+ * Inlined with a constant degree for the quartic triangles of VC1 (the report evaluates them
+ * densely): the same operations in the same order, so the same results to the bit. */
+static inline __attribute__((always_inline)) void tri_eval_n(const double *cp, const unsigned n,
+                                                             double v, double w, double pt[3],
+                                                             double d1[3], double d2[3])
 {
     double u = 1.0 - v - w;
     double net[3 * (SK_PATCH_MAX_DEGREE + 1) * (SK_PATCH_MAX_DEGREE + 2) / 2];
-    if (n == 0) {
-        memcpy(pt, cp, 3 * sizeof(double));
-        if (d1)
-            d1[0] = d1[1] = d1[2] = 0.0;
-        if (d2)
-            d2[0] = d2[1] = d2[2] = 0.0;
-        return;
-    }
     const double *src = cp;
     for (unsigned r = n; r > 1; --r) { /* degree r -> r - 1 (indices shrink) */
         for (unsigned k = 0; k < r; ++k) {
@@ -64,35 +59,44 @@ void sk__tri_eval(const double *cp, unsigned n, double v, double w, double pt[3]
     }
 }
 
+void sk__tri_eval(const double *cp, unsigned n, double v, double w, double pt[3], double d1[3],
+                  double d2[3])
+{
+    if (n == 0) {
+        memcpy(pt, cp, 3 * sizeof(double));
+        if (d1)
+            d1[0] = d1[1] = d1[2] = 0.0;
+        if (d2)
+            d2[0] = d2[1] = d2[2] = 0.0;
+        return;
+    }
+    if (n == 4)
+        tri_eval_n(cp, 4, v, w, pt, d1, d2);
+    else
+        tri_eval_n(cp, n, v, w, pt, d1, d2);
+}
+
+/* constant degrees (bicubic and quartic patches, their derivatives) inlined: same results */
 void sk__bernstein(unsigned n, double t, double *B, double *dB)
 {
-    double s = 1.0 - t;
-    B[0] = 1.0;
-    for (unsigned r = 1; r <= n; ++r) {
-        if (r == n && dB) { /* dB_i^n = n (B_{i-1}^{n-1} - B_i^{n-1}) */
-            for (unsigned i = 0; i <= n; ++i)
-                dB[i] = (double)n * ((i > 0 ? B[i - 1] : 0.0) - (i < n ? B[i] : 0.0));
-        }
-        double saved = 0.0;
-        for (unsigned i = 0; i < r; ++i) {
-            double tmp = B[i];
-            B[i] = saved + s * tmp;
-            saved = t * tmp;
-        }
-        B[r] = saved;
+    switch (n) {
+    case 3: sk__bernstein_n(3, t, B, dB); break;
+    case 4: sk__bernstein_n(4, t, B, dB); break;
+    default: sk__bernstein_n(n, t, B, dB); break;
     }
-    if (n == 0 && dB)
-        dB[0] = 0.0;
 }
 
 /* Tensor patch: sums over the Bernstein bases in s and t (point and both derivatives). */
-static void tensor_eval(const double *cp, unsigned du, unsigned dv, double s, double t,
-                        double pt[3], double ds[3], double dt[3])
+static inline __attribute__((always_inline)) void tensor_eval_n(const double *cp,
+                                                                const unsigned du,
+                                                                const unsigned dv, double s,
+                                                                double t, double pt[3],
+                                                                double ds[3], double dt[3])
 {
     double Bs[SK_PATCH_MAX_DEGREE + 1], dBs[SK_PATCH_MAX_DEGREE + 1];
     double Bt[SK_PATCH_MAX_DEGREE + 1], dBt[SK_PATCH_MAX_DEGREE + 1];
-    sk__bernstein(du, s, Bs, dBs);
-    sk__bernstein(dv, t, Bt, dBt);
+    sk__bernstein_n(du, s, Bs, dBs);
+    sk__bernstein_n(dv, t, Bt, dBt);
     double P[3] = {0, 0, 0}, S[3] = {0, 0, 0}, T[3] = {0, 0, 0};
     for (unsigned j = 0; j <= dv; ++j) {
         const double *row = cp + 3 * sk_tensor_index(du, 0, j);
@@ -113,6 +117,16 @@ static void tensor_eval(const double *cp, unsigned du, unsigned dv, double s, do
         memcpy(ds, S, sizeof S);
     if (dt)
         memcpy(dt, T, sizeof T);
+}
+
+/* the bicubic patches of VC1 with constant degrees inlined (same results) */
+static void tensor_eval(const double *cp, unsigned du, unsigned dv, double s, double t,
+                        double pt[3], double ds[3], double dt[3])
+{
+    if (du == 3 && dv == 3)
+        tensor_eval_n(cp, 3, 3, s, t, pt, ds, dt);
+    else
+        tensor_eval_n(cp, du, dv, s, t, pt, ds, dt);
 }
 
 double sk_bezier_eval(sk_patch_kind kind, unsigned degree, unsigned degree_v, const double *cp,

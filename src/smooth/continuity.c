@@ -106,13 +106,15 @@ static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
     }
 }
 
-/* position and unit normal (zero where du x dv vanishes) at parameter t along the side */
-static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
+/* position and unit normal (zero where du x dv vanishes) at parameter t along the side; inlined
+ * with the constant degrees of VC1 (quartic triangles, bicubic quads: same results) */
+static inline __attribute__((always_inline)) void side_eval_n(const side_rows *r, const int n,
+                                                              double t, double x[3],
+                                                              double nrm[3])
 {
-    int n = r->n;
     double B[6], B1[6], T[3] = {0, 0, 0}, X[3] = {0, 0, 0};
-    sk__bernstein((unsigned)n, t, B, NULL);
-    sk__bernstein((unsigned)(n - 1), t, B1, NULL);
+    sk__bernstein_n((unsigned)n, t, B, NULL);
+    sk__bernstein_n((unsigned)(n - 1), t, B1, NULL);
     x[0] = x[1] = x[2] = 0.0;
     for (int j = 0; j <= n; ++j)
         for (int c = 0; c < 3; ++c)
@@ -135,6 +137,16 @@ static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
         sk__scale3(nrm, nrm, 1.0 / len);
     else
         nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
+static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
+{
+    if (r->n == 4)
+        side_eval_n(r, 4, t, x, nrm);
+    else if (r->n == 3)
+        side_eval_n(r, 3, t, x, nrm);
+    else
+        side_eval_n(r, r->n, t, x, nrm);
 }
 
 static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_block *b)

@@ -75,24 +75,77 @@ static double seg_dist2(const double p[3], const double a[3], const double b[3])
     return sk__dot3(q, q);
 }
 
-/* distance from p to the triangle abc (a segment or a point when it is degenerate) */
-static double tri_dist(const double p[3], const double *a, const double *b, const double *c)
+/* a flat triangle abc of the face and what the distances to it need of it alone (computed once
+ * per patch, not per sample) */
+typedef struct flat_tri {
+    const double *a, *b, *c;
+    double e1[3], e2[3], n[3], nn, len;
+} flat_tri;
+
+static void flat_tri_init(flat_tri *t, const double *a, const double *b, const double *c)
 {
-    double e1[3], e2[3], ap[3], n[3], t[3];
-    sk__sub3(e1, b, a);
-    sk__sub3(e2, c, a);
-    sk__sub3(ap, p, a);
-    sk__cross3(n, e1, e2);
-    double nn = sk__dot3(n, n);
-    if (nn > 0) {
-        sk__cross3(t, ap, e2);
-        double v = sk__dot3(t, n) / nn;
-        sk__cross3(t, e1, ap);
-        double w = sk__dot3(t, n) / nn;
+    t->a = a, t->b = b, t->c = c;
+    sk__sub3(t->e1, b, a);
+    sk__sub3(t->e2, c, a);
+    sk__cross3(t->n, t->e1, t->e2);
+    t->nn = sk__dot3(t->n, t->n);
+    t->len = sqrt(t->nn);
+}
+
+/* distance from p to the triangle (a segment or a point when it is degenerate) */
+static double tri_dist(const double p[3], const flat_tri *T)
+{
+    double ap[3], t[3];
+    sk__sub3(ap, p, T->a);
+    if (T->nn > 0) {
+        sk__cross3(t, ap, T->e2);
+        double v = sk__dot3(t, T->n) / T->nn;
+        sk__cross3(t, T->e1, ap);
+        double w = sk__dot3(t, T->n) / T->nn;
         if (v >= 0 && w >= 0 && v + w <= 1)
-            return fabs(sk__dot3(ap, n)) / sqrt(nn);
+            return fabs(sk__dot3(ap, T->n)) / T->len;
     }
-    return sqrt(fmin(seg_dist2(p, a, b), fmin(seg_dist2(p, b, c), seg_dist2(p, c, a))));
+    return sqrt(fmin(seg_dist2(p, T->a, T->b),
+                     fmin(seg_dist2(p, T->b, T->c), seg_dist2(p, T->c, T->a))));
+}
+
+/* The largest angle and distance over the samples, with the work that cannot change them
+ * skipped (the results are those of computing every sample in full): an angle atan2(y, x)
+ * (y >= 0) is computed only when (x, y) is not clearly clockwise of the largest so far (ym, xm)
+ * (the 2D cross product, with a margin far above its rounding), and the distance to the
+ * triangles of a quad stops at the first within the largest distance so far (the minimum can
+ * then no longer raise it). */
+typedef struct shape_max {
+    double amax, ym, xm, dmax;
+    bool any_angle;
+} shape_max;
+
+static void max_angle(shape_max *M, const double nrm[3], const double phong[3])
+{
+    double c[3];
+    sk__cross3(c, nrm, phong);
+    double y = sk__norm3(c), x = sk__dot3(nrm, phong);
+    if (M->any_angle &&
+        y * M->xm - x * M->ym < -1e-9 * (fabs(y * M->xm) + fabs(x * M->ym)))
+        return;
+    double ang = atan2(y, x) * RAD2DEG;
+    if (!M->any_angle || ang > M->amax) {
+        M->amax = ang;
+        M->ym = y;
+        M->xm = x;
+    }
+    M->any_angle = true;
+}
+
+static void max_distance(shape_max *M, const double x[3], const flat_tri *tris, int ntri)
+{
+    double d = INFINITY;
+    for (int t = 0; t < ntri; ++t) {
+        d = fmin(d, tri_dist(x, tris + t));
+        if (d <= M->dmax)
+            return;
+    }
+    M->dmax = d;
 }
 
 void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double *fairness_deg)
@@ -126,7 +179,11 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
             longest = fmax(longest, sk__dist3(X[1], X[3]));
         }
     }
-    double dmax = 0.0, amax = 0.0;
+    flat_tri tris[4];
+    for (int t = 0; t < ntri; ++t)
+        flat_tri_init(tris + t, X[tri[t][0]], X[tri[t][1]], X[tri[t][2]]);
+    shape_max M = {0};
+    bool flat_normal = false; /* 180: a vanishing normal somewhere */
     for (unsigned i = 0; i <= N; ++i)
         for (unsigned j = 0; j <= N; ++j) {
             if (pa->kind == SK_PATCH_TRIANGLE && i + j > N)
@@ -141,15 +198,13 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
             for (unsigned k = 0; k < nc; ++k)
                 for (int q = 0; q < 3; ++q)
                     phong[q] += w[k] * Nv[k][q];
-            double ang = 180.0;
             if (len > 0 && sk__norm3(phong) > 0)
-                ang = sk__angle3(nrm, phong) * RAD2DEG;
-            amax = fmax(amax, ang);
-            double d = INFINITY;
-            for (int t = 0; t < ntri; ++t)
-                d = fmin(d, tri_dist(x, X[tri[t][0]], X[tri[t][1]], X[tri[t][2]]));
-            dmax = fmax(dmax, d);
+                max_angle(&M, nrm, phong);
+            else
+                flat_normal = true;
+            max_distance(&M, x, tris, ntri);
         }
+    double dmax = M.dmax, amax = fmax(M.amax, flat_normal ? 180.0 : 0.0);
     *overshoot = longest > 0 ? dmax / longest : (dmax > 0 ? INFINITY : 0.0);
     *fairness_deg = amax;
 }

@@ -46,6 +46,22 @@ static sk_status add_patches(sk_smooth *s, sk_error *err)
     return st;
 }
 
+/* A stage's start: wall and CPU clocks (sk_seconds, sk_cpu_seconds). */
+static void clock_now(double t[2])
+{
+    t[0] = sk_seconds();
+    t[1] = sk_cpu_seconds();
+}
+
+/* The wall and CPU seconds since t into *wall, *cpu (NULL: not wanted). */
+static void clock_since(const double t[2], double *wall, double *cpu)
+{
+    if (wall)
+        *wall = sk_seconds() - t[0];
+    if (cpu)
+        *cpu = sk_cpu_seconds() - t[1];
+}
+
 /* Step 1: the wire frame targets, the ratios r_m of eq. (7) (bounded by max_nu) and nu per
  * half-edge (upper patch = face(h)). */
 static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double *r,
@@ -82,7 +98,8 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
 }
 
 /* Step 2: the vertex systems (8), least squares to the targets; status[v] gets the code of
- * sk__vc1_solve_vertex; the solver figures go to s->stats. */
+ * sk__vc1_solve_vertex; the solver figures go to s->stats (the mean target deviation summed in
+ * vertex order from dev, per vertex: the same for any number of threads). */
 static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *status, sk_error *err)
 {
     const sk_mesh *m = W->m;
@@ -91,9 +108,12 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
     long nvl = (long)nv;
     int too_many = -1;
+    double *dev = sk__calloc_array(nv + 1, sizeof *dev);
+    if (!dev)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the vertex systems");
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
-    reduction(+ : dev_sum, dev_n, fallback, relaxed) reduction(max : max_it)
+    reduction(+ : dev_n, fallback, relaxed) reduction(max : max_it)
 #endif
     for (long i = 0; i < nvl; ++i) {
         uint32_t v = (uint32_t)i;
@@ -116,12 +136,15 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
         for (int k = 0; k < sys.n_edges; ++k) {
             double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
             if (len > 0.0) {
-                dev_sum += hypot(sys.p[2 * k] - sys.pstar[2 * k],
-                                 sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
+                dev[v] += hypot(sys.p[2 * k] - sys.pstar[2 * k],
+                                sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
                 dev_n++;
             }
         }
     }
+    for (size_t v = 0; v < nv; ++v)
+        dev_sum += dev[v];
+    sk__free(dev);
     if (too_many >= 0)
         return sk__fail(err, SK_ERR_TOPOLOGY, "vertex %d has more than %d edges", too_many,
                         SK_VSYS_MAX);
@@ -232,17 +255,19 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
         W.crease_v = crease_v;
         W.cn = s->corner_normals;
     }
-    double t0 = sk_seconds();
+    double t0[2], t1[2], t2[2], t3[2];
+    clock_now(t0);
     if ((st = vc1_targets_and_ratios(&W, target, r, max_nu, err)) != SK_OK ||
         (st = vc1_vertex_systems(s, &W, status, err)) != SK_OK)
         goto done;
     vc1_interior_points(&W);
-    double t1 = sk_seconds();
-    s->stats.seconds_systems = t1 - t0;
+    clock_since(t0, &s->stats.seconds_systems, &s->stats.cpu_systems);
+    clock_now(t1);
     if ((st = add_patches(s, err)) != SK_OK)
         goto done;
     vc1_assemble(s, &W);
-    double t2 = sk_seconds();
+    clock_since(t1, &s->stats.seconds_patches, &s->stats.cpu_patches);
+    clock_now(t2);
     if (free_points == SK_FREE_POINTS_FAIR) {
         if (!(sing = sk__malloc_array(nf + 1, 1))) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
@@ -258,12 +283,11 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
             if (sing[f] == SK_SING_UNKNOWN)
                 sk__vc1_assemble_patch(&W, f, sk_patch_cp(&s->surface, f));
     }
-    s->stats.seconds_fair = sk_seconds() - t2;
-    double t3 = sk_seconds();
-    s->stats.seconds_patches = t2 - t1;
+    clock_since(t2, &s->stats.seconds_fair, &s->stats.cpu_fair);
+    clock_now(t3);
     if ((st = sk__vc1_repair_regularity(s, &W, status, sing, err)) != SK_OK)
         goto done;
-    s->stats.seconds_repair = sk_seconds() - t3;
+    clock_since(t3, &s->stats.seconds_repair, &s->stats.cpu_repair);
     st = vc1_problems(s, &W, status, failed_v, err);
 done:
     sk__free(target);
@@ -401,7 +425,7 @@ static void forget_build(sk_smooth *s, const sk_smooth_stats *saved)
  * SK_CREASE_ROUNDS times). */
 static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *base,
                               uint8_t *keep, bool file_normals, double alpha, double max_nu,
-                              const sk_smooth_opts *opts, double t0, sk_error *err)
+                              const sk_smooth_opts *opts, double t0[2], sk_error *err)
 {
     sk_status st = SK_OK;
     sk_smooth_stats saved = s->stats;
@@ -414,7 +438,7 @@ static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *
                                            &s->corner_normals, err)) != SK_OK)
             return st;
         s->num_deleted = s->stats.deletion.deleted_edges;
-        s->stats.seconds_deletion = sk_seconds() - t0;
+        clock_since(t0, &s->stats.seconds_deletion, &s->stats.cpu_deletion);
         if (round == 0 && (st = sk__progress(opts->progress, opts->progress_user, 0.3, err)) != SK_OK)
             return st;
         uint32_t failed_v = SK_INVALID;
@@ -437,7 +461,7 @@ static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *
             break;
         }
         forget_build(s, &saved);
-        t0 = sk_seconds();
+        clock_now(t0);
     }
     return SK_OK;
 }
@@ -464,11 +488,12 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     int blas_threads = sk__blas_serial_begin(); /* per-vertex and per-patch dense solves */
     s->scheme = opts.scheme;
-    double t0 = sk_seconds();
+    double t0[2];
+    clock_now(t0);
     if ((st = check_input(mesh, err)) != SK_OK ||
         (st = input_normals(mesh, &opts, &normals, err)) != SK_OK)
         goto fail;
-    s->stats.seconds_normals = sk_seconds() - t0;
+    clock_since(t0, &s->stats.seconds_normals, &s->stats.cpu_normals);
     bool file_normals = mesh->normals && !opts.estimate_normals;
     if (opts.crease_angle_deg >= 0.0 &&
         (st = detect_creases(s, mesh, opts.crease_angle_deg, file_normals, err)))
@@ -485,10 +510,10 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
             goto fail;
         s->normals = normals;
         normals = NULL;
-        t0 = sk_seconds();
+        clock_now(t0);
         if ((st = sk__pn_build(s, err)) != SK_OK)
             goto fail;
-        s->stats.seconds_patches = sk_seconds() - t0;
+        clock_since(t0, &s->stats.seconds_patches, &s->stats.cpu_patches);
         *out = s;
         sk__ok(err);
         sk__blas_serial_end(blas_threads);
@@ -510,7 +535,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
     }
     /* a better triangulation of the same vertices (crease edges kept) */
     if (!opts.keep_triangulation) {
-        t0 = sk_seconds();
+        clock_now(t0);
         if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
             goto fail;
         if (s->num_creases && (st = crease_flags_of(s, work, &keep, err)) != SK_OK)
@@ -519,9 +544,9 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
                                                  &s->stats.flipped_edges, err)) != SK_OK)
             goto fail;
         base = work;
-        s->stats.seconds_flips = sk_seconds() - t0;
+        clock_since(t0, &s->stats.seconds_flips, &s->stats.cpu_flips);
     }
-    t0 = sk_seconds();
+    clock_now(t0);
     sk__free(keep);
     keep = NULL;
     if (s->num_creases && (st = crease_flags_of(s, base, &keep, err)) != SK_OK)

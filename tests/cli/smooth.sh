@@ -61,5 +61,20 @@ python3 -c "import json; r=json.load(open('$tmp/b.json')); assert r['split_edges
 [ $rc -le 4 ] || fail "cow --keep-triangulation exit $rc"
 python3 -c "import json; f=json.load(open('$tmp/cf.json')); k=json.load(open('$tmp/ck.json')); assert f['flipped_edges'] > 0 and k['flipped_edges'] == 0 and f['max_normal_jump_deg'] < 1e-7, (f['flipped_edges'], k['flipped_edges'])" ||
   fail "flipped_edges"
+# every figure is the same on one thread (the parallel stages are deterministic, the mean target
+# deviation is summed in vertex order); CPU seconds per stage beside the wall seconds
+OMP_NUM_THREADS=1 "$bin" smooth "$m/cow.off" --json -q --allow-fail > "$tmp/cf1.json"; rc=$?
+[ $rc -le 4 ] || fail "cow one thread exit $rc"
+python3 - "$tmp/cf.json" "$tmp/cf1.json" <<'PY' || fail "cow figures depend on the thread count"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+cpu = a["stage_cpu_seconds"]
+assert set(a["stage_seconds"]) <= set(cpu) and all(v >= 0 for v in cpu.values()), cpu
+for r in (a, b):
+    for k in ("seconds", "stage_seconds", "stage_cpu_seconds"):
+        r.pop(k)
+diff = [k for k in a if a[k] != b.get(k)]
+assert not diff, [(k, a[k], b.get(k)) for k in diff]
+PY
 "$bin" smooth "$m/sphere.off" 2>/dev/null; [ $? -eq 2 ] || fail "no output should be a usage error"
 echo ok

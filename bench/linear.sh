@@ -20,6 +20,13 @@
 # setting, the settings of one method next to each other in time.
 # env: SOLVER (direct, hierarchical or amg, default direct), BLAS (OPENBLAS_NUM_THREADS values,
 #      default "default 1"; default leaves it unset)
+#
+#   CROSSOVER=1 MESHES="a.off b.off ..." bench/linear.sh [SCRATCH_DIR]
+# instead: where --solver auto should switch from direct to amg: per mesh and method, REPEAT
+# (default 3) interleaved pairs of whole `surfkit param --json` processes (direct, then amg),
+# the solve stage (analyse + factor + solve, wall) and the process's user + sys CPU, medians;
+# amg's iterations and residual, the load average at the start of the row.
+# env: MESHES (default the lion head Loop x1 and x2), METHODS, REPEAT
 set -eu
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${BUILD:-$SRC/build-bench}
@@ -27,8 +34,10 @@ SHARED=${SHARED:-$SRC/../shared}
 SCRATCH=${1:-$(mktemp -d /tmp/sk-bench-linear.XXXXXX)}
 METHODS=${METHODS:-tutte floater mvc harmonic lscm}
 mkdir -p "$SCRATCH"
+if [ "${NOBUILD:-0}" != 1 ]; then # NOBUILD=1: BUILD is built already (keeps its configuration)
 cmake -S "$SRC" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSK_BUILD_TESTS=OFF > /dev/null
 cmake --build "$BUILD" -j2 --target surfkit bench_linear bench_param $( ninja -C "$BUILD" -t targets all 2>/dev/null | grep -q '^cgal_param:' && echo cgal_param ) > /dev/null
+fi
 SK=$BUILD/surfkit
 BL=$BUILD/bench/bench_linear
 BP=$BUILD/bench/bench_param
@@ -36,6 +45,44 @@ CG=$BUILD/bench/cgal_param
 [ -x "$CG" ] && [ "${CGAL:-1}" != 0 ] || CG=
 BIG=$SCRATCH/lion-head-s3.off
 [ -e "$BIG" ] || "$SK" subdivide "$SHARED/data/meshes/lion-head.off" -o "$BIG" -n 3 -q
+if [ "${CROSSOVER:-0}" = 1 ]; then
+    if [ -z "${MESHES:-}" ]; then
+        for k in 1 2; do
+            [ -e "$SCRATCH/lion-head-s$k.off" ] ||
+                "$SK" subdivide "$SHARED/data/meshes/lion-head.off" -o "$SCRATCH/lion-head-s$k.off" -n $k -q
+        done
+        MESHES="$SCRATCH/lion-head-s1.off $SCRATCH/lion-head-s2.off"
+    fi
+    printf '| mesh | free vertices | method | direct solve s | amg solve s | direct CPU s | amg CPU s | amg iterations | amg residual | load |\n'
+    printf '|---|---|---|---|---|---|---|---|---|---|\n'
+    for mesh in $MESHES; do
+        for me in $METHODS; do
+            load=$(cut -d' ' -f1 /proc/loadavg)
+            : > "$SCRATCH/pairs.txt"
+            for r in $(seq "${REPEAT:-3}"); do
+                for so in direct amg; do
+                    /usr/bin/time -f '%U %S' -o "$SCRATCH/time.txt" "$SK" param "$mesh" \
+                        -o "$SCRATCH/uv.obj" --method "$me" --solver $so --json > "$SCRATCH/report.json" 2> /dev/null ||
+                        { echo "$mesh $me $so failed" >&2; continue; }
+                    echo "$so $(cat "$SCRATCH/time.txt") $(python3 -c 'import json, sys
+d = json.load(open(sys.argv[1])); s = d["stage_seconds"]; v = d["solver"]
+print(s["analyse"] + s["factor"] + s["solve"], v["iterations"], v["residual"], d["interior"])' "$SCRATCH/report.json")" >> "$SCRATCH/pairs.txt"
+                done
+            done
+            python3 - "$SCRATCH/pairs.txt" "$(basename "$mesh")" "$me" "$load" <<'PY'
+import statistics as st, sys
+rows = [l.split() for l in open(sys.argv[1])]
+def med(so, k):
+    return st.median(float(r[k]) if k != 1 else float(r[1]) + float(r[2]) for r in rows if r[0] == so)
+amg = [r for r in rows if r[0] == "amg"]
+print("| %s | %s | %s | %.3f | %.3f | %.2f | %.2f | %s | %.1e | %s |" % (
+    sys.argv[2], rows[0][6], sys.argv[3], med("direct", 3), med("amg", 3), med("direct", 1),
+    med("amg", 1), amg[-1][4], float(amg[-1][5]), sys.argv[4]))
+PY
+        done
+    done
+    exit 0
+fi
 if [ "${STAGES:-0}" = 1 ]; then
     printf '| method | solver | BLAS threads | triangles | read | check+boundary | assemble | analyse | factor | solve | metrics | write | wall s | user s | sys s | peak MB | flips | load |\n'
     printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'

@@ -323,6 +323,7 @@ static sk_status krylov_run(sk__multilevel *mg, const sk_sparse *a, bool symmetr
     if (stats) {
         sk__multilevel_stats ms;
         sk__multilevel_stats_get(mg, &ms);
+        stats->solver = o->solver;
         stats->levels = ms.levels;
         stats->iterations = kr.iterations;
         stats->residual = kr.residual;

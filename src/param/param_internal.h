@@ -36,6 +36,19 @@ sk_status sk__param_solve_amg(const sk_sparse *a, bool symmetric, unsigned dim, 
                               const double *rhs, double *x, const sk_param_opts *o,
                               sk_param_stats *stats, sk_error *err);
 
+/* SK_LINEAR_AUTO's default crossovers in free vertices (src/param/linear.c; docs/linear.md). */
+#define SK_AUTO_VERTICES_SYMMETRIC 200000
+#define SK_AUTO_VERTICES_LU 200000
+#define SK_AUTO_VERTICES_LSCM SIZE_MAX
+
+/* The solve of a parametrization system by o->solver (auto resolved per method and size, see
+ * SK_LINEAR_AUTO), arguments as sk__param_solve_hierarchical; fills stats->solver with the solver
+ * that ran. */
+sk_status sk__param_solve_route(const sk_mesh *m, sk_param_method method, const sk_sparse *a,
+                                bool symmetric, const uint32_t *idx, unsigned dim, size_t nrhs,
+                                const double *rhs, double *x, const sk_param_opts *o,
+                                sk_param_stats *stats, sk_error *err);
+
 /* Boundary loop of a disk as a vertex cycle, counter-clockwise around the surface (the loop of
  * boundary half-edges runs clockwise, so it is walked backwards); *verts is the caller's to
  * sk__free. Fails with SK_ERR_TOPOLOGY unless the mesh has exactly one boundary loop. */

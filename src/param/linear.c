@@ -197,6 +197,8 @@ sk_status sk__param_solve_route(const sk_mesh *m, sk_param_method method, const 
     if (ro.solver == SK_LINEAR_AUTO) {
         size_t from = o->auto_vertices ? o->auto_vertices : auto_vertices(method);
         ro.solver = a->n / dim >= from ? SK_LINEAR_AMG : SK_LINEAR_DIRECT;
+        if (!(ro.tolerance > 0))
+            ro.tolerance = SK_AUTO_TOLERANCE;
     }
     sk_status st;
     if (ro.solver == SK_LINEAR_HIERARCHICAL)

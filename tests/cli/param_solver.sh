@@ -56,7 +56,7 @@ import json, sys
 d, a, e = (json.load(open(p))["solver"] for p in sys.argv[1:4])
 assert d["route"] == "direct" and d["iterations"] == 0 and 0 < d["residual"] <= 1e-12, d
 assert e["route"] == "direct", e
-assert a["route"] == "amg" and a["iterations"] >= 1 and a["residual"] <= 1e-12 and a["levels"] >= 2, a
+assert a["route"] == "amg" and a["iterations"] >= 1 and a["residual"] <= 1e-10 and a["levels"] >= 2, a
 vt = [[tuple(map(float, l.split()[1:3])) for l in open(p) if l.startswith("vt ")] for p in sys.argv[4:6]]
 assert len(vt[0]) == len(vt[1]) > 30000
 diff = max(max(abs(x[0] - y[0]), abs(x[1] - y[1])) for x, y in zip(*vt))

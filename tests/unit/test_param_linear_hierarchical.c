@@ -156,9 +156,10 @@ static void test_small_mesh_direct(void **state)
 }
 
 /* SK_LINEAR_AUTO: with the crossover below the mesh's free vertices it runs AMG (levels,
- * iterations, the direct uv to 1e-8), at or above them direct (the same uv as direct, exactly,
- * and a direct residual at rounding level); the default crossover keeps a small mesh direct and
- * LSCM direct; an AMG solve that does not converge (budget of one iteration) is redone directly. */
+ * iterations, its own tolerance 1e-10, the direct uv to 1e-8), at or above them direct (the
+ * same uv as direct, exactly, and a direct residual at rounding level); the default crossover
+ * keeps a small mesh direct and LSCM direct; an AMG solve that does not converge (budget of one
+ * iteration) is redone directly. */
 static void test_auto_route(void **state)
 {
     (void)state;
@@ -177,7 +178,7 @@ static void test_auto_route(void **state)
         o.auto_vertices = sd.interior / 2; /* AMG */
         assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
         assert_int_equal(sa.solver, SK_LINEAR_AMG);
-        assert_true(sa.levels >= 2 && sa.iterations >= 1 && sa.residual <= 1e-12);
+        assert_true(sa.levels >= 2 && sa.iterations >= 1 && sa.residual <= 1e-10);
         assert_true(uv_difference(nv, ud, ua) <= 1e-8);
         o.auto_vertices = sd.interior + 1; /* direct */
         assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);

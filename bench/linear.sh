@@ -18,12 +18,14 @@
 # with the ordering, factor, solve, metrics, write) beside wall, user and sys CPU and peak RSS
 # from /usr/bin/time and the load average at the start of the row; each method once per BLAS
 # setting, the settings of one method next to each other in time.
-# env: SOLVER (direct, hierarchical or amg, default direct), BLAS (OPENBLAS_NUM_THREADS values,
+# env: SOLVER (direct, hierarchical, amg or auto, default direct; several: interleaved per method),
+#      BLAS (OPENBLAS_NUM_THREADS values,
 #      default "default 1"; default leaves it unset)
 #
 #   CROSSOVER=1 MESHES="a.off b.off ..." bench/linear.sh [SCRATCH_DIR]
 # instead: where --solver auto should switch from direct to amg: per mesh and method, REPEAT
-# (default 3) interleaved pairs of whole `surfkit param --json` processes (direct, then amg),
+# (default 3) interleaved pairs of whole `surfkit param --json` processes (direct, then amg as
+# --solver auto runs it: --amg-from 1),
 # the solve stage (analyse + factor + solve, wall) and the process's user + sys CPU, medians;
 # amg's iterations and residual, the load average at the start of the row.
 # env: MESHES (default the lion head Loop x1 and x2), METHODS, REPEAT
@@ -61,8 +63,11 @@ if [ "${CROSSOVER:-0}" = 1 ]; then
             : > "$SCRATCH/pairs.txt"
             for r in $(seq "${REPEAT:-3}"); do
                 for so in direct amg; do
+                    # amg as auto runs it (its tolerance), the crossover set below every mesh
+                    args=(--solver direct)
+                    [ $so = direct ] || args=(--solver auto --amg-from 1)
                     /usr/bin/time -f '%U %S' -o "$SCRATCH/time.txt" "$SK" param "$mesh" \
-                        -o "$SCRATCH/uv.obj" --method "$me" --solver $so --json > "$SCRATCH/report.json" 2> /dev/null ||
+                        -o "$SCRATCH/uv.obj" --method "$me" "${args[@]}" --json > "$SCRATCH/report.json" 2> /dev/null ||
                         { echo "$mesh $me $so failed" >&2; continue; }
                     echo "$so $(cat "$SCRATCH/time.txt") $(python3 -c 'import json, sys
 d = json.load(open(sys.argv[1])); s = d["stage_seconds"]; v = d["solver"]
@@ -84,27 +89,31 @@ PY
     exit 0
 fi
 if [ "${STAGES:-0}" = 1 ]; then
-    printf '| method | solver | BLAS threads | triangles | read | check+boundary | assemble | analyse | factor | solve | metrics | write | wall s | user s | sys s | peak MB | flips | load |\n'
-    printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
+    printf '| method | solver | ran | BLAS threads | triangles | read | check+boundary | assemble | analyse | factor | solve | metrics | write | wall s | user s | sys s | peak MB | flips | iterations | residual | load |\n'
+    printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
     for me in $METHODS; do
+        for so in ${SOLVER:-direct}; do
         for b in ${BLAS:-default 1}; do
             load=$(cut -d' ' -f1 /proc/loadavg)
             envs=()
             [ "$b" = default ] || envs=(OPENBLAS_NUM_THREADS="$b")
             env "${envs[@]}" /usr/bin/time -f '%e %U %S %M' -o "$SCRATCH/time.txt" \
-                "$SK" param "$BIG" -o "$SCRATCH/uv-$me.obj" --method "$me" --solver "${SOLVER:-direct}" --json \
-                > "$SCRATCH/report.json" 2> /dev/null || { echo "$me ${SOLVER:-direct} BLAS $b failed" >&2; continue; }
-            python3 - "$SCRATCH/report.json" "$SCRATCH/time.txt" "$me" "${SOLVER:-direct}" "$b" "$load" <<'PY'
+                "$SK" param "$BIG" -o "$SCRATCH/uv-$me.obj" --method "$me" --solver "$so" --json \
+                > "$SCRATCH/report.json" 2> /dev/null || { echo "$me $so BLAS $b failed" >&2; continue; }
+            python3 - "$SCRATCH/report.json" "$SCRATCH/time.txt" "$me" "$so" "$b" "$load" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 s = d["stage_seconds"]
 wall, user, sys_s, kb = open(sys.argv[2]).read().split()
 cols = [s["read"], s["check"] + s["boundary"], s["weights_and_assembly"], s["analyse"],
         s["factor"], s["solve"], s["metrics"], s["write"]]
-print("| %s | %s | %s | %d | %s | %s | %s | %s | %d | %d | %s |" % (
-    sys.argv[3], sys.argv[4], sys.argv[5], d["faces"], " | ".join("%.2f" % c for c in cols),
-    wall, user, sys_s, int(kb) // 1024, d["flipped"], sys.argv[6]))
+v = d["solver"]
+print("| %s | %s | %s | %s | %d | %s | %s | %s | %s | %d | %d | %d | %.1e | %s |" % (
+    sys.argv[3], sys.argv[4], v["route"], sys.argv[5], d["faces"],
+    " | ".join("%.2f" % c for c in cols), wall, user, sys_s, int(kb) // 1024, d["flipped"],
+    v["iterations"], v["residual"], sys.argv[6]))
 PY
+        done
         done
     done
     exit 0

@@ -37,8 +37,8 @@ sk_status sk__param_solve_amg(const sk_sparse *a, bool symmetric, unsigned dim, 
                               sk_param_stats *stats, sk_error *err);
 
 /* SK_LINEAR_AUTO's default crossovers in free vertices (src/param/linear.c; docs/linear.md). */
-#define SK_AUTO_VERTICES_SYMMETRIC 200000
-#define SK_AUTO_VERTICES_LU 200000
+#define SK_AUTO_VERTICES_SYMMETRIC 250000
+#define SK_AUTO_VERTICES_LU 250000
 #define SK_AUTO_VERTICES_LSCM SIZE_MAX
 /* SK_LINEAR_AUTO's relative residual when AMG runs and opts->tolerance is 0: the direct uv to
  * about 2e-9 of the layout (lion head Loop x2, Floater and mean value; 1e-9 gave 2e-8), a fifth

@@ -140,7 +140,7 @@ cgal_run() { # mesh method -> CG_S/CG_MB/CG_Q[mesh:method]
 linear_rows() { # mesh methods cgal-methods
   local mesh=$1 me solver faces total it res mm fl
   for me in $2; do
-    for solver in direct hierarchical amg; do
+    for solver in direct hierarchical amg auto; do
       timed "$BB/bench_linear" "$mesh" "$me" "$solver" || continue
       read -r _ faces _ _ _ _ _ _ _ _ total _ it res _ mm fl _ _ < "$S/out.txt"
       local omb=$MB

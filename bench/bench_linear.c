@@ -30,7 +30,7 @@ int main(int argc, char **argv)
     bool write = argc > 1 && !strcmp(argv[1], "--write");
     int a0 = write ? 2 : 1;
     if (argc < a0 + 3 || (write && argc < a0 + 4)) {
-        fprintf(stderr, "usage: bench_linear [--write] MESH METHOD direct|hierarchical|amg [REF.bin|OUT.bin]\n");
+        fprintf(stderr, "usage: bench_linear [--write] MESH METHOD direct|hierarchical|amg|auto [REF.bin|OUT.bin]\n");
         return 2;
     }
     const char *path = argv[a0], *method = argv[a0 + 1], *solver = argv[a0 + 2];
@@ -52,6 +52,8 @@ int main(int argc, char **argv)
         o.solver = SK_LINEAR_HIERARCHICAL;
     else if (!strcmp(solver, "amg"))
         o.solver = SK_LINEAR_AMG;
+    else if (!strcmp(solver, "auto"))
+        o.solver = SK_LINEAR_AUTO;
     else if (strcmp(solver, "direct")) {
         fprintf(stderr, "unknown solver %s\n", solver);
         return 2;

@@ -15,11 +15,13 @@ static const char about[] =
     "(shape-preserving, the default), mvc (mean value), harmonic (cotangent weights; obtuse\n"
     "triangles give negative weights that can flip triangles). Free boundary: lscm (least\n"
     "squares conformal, two boundary vertices pinned). Tutte, floater and mvc never flip a\n"
-    "triangle with a convex boundary. --solver direct (default: sparse Cholesky / LU) or\n"
-    "hierarchical (multilevel CG / BiCGStab over the progressive mesh, the coarsest level solved\n"
-    "directly; the same uv to 1e-8 of the layout, not faster today: docs/linear.md) or amg\n"
-    "(the same Krylov methods over an algebraic multigrid of the matrix graph: no progressive\n"
-    "mesh to build).\n"
+    "triangle with a convex boundary. --solver direct (sparse Cholesky / LU) or hierarchical\n"
+    "(multilevel CG / BiCGStab over the progressive mesh, the coarsest level solved directly;\n"
+    "the same uv to 1e-8 of the layout, not faster today: docs/linear.md) or amg (the same\n"
+    "Krylov methods over an algebraic multigrid of the matrix graph: no progressive mesh to\n"
+    "build) or auto (the default: amg from --amg-from free vertices up, direct below and for\n"
+    "lscm; an amg solve that does not converge is redone directly). --json says which ran\n"
+    "(solver.route), its iterations and its relative residual.\n"
     "\n"
     "mips: minimises the MIPS energy (sum of sigma1/sigma2 + sigma2/sigma1) by local steps that\n"
     "never flip a triangle. --hierarchical (default): Hormann, Greiner, Campagna: a progressive\n"
@@ -98,6 +100,7 @@ static void write_json(FILE *fp, const void *ctx)
         json_obj_close(&j);
         json_key(&j, "solver");
         json_obj_open(&j);
+        json_kstr(&j, "route", sk_linear_solver_name(ps->solver));
         json_kstr(&j, "kind", ps->solve.kind == SK_SOLVER_CHOLESKY ? "cholmod" : "umfpack");
         json_kuint(&j, "n", ps->solve.n);
         json_kuint(&j, "nnz", ps->solve.nnz);
@@ -152,8 +155,8 @@ static const char atlas_about[] =
 
 static const sk_param_method methods[] = {SK_PARAM_TUTTE,    SK_PARAM_FLOATER, SK_PARAM_MEAN_VALUE,
                                           SK_PARAM_HARMONIC, SK_PARAM_LSCM,    SK_PARAM_MIPS};
-static const sk_linear_solver solvers[] = {SK_LINEAR_DIRECT, SK_LINEAR_HIERARCHICAL,
-                                          SK_LINEAR_AMG};
+static const sk_linear_solver solvers[] = {SK_LINEAR_AUTO, SK_LINEAR_DIRECT,
+                                          SK_LINEAR_HIERARCHICAL, SK_LINEAR_AMG};
 static const sk_boundary_shape boundaries[] = {SK_BOUNDARY_CIRCLE, SK_BOUNDARY_SQUARE,
                                                SK_BOUNDARY_FREE};
 
@@ -170,9 +173,13 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                    "fixed on the circle (default) or the unit square, or free"),
         OPT_CHOICE("--spacing", a->po.boundary.spacing, "chord|uniform",
                    "fixed boundary vertices by chord length (default) or equal steps"),
-        OPT_CHOICE("--solver", *solver, "direct|hierarchical|amg",
-                   "linear methods: sparse Cholesky / LU (default), multilevel over the\n"
-                   "progressive mesh, or algebraic multigrid"),
+        OPT_CHOICE("--solver", *solver, "auto|direct|hierarchical|amg",
+                   "linear methods: amg from the method's crossover size up, direct below\n"
+                   "(default), sparse Cholesky / LU, multilevel over the progressive mesh,\n"
+                   "or algebraic multigrid"),
+        OPT_INT("--amg-from", a->linear.auto_vertices, 1, 0, "N",
+                "--solver auto: amg from N free vertices up (default: per method,\n"
+                "docs/linear.md; lscm: never)"),
         OPT_FLAG("--hierarchical", hierarchical, "mips: over the progressive mesh (default)"),
         OPT_FLAG("--flat", a->po.flat, "mips: the conventional method on the full mesh"),
         OPT_INT("--steps", a->po.max_steps, 1, 0, "N", "mips: budget of local steps"),
@@ -235,10 +242,10 @@ static int parse_args(int argc, char **argv, param_args *a)
         a->po.method = methods[method];
     if (cli_given(&args, "--boundary"))
         a->po.boundary.shape = boundaries[boundary];
-    if (cli_given(&args, "--solver")) {
-        a->linear.solver = solvers[solver];
-        a->po.linear = &a->linear;
-    }
+    a->linear.solver = solvers[solver]; /* auto unless given */
+    if (a->po.method != SK_PARAM_MIPS || cli_given(&args, "--solver") ||
+        cli_given(&args, "--amg-from"))
+        a->po.linear = &a->linear; /* with mips: refused below */
     if (cli_given(&args, "--padding") && !(a->ao.padding > 0))
         a->ao.padding = -1; /* 0 means the default in sk_atlas_opts */
     a->ao.seed = cli_given(&args, "--seed") ? a->po.seed : 1;
@@ -258,7 +265,7 @@ static int parse_args(int argc, char **argv, param_args *a)
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
         a->atlas |= cli_given(&args, atlas_only[k]);
     static const char *const disk_only[] = {"--flat", "--hierarchical", "--boundary",
-                                            "--spacing", "--steps", "--solver"};
+                                            "--spacing", "--steps", "--solver", "--amg-from"};
     bool disk = given_method && a->po.method != SK_PARAM_MIPS;
     for (size_t k = 0; k < sizeof disk_only / sizeof disk_only[0]; ++k)
         disk |= cli_given(&args, disk_only[k]);

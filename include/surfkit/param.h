@@ -95,18 +95,26 @@ typedef enum {
                                mean value) preconditioned by a V-cycle on each finer level until
                                the relative residual reaches `tolerance`; the same system as
                                direct (see coarse_vertices for small meshes). */
-    SK_LINEAR_AMG           /* algebraic multigrid: aggregates of the matrix graph (pairwise
+    SK_LINEAR_AMG,          /* algebraic multigrid: aggregates of the matrix graph (pairwise
                                heavy-edge matching twice per level), piecewise-constant
                                prolongation, Galerkin operators down to a few thousand unknowns
                                factored directly, the same V-cycle and Krylov methods as
                                hierarchical; no progressive mesh to build */
+    SK_LINEAR_AUTO          /* AMG for systems of at least `auto_vertices` free vertices (the
+                               crossover measured per method, docs/linear.md), direct below; an
+                               AMG solve that does not converge is redone directly. The stats
+                               say which ran. */
 } sk_linear_solver;
+
+/* "direct", "gauss-seidel", "hierarchical", "amg", "auto" ("unknown" else); static storage. */
+SK_API const char *sk_linear_solver_name(sk_linear_solver solver);
 
 /* Options of the linear methods; zero-initialized means every default. */
 typedef struct sk_param_opts {
     sk_param_method method;    /* 0 = Floater; SK_PARAM_MIPS is refused (SK_ERR_ARG) */
     sk_boundary_opts boundary; /* circle (default), square or given; ignored by LSCM */
-    sk_linear_solver solver;   /* LSCM: direct, hierarchical or AMG (Gauss-Seidel means direct) */
+    sk_linear_solver solver;   /* LSCM: direct, hierarchical, AMG or auto (Gauss-Seidel means
+                                  direct) */
     double tolerance;          /* Gauss-Seidel: largest update relative to the uv extent; 0 = 1e-10.
                                   Hierarchical, AMG: relative residual ||b - Ax|| / ||b||; 0 = 1e-12 */
     size_t max_iterations;     /* Gauss-Seidel sweeps; 0 = 10000. Hierarchical: finest-level
@@ -115,6 +123,8 @@ typedef struct sk_param_opts {
                                   this many vertices, and meshes with fewer than twice as many are
                                   solved directly; 0 = 20000. AMG: the coarsest level has at
                                   most this many vertices' unknowns; 0 = 3000 unknowns */
+    size_t auto_vertices;      /* auto: AMG from this many free vertices up, direct below;
+                                  0 = the method's measured crossover (SIZE_MAX: never AMG) */
     bool has_pins;             /* LSCM: pin these two vertices (else the farthest boundary pair) */
     uint32_t pins[2];
     sk_ordering ordering;      /* direct: fill-reducing ordering. AMD, METIS, GEOMETRIC: on the
@@ -132,9 +142,12 @@ typedef struct sk_param_stats {
                                hierarchical: analyse = hierarchy build, factor = prolongations,
                                Galerkin operators and the coarsest factor (factor_nnz), solve =
                                the Krylov iterations */
+    sk_linear_solver solver; /* the solver that ran: direct, Gauss-Seidel, hierarchical or AMG
+                                (never auto; hierarchical on a small mesh runs direct) */
     size_t iterations;      /* Gauss-Seidel sweeps, finest-level Krylov iterations (0 for direct) */
     size_t levels;          /* hierarchical: levels used (1 = solved directly) */
-    double residual;        /* hierarchical: final relative residual (largest over u and v) */
+    double residual;        /* final relative residual ||b - Ax|| / ||b|| (2-norm, largest over
+                               the right-hand sides); direct too (0 for Gauss-Seidel) */
     double check_seconds;   /* input check */
     double boundary_seconds;
     double weights_seconds; /* weights + matrix assembly */

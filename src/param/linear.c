@@ -86,6 +86,30 @@ static sk_ordering default_ordering(bool symmetric, unsigned dim, size_t n)
     return SK_ORDERING_DEFAULT;
 }
 
+/* The largest over the nrhs columns of ||b - a x|| / ||b|| (2-norm; 0 for b = 0). */
+static sk_status residual(const sk_sparse *a, size_t nrhs, const double *b, const double *x,
+                          double *res, sk_error *err)
+{
+    double *ax = sk__malloc_array(a->n ? a->n : 1, sizeof *ax);
+    if (!ax)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    *res = 0;
+    for (size_t c = 0; c < nrhs; ++c) {
+        const double *bc = b + c * a->n;
+        sk_sparse_multiply(a, x + c * a->n, ax);
+        double rr = 0, bb = 0;
+        for (size_t i = 0; i < a->n; ++i) {
+            double d = bc[i] - ax[i];
+            rr += d * d;
+            bb += bc[i] * bc[i];
+        }
+        if (bb > 0)
+            *res = fmax(*res, sqrt(rr / bb));
+    }
+    sk__free(ax);
+    return SK_OK;
+}
+
 sk_status sk__param_solve_direct(const sk_mesh *m, const sk_sparse *a, bool symmetric,
                                  const uint32_t *idx, unsigned dim, size_t nrhs, const double *rhs,
                                  double *x, const sk_param_opts *o, sk_param_stats *stats,
@@ -129,11 +153,62 @@ sk_status sk__param_solve_direct(const sk_mesh *m, const sk_sparse *a, bool symm
     if (solver && stats) {
         sk_solver_stats(solver, &stats->solve);
         stats->solve.analyse_seconds += stats->ordering_seconds; /* the ordering is analysis */
+        stats->solver = SK_LINEAR_DIRECT;
+        if (st == SK_OK)
+            st = residual(a, nrhs, rhs, x, &stats->residual, err);
     }
 done:
     sk_solver_destroy(&solver);
     sk__free(xyz);
     sk__free(perm);
+    return st;
+}
+
+/* SK_LINEAR_AUTO: free vertices from which AMG beats the direct solve (whole solve stage,
+ * interleaved runs on lion-head Loop x1..x3, docs/linear.md); SIZE_MAX: never. */
+static size_t auto_vertices(sk_param_method method)
+{
+    switch (method) {
+    case SK_PARAM_LSCM:
+        return SK_AUTO_VERTICES_LSCM;
+    case SK_PARAM_TUTTE:
+    case SK_PARAM_HARMONIC:
+        return SK_AUTO_VERTICES_SYMMETRIC;
+    default:
+        return SK_AUTO_VERTICES_LU;
+    }
+}
+
+static const char *const solver_names[] = {"direct", "gauss-seidel", "hierarchical", "amg",
+                                           "auto"};
+
+const char *sk_linear_solver_name(sk_linear_solver solver)
+{
+    return (unsigned)solver < sizeof solver_names / sizeof solver_names[0] ? solver_names[solver]
+                                                                          : "unknown";
+}
+
+sk_status sk__param_solve_route(const sk_mesh *m, sk_param_method method, const sk_sparse *a,
+                                bool symmetric, const uint32_t *idx, unsigned dim, size_t nrhs,
+                                const double *rhs, double *x, const sk_param_opts *o,
+                                sk_param_stats *stats, sk_error *err)
+{
+    sk_param_opts ro = *o;
+    if (ro.solver == SK_LINEAR_AUTO) {
+        size_t from = o->auto_vertices ? o->auto_vertices : auto_vertices(method);
+        ro.solver = a->n / dim >= from ? SK_LINEAR_AMG : SK_LINEAR_DIRECT;
+        if (!(ro.tolerance > 0))
+            ro.tolerance = SK_AUTO_TOLERANCE;
+    }
+    sk_status st;
+    if (ro.solver == SK_LINEAR_HIERARCHICAL)
+        return sk__param_solve_hierarchical(m, method, a, symmetric, idx, dim, nrhs, rhs, x, &ro,
+                                            stats, err);
+    if (ro.solver != SK_LINEAR_AMG)
+        return sk__param_solve_direct(m, a, symmetric, idx, dim, nrhs, rhs, x, &ro, stats, err);
+    st = sk__param_solve_amg(a, symmetric, dim, nrhs, rhs, x, &ro, stats, err);
+    if (st == SK_ERR_NUMERIC && o->solver == SK_LINEAR_AUTO) /* not converged: the sure way */
+        st = sk__param_solve_direct(m, a, symmetric, idx, dim, nrhs, rhs, x, &ro, stats, err);
     return st;
 }
 
@@ -183,8 +258,10 @@ sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetr
     if (o.solver == SK_LINEAR_GAUSS_SEIDEL) {
         double ts = sk_seconds();
         st = gauss_seidel(m, w, is_fixed, &o, uv, stats, err);
-        if (stats)
+        if (stats) {
             stats->solve_seconds = sk_seconds() - ts;
+            stats->solver = SK_LINEAR_GAUSS_SEIDEL;
+        }
         goto done;
     }
     /* assembly: row i = sum_j w_ij p_i - sum_{j free} w_ij p_j = sum_{j fixed} w_ij p_j */
@@ -231,13 +308,7 @@ sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetr
         stats->weights_seconds += t1 - t0;
     if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
         goto done;
-    if (o.solver == SK_LINEAR_HIERARCHICAL) {
-        st = sk__param_solve_hierarchical(m, o.method, a, symmetric, idx, 1, 2, rhs, x, &o, stats, err);
-    } else if (o.solver == SK_LINEAR_AMG) {
-        st = sk__param_solve_amg(a, symmetric, 1, 2, rhs, x, &o, stats, err);
-    } else {
-        st = sk__param_solve_direct(m, a, symmetric, idx, 1, 2, rhs, x, &o, stats, err);
-    }
+    st = sk__param_solve_route(m, o.method, a, symmetric, idx, 1, 2, rhs, x, &o, stats, err);
     if (stats)
         stats->solve_seconds = sk_seconds() - t1;
     if (st)

@@ -178,12 +178,9 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
     s.weights_seconds = t3 - t2;
     if ((st = sk__progress(o.progress, o.progress_user, 0.4, err)))
         goto done;
-    if (o.solver == SK_LINEAR_HIERARCHICAL)
-        st = sk__param_solve_hierarchical(m, SK_PARAM_LSCM, a, true, idx, 2, 1, rhs, x, &o, &s, err);
-    else if (o.solver == SK_LINEAR_AMG)
-        st = sk__param_solve_amg(a, true, 2, 1, rhs, x, &o, &s, err);
-    else
-        st = sk__param_solve_direct(m, a, true, idx, 2, 1, rhs, x, &o, &s, err);
+    if (o.solver == SK_LINEAR_GAUSS_SEIDEL)
+        o.solver = SK_LINEAR_DIRECT;
+    st = sk__param_solve_route(m, SK_PARAM_LSCM, a, true, idx, 2, 1, rhs, x, &o, &s, err);
     s.solve_seconds = sk_seconds() - t3;
     if (st)
         goto done;

@@ -36,6 +36,23 @@ sk_status sk__param_solve_amg(const sk_sparse *a, bool symmetric, unsigned dim, 
                               const double *rhs, double *x, const sk_param_opts *o,
                               sk_param_stats *stats, sk_error *err);
 
+/* SK_LINEAR_AUTO's default crossovers in free vertices (src/param/linear.c; docs/linear.md). */
+#define SK_AUTO_VERTICES_SYMMETRIC 250000
+#define SK_AUTO_VERTICES_LU 250000
+#define SK_AUTO_VERTICES_LSCM SIZE_MAX
+/* SK_LINEAR_AUTO's relative residual when AMG runs and opts->tolerance is 0: the direct uv to
+ * about 2e-9 of the layout (lion head Loop x2, Floater and mean value; 1e-9 gave 2e-8), a fifth
+ * fewer iterations than AMG's own 1e-12. */
+#define SK_AUTO_TOLERANCE 1e-10
+
+/* The solve of a parametrization system by o->solver (auto resolved per method and size, see
+ * SK_LINEAR_AUTO), arguments as sk__param_solve_hierarchical; fills stats->solver with the solver
+ * that ran. */
+sk_status sk__param_solve_route(const sk_mesh *m, sk_param_method method, const sk_sparse *a,
+                                bool symmetric, const uint32_t *idx, unsigned dim, size_t nrhs,
+                                const double *rhs, double *x, const sk_param_opts *o,
+                                sk_param_stats *stats, sk_error *err);
+
 /* Boundary loop of a disk as a vertex cycle, counter-clockwise around the surface (the loop of
  * boundary half-edges runs clockwise, so it is walked backwards); *verts is the caller's to
  * sk__free. Fails with SK_ERR_TOPOLOGY unless the mesh has exactly one boundary loop. */

@@ -1,5 +1,5 @@
 #!/bin/bash
-# surfkit param --solver direct|hierarchical|amg: accepted for the linear methods, rejected with
+# surfkit param --solver auto|direct|hierarchical|amg: accepted for the linear methods, rejected with
 # mips or an unknown value. The shared disks are under the size where the hierarchy starts (40000
 # vertices), so both give the same file here; the multilevel path itself is compared with the
 # direct one in tests/unit/test_param_linear_hierarchical.c.
@@ -44,8 +44,29 @@ diff = max(max(abs(x[0] - y[0]), abs(x[1] - y[1])) for x, y in zip(*vt))
 assert diff <= 1e-8, diff  # the uv are normalized to the unit square
 PY
 done
+# --solver auto (the default): amg from --amg-from free vertices up, direct below and for lscm
+# by default (the lion head Loop x1: 33k vertices, under the default crossover); the report
+# says which ran (solver.route), its iterations and residual
+for me in floater lscm; do
+    "$BIN" param "$TMP/lion1.off" -o "$TMP/d.obj" --method $me --json > "$TMP/d.json" || fail "$me auto"
+    "$BIN" param "$TMP/lion1.off" -o "$TMP/a.obj" --method $me --amg-from 20000 --json > "$TMP/a.json" || fail "$me auto amg"
+    "$BIN" param "$TMP/lion1.off" -o "$TMP/e.obj" --method $me --solver direct --amg-from 20000 --json > "$TMP/e.json" || fail "$me direct"
+    python3 - "$TMP/d.json" "$TMP/a.json" "$TMP/e.json" "$TMP/d.obj" "$TMP/a.obj" <<'PY' || fail "$me auto route"
+import json, sys
+d, a, e = (json.load(open(p))["solver"] for p in sys.argv[1:4])
+assert d["route"] == "direct" and d["iterations"] == 0 and 0 < d["residual"] <= 1e-12, d
+assert e["route"] == "direct", e
+assert a["route"] == "amg" and a["iterations"] >= 1 and a["residual"] <= 1e-10 and a["levels"] >= 2, a
+vt = [[tuple(map(float, l.split()[1:3])) for l in open(p) if l.startswith("vt ")] for p in sys.argv[4:6]]
+assert len(vt[0]) == len(vt[1]) > 30000
+diff = max(max(abs(x[0] - y[0]), abs(x[1] - y[1])) for x, y in zip(*vt))
+assert diff <= 1e-8, diff
+PY
+done
+cmp -s "$TMP/d.obj" "$TMP/e.obj" || fail "auto below the crossover is not the direct solve"
+"$BIN" param "$M/mushroom.off" -o "$TMP/x.obj" --method mips --amg-from 10 2> "$TMP/err"; [ $? = 2 ] || fail "mips + amg-from exit"
 "$BIN" param "$M/mushroom.off" -o "$TMP/x.obj" --solver nope 2> "$TMP/err"; [ $? = 2 ] || fail "bad solver exit"
-grep -q 'solver takes direct, hierarchical or amg' "$TMP/err" || fail "bad solver message: $(cat "$TMP/err")"
+grep -q 'solver takes auto, direct, hierarchical or amg' "$TMP/err" || fail "bad solver message: $(cat "$TMP/err")"
 "$BIN" param "$M/mushroom.off" -o "$TMP/x.obj" --method mips --solver direct 2> "$TMP/err"; [ $? = 2 ] || fail "mips + solver exit"
-"$BIN" param --help | grep -q -- '--solver direct|hierarchical|amg' || fail "help"
+"$BIN" param --help | grep -q -- '--solver auto|direct|hierarchical|amg' || fail "help"
 echo ok

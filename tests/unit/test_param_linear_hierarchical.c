@@ -155,6 +155,55 @@ static void test_small_mesh_direct(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* SK_LINEAR_AUTO: with the crossover below the mesh's free vertices it runs AMG (levels,
+ * iterations, its own tolerance 1e-10, the direct uv to 1e-8), at or above them direct (the
+ * same uv as direct, exactly, and a direct residual at rounding level); the default crossover
+ * keeps a small mesh direct and LSCM direct; an AMG solve that does not converge (budget of one
+ * iteration) is redone directly. */
+static void test_auto_route(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("three_peaks.off"));
+    size_t nv = m->num_vertices;
+    double *ud = calloc(2 * nv, sizeof *ud), *ua = calloc(2 * nv, sizeof *ua);
+    for (int method = SK_PARAM_TUTTE; method <= SK_PARAM_LSCM; ++method) {
+        sk_param_opts o = {0};
+        o.method = (sk_param_method)method;
+        o.coarse_vertices = 100;
+        sk_param_stats sd, sa;
+        assert_int_equal(sk_param_linear(m, &o, ud, &sd, NULL), SK_OK);
+        assert_int_equal(sd.solver, SK_LINEAR_DIRECT);
+        assert_true(sd.residual > 0 && sd.residual <= 1e-12);
+        o.solver = SK_LINEAR_AUTO;
+        o.auto_vertices = sd.interior / 2; /* AMG */
+        assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
+        assert_int_equal(sa.solver, SK_LINEAR_AMG);
+        assert_true(sa.levels >= 2 && sa.iterations >= 1 && sa.residual <= 1e-10);
+        assert_true(uv_difference(nv, ud, ua) <= 1e-8);
+        o.auto_vertices = sd.interior + 1; /* direct */
+        assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
+        assert_int_equal(sa.solver, SK_LINEAR_DIRECT);
+        assert_int_equal(sa.iterations, 0);
+        assert_memory_equal(ud, ua, 2 * nv * sizeof *ud);
+        o.auto_vertices = 0; /* the default crossover: far above this mesh */
+        assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
+        assert_int_equal(sa.solver, SK_LINEAR_DIRECT);
+        o.auto_vertices = 1;
+        o.max_iterations = 1; /* AMG stops unconverged: redone directly */
+        assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
+        assert_int_equal(sa.solver, SK_LINEAR_DIRECT);
+        assert_memory_equal(ud, ua, 2 * nv * sizeof *ud);
+        o.solver = SK_LINEAR_AMG; /* asked for by name: the failure is reported */
+        assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_ERR_NUMERIC);
+    }
+    assert_string_equal(sk_linear_solver_name(SK_LINEAR_AUTO), "auto");
+    assert_string_equal(sk_linear_solver_name(SK_LINEAR_AMG), "amg");
+    assert_string_equal(sk_linear_solver_name((sk_linear_solver)99), "unknown");
+    free(ud);
+    free(ua);
+    sk_mesh_destroy(&m);
+}
+
 /* Every ordering of both direct solvers, and the simplicial Cholesky, give the same solution of
  * a mesh system. */
 static void test_orderings_agree(void **state)
@@ -228,6 +277,7 @@ int main(void)
         cmocka_unit_test(test_amg_agrees_with_direct),
         cmocka_unit_test(test_tolerance_and_budget),
         cmocka_unit_test(test_small_mesh_direct),
+        cmocka_unit_test(test_auto_route),
         cmocka_unit_test(test_orderings_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -28,13 +28,14 @@
 #      ("atlas MESH PROGRAM faces charts seam_rel mips area_log flips overlaps util seconds
 #      peak_MB mirrored folds gutter"); SK_ATLAS_PEERS (default "blender blender@2 xatlas
 #      xatlas@2"); SK_ATLAS_BIG=0 skips the 0.8M mesh;
-#      XATLAS_TIMEOUT (seconds, default 1800); SK_ATLAS_SCRATCH (default build/bench_atlas);
+#      XATLAS_TIMEOUT (seconds, default 1800); SK_BUILD_DIR (default build); SK_ATLAS_SCRATCH (default build/bench_atlas);
 #      XATLAS_BIG=1 also runs xatlas on meshes over 200k triangles (skipped by default: hours).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target surfkit >/dev/null
-sk=./build/surfkit
+B=${SK_BUILD_DIR:-build}
+cmake -S . -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$B" -j2 --target surfkit >/dev/null
+sk=./$B/surfkit
 M=../shared/data/meshes
 T=${SK_ATLAS_SCRATCH:-build/bench_atlas}
 mkdir -p "$T"

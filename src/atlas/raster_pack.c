@@ -90,6 +90,7 @@ typedef struct raster {
     uint32_t top;         /* grid rows used by the last placement */
     uint32_t used_w, used_h; /* the placed charts' D: columns and rows from the grid's corner */
     int rule;             /* RULE_LOW_LEFT or RULE_SQUARE */
+    uint64_t work;        /* positions tested so far (the variants' budget) */
     int orients;          /* orientations tried */
     double rot[2 * ORIENTS]; /* cos, sin of each orientation's turn */
     bool nomem;
@@ -414,7 +415,7 @@ static uint32_t next_texel(const uint64_t *row, uint32_t x, uint32_t n, int want
 }
 
 /* Leftmost free position x < xend of D in grid row y (false when none). */
-static bool row_first(const raster *k, uint32_t y, uint32_t xend, uint32_t *bx)
+static bool row_first(raster *k, uint32_t y, uint32_t xend, uint32_t *bx)
 {
     uint32_t hint = 0;
     /* D's longest run must lie in a free span of its grid row: only those x are tried */
@@ -428,6 +429,7 @@ static bool row_first(const raster *k, uint32_t y, uint32_t xend, uint32_t *bx)
         if (e - s0 >= len)
             for (x = s0 - aa; x + aa + len <= e && x < xend;) {
                 uint32_t nx;
+                k->work++;
                 if (!collides(k, x, y, &nx, &hint)) {
                     *bx = x;
                     return true;
@@ -464,7 +466,7 @@ static uint32_t square_side(const raster *k, uint32_t x, uint32_t y)
 
 /* The lowest, then leftmost free position of D inside the square [0, lim)^2 of the grid that
  * comes before (y0, x0) (rows, then columns); false when none. */
-static bool low_left(const raster *k, uint32_t lim, uint32_t y0, uint32_t x0, uint32_t *bx,
+static bool low_left(raster *k, uint32_t lim, uint32_t y0, uint32_t x0, uint32_t *bx,
                      uint32_t *by)
 {
     const bitmap *d = &k->d;
@@ -486,7 +488,7 @@ static bool low_left(const raster *k, uint32_t lim, uint32_t y0, uint32_t x0, ui
  * the lowest, then leftmost; RULE_SQUARE the one that keeps the square from the grid's corner
  * around all placed charts smallest (inside the square so far when D fits there), then the
  * lowest, then leftmost. */
-static bool search(const raster *k, cand *b)
+static bool search(raster *k, cand *b)
 {
     const bitmap *d = &k->d;
     if (k->rule != RULE_SQUARE)
@@ -760,17 +762,22 @@ static double scale_search(raster *k, double s0, double s1, bool descend, int mo
     return k->nomem ? 0 : lo;
 }
 
-/* The packings tried: every orientation (all) or the two of each chart, the rule, the order. */
+/* The packings tried: every orientation (all) or the two of each chart, the rule, the order.
+ * The first two (each climbing with RASTER_TRIALS from the scale before) come first; the others,
+ * best first as measured on the shared meshes, while the positions they test stay within
+ * VARIANT_BUDGET times those of the first two. */
 static const struct variant {
     bool all;
     int rule, key;
 } variants[] = {
     {false, RULE_LOW_LEFT, KEY_AREA}, {true, RULE_LOW_LEFT, KEY_AREA},
+    {false, RULE_SQUARE, KEY_AREA},   {false, RULE_LOW_LEFT, KEY_SIDE},
     {true, RULE_SQUARE, KEY_AREA},    {true, RULE_LOW_LEFT, KEY_SIDE},
-    {true, RULE_SQUARE, KEY_SIDE},    {true, RULE_LOW_LEFT, KEY_PERIM},
-    {true, RULE_SQUARE, KEY_PERIM},   {false, RULE_SQUARE, KEY_AREA},
-    {false, RULE_LOW_LEFT, KEY_SIDE},
+    {true, RULE_SQUARE, KEY_SIDE},    {true, RULE_SQUARE, KEY_PERIM},
+    {true, RULE_LOW_LEFT, KEY_PERIM},
 };
+#define BASE_VARIANTS 2
+#define VARIANT_BUDGET 1
 
 sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double *uv,
                           double *scale, bool *ok, sk_error *err)
@@ -785,19 +792,24 @@ sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double 
      * greedy placement may do worse with more choice, so the largest scale wins */
     int most = k.orients;
     double best = 0;
-    size_t won = 0;
-    for (size_t v = 0; v <= sizeof variants / sizeof variants[0] && !k.nomem; ++v) {
-        bool last = v == sizeof variants / sizeof variants[0]; /* the winner once more, finer */
+    size_t won = 0, nv = sizeof variants / sizeof variants[0];
+    uint64_t budget = 0;
+    for (size_t v = 0; v <= nv && !k.nomem; ++v) {
+        bool last = v == nv; /* the winner once more, finer (when it had fewer trials) */
         const struct variant *var = variants + (last ? won : v);
-        if (v > 0 && var->all && most == 2)
+        if ((v > 0 && var->all && most == 2) || (last && won < BASE_VARIANTS))
+            continue;
+        if (v == BASE_VARIANTS)
+            budget = VARIANT_BUDGET * k.work + k.work;
+        if (v >= BASE_VARIANTS && !last && k.work > budget)
             continue;
         k.orients = var->all ? most : 2;
         k.rule = var->rule;
         k.key = var->key;
         memset(k.pl, 0, in->nc * sizeof(place));
-        double from = v == 0 ? s0 : best * (last ? FINAL_GAIN : VARIANT_GAIN);
-        double lo = scale_search(&k, from, s1, v == 0,
-                                 v && !last ? VARIANT_TRIALS : RASTER_TRIALS);
+        bool extra = v >= BASE_VARIANTS && !last;
+        double from = v == 0 ? s0 : last ? best * FINAL_GAIN : extra ? best * VARIANT_GAIN : best;
+        double lo = scale_search(&k, from, s1, v == 0, extra ? VARIANT_TRIALS : RASTER_TRIALS);
         if (lo > best) {
             memcpy(k.pl, k.best, in->nc * sizeof(place));
             write_uv(&k, lo * (double)in->res, uv);

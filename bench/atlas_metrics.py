@@ -7,7 +7,9 @@ charts (faces joined across an edge whose two ends have the same vt on both side
 sigma2/sigma1 per triangle), area-log mean (mean |log((A_uv / sum A_uv) / (A / sum A))|), flips
 (uv orientation <= 0, exact; also mirrored charts, whose triangles are mostly clockwise, and
 folds, triangles against their own chart's orientation), overlaps (pairs of uv triangles whose interiors meet: grid buckets,
-separating-axis test with exact rational orientation), utilization (uv area / unit square).
+separating-axis test with exact rational orientation), utilization (uv area / unit square), gutter
+(the smallest distance between the uv boundary edges of two different charts, in texels at 1024:
+1 texel = 1/1024 of the unit square; capped at GAP_CAP texels).
 Prints one JSON line. Written for this benchmark; shares no code with surfkit.
 """
 import json
@@ -102,6 +104,55 @@ def count_overlaps(tri):
     return count
 
 
+GAP_CAP = 16.0  # texels at 1024: a gutter wider than this is reported as this
+
+
+def seg_point(p, a, b):
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    ll = dx * dx + dy * dy
+    t = 0.0 if ll == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / ll))
+    return math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
+
+
+def seg_seg(a, b, c, d):
+    def side(p, q, r):
+        v = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+        return (v > 0) - (v < 0)
+
+    if side(a, b, c) * side(a, b, d) < 0 and side(c, d, a) * side(c, d, b) < 0:
+        return 0.0
+    return min(seg_point(c, a, b), seg_point(d, a, b), seg_point(a, c, d), seg_point(b, c, d))
+
+
+def min_gutter(segs):
+    """segs: (chart, a, b) boundary edges; the smallest distance between two charts' edges, in
+    texels at 1024, found in a grid of GAP_CAP-texel cells (each edge in every cell its box
+    touches), capped at GAP_CAP."""
+    cap = GAP_CAP / 1024
+    grid = {}
+    for i, (_, a, b) in enumerate(segs):
+        for x in range(int(math.floor(min(a[0], b[0]) / cap)), int(math.floor(max(a[0], b[0]) / cap)) + 1):
+            for y in range(int(math.floor(min(a[1], b[1]) / cap)), int(math.floor(max(a[1], b[1]) / cap)) + 1):
+                grid.setdefault((x, y), []).append(i)
+    best = cap
+    for (x, y), items in grid.items():
+        others = []
+        for dx, dy in ((0, 0), (1, -1), (1, 0), (1, 1), (0, 1)):
+            others.append(grid.get((x + dx, y + dy), ()))
+        for k, group in enumerate(others):
+            for ii, i in enumerate(items):
+                ci, a, b = segs[i]
+                for j in (group[ii + 1:] if k == 0 else group):
+                    cj, c, d = segs[j]
+                    if ci == cj:
+                        continue
+                    if (min(a[0], b[0]) - max(c[0], d[0]) >= best or min(c[0], d[0]) - max(a[0], b[0]) >= best or
+                            min(a[1], b[1]) - max(c[1], d[1]) >= best or min(c[1], d[1]) - max(a[1], b[1]) >= best):
+                        continue
+                    best = min(best, seg_seg(a, b, c, d))
+    return best * 1024
+
+
 def sub(a, b):
     return [a[k] - b[k] for k in range(len(a))]
 
@@ -167,6 +218,14 @@ def metrics(path):
         else:
             seam += norm(sub(V[a], V[b]))
     charts = len({find(f) for f in range(nf)})
+    # the charts' uv boundary: a face side whose uv edge no other face of its chart shares
+    uses = {}
+    for f in range(nf):
+        for k in range(3):
+            ta, tb = FT[f][k], FT[f][(k + 1) % 3]
+            key = (find(f), min(ta, tb), max(ta, tb))
+            uses[key] = uses.get(key, 0) + 1
+    segs = [(c, T[a], T[b]) for (c, a, b), n in uses.items() if n == 1]
     # a chart laid out mirrored (most of its triangles clockwise) is a reflection, not a fold:
     # "flipped" counts every clockwise or degenerate uv triangle, "folds" only those whose
     # orientation differs from their own chart's majority (or is degenerate)
@@ -180,6 +239,7 @@ def metrics(path):
         "file": path, "faces": nf, "charts": charts, "seam_length_rel": seam / math.sqrt(A3),
         "mips_mean": sum(mips) / nf, "area_log_mean": sum(alog) / nf, "flipped": flips,
         "mirrored_charts": mirrored, "folds": folds, "overlaps": count_overlaps(tri), "utilization": AUV,
+        "gutter_texels": min_gutter(segs),
         "uv_in_unit_square": all(0 <= x <= 1 for t in T for x in t),
     }
 

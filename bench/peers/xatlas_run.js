@@ -9,7 +9,12 @@
 //   XATLAS_PIECES n    (1 unless the mesh has more than 65,536 vertices, see below)
 // xatlas-web 0.1.0's generateAtlas takes no options: xatlas's defaults (chart growing, LSCM /
 // piecewise parametrization, padding 0, one atlas sized from the texel density).
-// Usage: node bench/peers/xatlas_run.js IN.obj OUT.obj
+// With --padding P [--resolution R] it runs xatlasjs instead (npm `xatlasjs` 0.2.0, the same
+// xatlas with its options bound, built for node: no browser): xatlas's defaults but for
+// PackOptions padding = P texels and resolution = R (default 1024), the gutter of surfkit's
+// --padding P --resolution R; the atlas xatlas makes may be smaller than R (it trims the unused
+// part), so the gutter in the unit square is P / max(W, H) (bench/atlas_metrics.py measures it).
+// Usage: node bench/peers/xatlas_run.js IN.obj OUT.obj [--padding P [--resolution R]]
 "use strict";
 const fs = require("fs");
 const http = require("http");
@@ -17,8 +22,13 @@ const path = require("path");
 const { spawn } = require("child_process");
 
 const [src, dst] = process.argv.slice(2);
-if (!src || !dst) {
-  console.error("usage: xatlas_run.js IN.obj OUT.obj");
+const optArg = (name) => {
+  const i = process.argv.indexOf(name);
+  return i > 0 && i + 1 < process.argv.length ? parseFloat(process.argv[i + 1]) : NaN;
+};
+const padding = optArg("--padding"), resolution = optArg("--resolution");
+if (!src || !dst || (process.argv.length > 4 && !(padding >= 0))) {
+  console.error("usage: xatlas_run.js IN.obj OUT.obj [--padding P [--resolution R]]");
   process.exit(2);
 }
 const dist = path.join(__dirname, "..", "node_modules", "xatlas-web", "dist");
@@ -113,6 +123,42 @@ for (const p of parts) {
   for (const i of p.idx) { mesh.writeUInt32LE(i, at); at += 4; }
 }
 
+// xatlasjs in node: the same atlas as the page makes, options set; the result goes through
+// writeObj in the page's layout (per piece: counts, xref, uv, indices).
+function runNode() {
+  const create = require(path.join(__dirname, "..", "node_modules", "xatlasjs", "dist", "node", "xatlas.js"));
+  create({ print: () => {}, printErr: () => {} }).then((M) => {
+    const t0 = performance.now();
+    M.createAtlas();
+    const infos = parts.map((p) => {
+      const info = M.createMesh(p.verts.length, 3 * p.faces.length, false, false);
+      for (let i = 0; i < p.verts.length; ++i)
+        for (let k = 0; k < 3; ++k) M.HEAPF32[info.positionOffset / 4 + 3 * i + k] = P[3 * p.verts[i] + k];
+      M.HEAPU16.set(p.idx, info.indexOffset / 2);
+      M.addMesh();
+      return info;
+    });
+    const pack = Object.assign(M.defaultPackOptions(), { padding: padding,
+      resolution: resolution > 0 ? resolution : 1024 });
+    M.generateAtlas(M.defaultChartOptions(), pack);
+    const outs = infos.map((info) => M.getMeshData(info.meshId));
+    const t1 = performance.now();
+    const atlas = M.getAtlas();
+    const chunks = [];
+    for (const o of outs) {
+      const n = o.newVertexCount, ni = o.newIndexCount, head = Buffer.alloc(8);
+      head.writeUInt32LE(n, 0);
+      head.writeUInt32LE(ni, 4);
+      chunks.push(head, Buffer.from(M.HEAPU32.slice(o.originalIndexOffset / 4, o.originalIndexOffset / 4 + n).buffer),
+        Buffer.from(M.HEAPF32.slice(o.uvOffset / 4, o.uvOffset / 4 + 2 * n).buffer),
+        Buffer.from(M.HEAPU32.slice(o.indexOffset / 4, o.indexOffset / 4 + ni).buffer));
+    }
+    if (atlas.atlasCount !== 1) throw new Error("xatlas made " + atlas.atlasCount + " atlases");
+    writeObj(Buffer.concat(chunks), new URLSearchParams({ width: atlas.width, height: atlas.height,
+      seconds: (t1 - t0) / 1000, heap_mb: M.HEAPU8.length / 1048576 }));
+  }).catch((e) => { console.error("xatlas_run: " + e); process.exit(1); });
+}
+
 const files = {
   "/index.html": [path.join(__dirname, "xatlas_page.html"), "text/html"],
   "/xatlas-web.js": [path.join(dist, "xatlas-web.js"), "text/javascript"],
@@ -166,7 +212,7 @@ function writeObj(body, query) {
   console.log("XATLAS_PIECES " + parts.length);
   console.log("XATLAS_ATLAS " + W + "x" + H);
 }
-const server = http.createServer((req, res) => {
+const server = padding >= 0 ? null : http.createServer((req, res) => {
   const url = new URL(req.url, "http://127.0.0.1");
   if (req.method === "GET") {
     if (url.pathname === "/mesh.bin") {
@@ -204,7 +250,8 @@ const server = http.createServer((req, res) => {
     }
   });
 });
-server.listen(0, "127.0.0.1", () => {
+if (padding >= 0) runNode();
+else server.listen(0, "127.0.0.1", () => {
   const port = server.address().port;
   const profile = fs.mkdtempSync(path.join(require("os").tmpdir(), "sk-xatlas-"));
   browser = spawn(chromium, ["--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run",

@@ -1,10 +1,15 @@
 /* Chart-shaped packing on a texel grid: at a trial scale every chart's outline (its boundary
  * edges, conservatively rasterized, and the texels whose centre lies inside, even-odd) becomes a
- * bitmap C, dilated by the padding into D. Charts, largest first, go to the lowest, then leftmost
- * grid position where their D misses every placed chart's C (64 texels per word, a colliding row
- * skips the search past its last colliding texel, rows whose longest free run is too short skip
- * whole heights), trying two orientations (the chart's own and its smallest-box one) in four
- * quarter turns each. The common scale is bisected from the box packer's. Two points of different
+ * bitmap C, dilated by the padding into D. Charts, in one order (largest first by outline area,
+ * by the smallest box's longer side or by its perimeter), go where their D misses every placed
+ * chart's C (64 texels per word, a colliding row skips the search past its last colliding texel,
+ * rows whose longest free run is too short skip whole heights), by one of two rules: the lowest,
+ * then leftmost position, or the position that keeps the square from the grid's corner around all
+ * placed charts smallest (inside it when D fits there: concave voids and holes first; then the
+ * least growth), trying two orientations (the chart's own and its smallest-box one) in four
+ * quarter turns each, and for few charts 5 angles more. The common scale is bisected from the box
+ * packer's; the variants (orientations x rule x order) each start from the best scale so far and
+ * the largest scale wins; its variant is searched once more, finer. Two points of different
  * charts lie in texels at least padding + 1 apart in x or y, so at least padding texels apart. */
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
@@ -20,8 +25,14 @@
 #define FEW_CHARTS 24
 #define EXTRA_ANGLES 5
 #define ORIENTS (2 + EXTRA_ANGLES)
+/* a variant after the first starts at the best scale so far times this (and stops when that
+ * does not fit) */
+#define VARIANT_GAIN 1.003
+/* the winning variant is tried once more from the best scale times this, with RASTER_TRIALS */
+#define FINAL_GAIN 1.001
 /* placements tried per packing (each at one scale) */
 #define RASTER_TRIALS 10
+#define VARIANT_TRIALS 5
 
 typedef struct bitmap {
     uint32_t w, h, words; /* texels per row, rows, words per row */
@@ -42,6 +53,16 @@ typedef struct crossing {
     double x;
 } crossing;
 
+typedef struct cand { /* a free position of D and the square side it leaves (RULE_SQUARE) */
+    uint32_t x, y, side;
+} cand;
+
+/* how a chart's position is chosen among the free ones (see search) */
+enum { RULE_LOW_LEFT, RULE_SQUARE };
+/* the orders of the charts tried: largest first by outline area, the smallest box's longer side,
+ * its perimeter */
+enum { KEY_AREA, KEY_SIDE, KEY_PERIM, KEYS };
+
 typedef struct place {
     uint8_t orient, turn;
     uint32_t x, y; /* grid position of D */
@@ -60,12 +81,16 @@ typedef struct raster {
     size_t runs_cap;
     crossing *cross;
     size_t cross_cap;
-    uint32_t *order;      /* charts, largest first */
+    uint32_t *order;      /* KEYS orders of the charts, largest first */
+    int key;              /* the order in use */
     double *lo;           /* 2 orientations x 2 (min x, min y) per chart */
     double *ext;          /* 2 orientations x 2 (width, height) per chart */
     place *pl;            /* per chart */
     place *best;          /* per chart: the placement at the largest scale that fitted */
     uint32_t top;         /* grid rows used by the last placement */
+    uint32_t used_w, used_h; /* the placed charts' D: columns and rows from the grid's corner */
+    int rule;             /* RULE_LOW_LEFT or RULE_SQUARE */
+    uint64_t work;        /* positions tested so far (the variants' budget) */
     int orients;          /* orientations tried */
     double rot[2 * ORIENTS]; /* cos, sin of each orientation's turn */
     bool nomem;
@@ -389,54 +414,112 @@ static uint32_t next_texel(const uint64_t *row, uint32_t x, uint32_t n, int want
     return n;
 }
 
-/* Lowest, then leftmost free position of D with y <= *by (and x < *bx at y == *by). */
-static bool search(const raster *k, uint32_t *bx, uint32_t *by)
+/* Leftmost free position x < xend of D in grid row y (false when none). */
+static bool row_first(raster *k, uint32_t y, uint32_t xend, uint32_t *bx)
+{
+    uint32_t hint = 0;
+    /* D's longest run must lie in a free span of its grid row: only those x are tried */
+    const uint64_t *g = k->occ + (size_t)(y + k->anchor_row) * k->gw;
+    uint32_t aa = k->runs[k->anchor].a, len = k->runs[k->anchor].b - aa + 1;
+    for (uint32_t x = 0; x < xend;) {
+        uint32_t s0 = next_texel(g, x + aa, k->grid, 0);
+        if (s0 >= k->grid)
+            return false;
+        uint32_t e = next_texel(g, s0, k->grid, 1);
+        if (e - s0 >= len)
+            for (x = s0 - aa; x + aa + len <= e && x < xend;) {
+                uint32_t nx;
+                k->work++;
+                if (!collides(k, x, y, &nx, &hint)) {
+                    *bx = x;
+                    return true;
+                }
+                x = nx;
+            }
+        if (e >= k->grid)
+            return false;
+        x = e - aa > x ? e - aa : x; /* on to the next span */
+    }
+    return false;
+}
+
+/* Is row y of the grid too full for D anywhere (some row's longest free run too short)? */
+static bool rows_full(const raster *k, uint32_t y, uint32_t *tight)
+{
+    if (k->maxfree[y + *tight] < k->info[*tight].run)
+        return true;
+    for (uint32_t j = 0; j < k->d.h; ++j)
+        if (k->maxfree[y + j] < k->info[j].run) {
+            *tight = j;
+            return true;
+        }
+    return false;
+}
+
+/* The side of the square from the grid's corner that holds the placed charts and D at (x, y). */
+static uint32_t square_side(const raster *k, uint32_t x, uint32_t y)
+{
+    uint32_t s = k->used_w > k->used_h ? k->used_w : k->used_h;
+    s = x + k->d.w > s ? x + k->d.w : s;
+    return y + k->d.h > s ? y + k->d.h : s;
+}
+
+/* The lowest, then leftmost free position of D inside the square [0, lim)^2 of the grid that
+ * comes before (y0, x0) (rows, then columns); false when none. */
+static bool low_left(raster *k, uint32_t lim, uint32_t y0, uint32_t x0, uint32_t *bx,
+                     uint32_t *by)
 {
     const bitmap *d = &k->d;
-    if (d->w > k->grid || d->h > k->grid)
+    if (d->w > lim || d->h > lim)
         return false;
-    uint32_t ymax = k->grid - d->h, xmax = k->grid - d->w;
-    if (*by < ymax)
-        ymax = *by;
-    uint32_t tight = 0; /* the row of D that last found its grid row too full: tried first */
+    uint32_t ymax = lim - d->h, xmax = lim - d->w, tight = 0;
+    ymax = y0 < ymax ? y0 : ymax;
     for (uint32_t y = 0; y <= ymax; ++y) {
-        if (k->maxfree[y + tight] < k->info[tight].run)
-            continue;
-        bool room = true;
-        for (uint32_t j = 0; j < d->h && room; ++j)
-            if (k->maxfree[y + j] < k->info[j].run) {
-                room = false;
-                tight = j;
-            }
-        if (!room)
-            continue;
-        uint32_t xend = y == *by ? *bx : xmax + 1, hint = 0;
-        if (xend > xmax + 1)
-            xend = xmax + 1;
-        /* D's longest run must lie in a free span of its grid row: only those x are tried */
-        const uint64_t *g = k->occ + (size_t)(y + k->anchor_row) * k->gw;
-        uint32_t aa = k->runs[k->anchor].a, len = k->runs[k->anchor].b - aa + 1;
-        for (uint32_t x = 0; x < xend;) {
-            uint32_t s0 = next_texel(g, x + aa, k->grid, 0);
-            if (s0 >= k->grid)
-                break;
-            uint32_t e = next_texel(g, s0, k->grid, 1);
-            if (e - s0 >= len)
-                for (x = s0 - aa; x + aa + len <= e && x < xend;) {
-                    uint32_t nx;
-                    if (!collides(k, x, y, &nx, &hint)) {
-                        *bx = x;
-                        *by = y;
-                        return true;
-                    }
-                    x = nx;
-                }
-            if (e >= k->grid)
-                break;
-            x = e - aa > x ? e - aa : x; /* on to the next span */
+        uint32_t xend = y == y0 && x0 < xmax + 1 ? x0 : xmax + 1;
+        if (!rows_full(k, y, &tight) && row_first(k, y, xend, bx)) {
+            *by = y;
+            return true;
         }
     }
     return false;
+}
+
+/* A free position of D better than *b (b->side UINT32_MAX: none yet) by the rule: RULE_LOW_LEFT
+ * the lowest, then leftmost; RULE_SQUARE the one that keeps the square from the grid's corner
+ * around all placed charts smallest (inside the square so far when D fits there), then the
+ * lowest, then leftmost. */
+static bool search(raster *k, cand *b)
+{
+    const bitmap *d = &k->d;
+    if (k->rule != RULE_SQUARE)
+        return low_left(k, k->grid, b->y, b->x, &b->x, &b->y);
+    uint32_t used = k->used_w > k->used_h ? k->used_w : k->used_h, x, y;
+    if (b->side <= used) /* b is inside: only a lower, then more left place inside is better */
+        return low_left(k, used, b->y, b->x, &b->x, &b->y);
+    if (low_left(k, used, UINT32_MAX, UINT32_MAX, &x, &y)) {
+        *b = (cand){x, y, used};
+        return true;
+    }
+    /* D grows the square: the smallest side, row by row (the leftmost place of each) */
+    bool found = false;
+    uint32_t tight = 0;
+    for (y = 0; d->h <= k->grid && d->w <= k->grid && y <= k->grid - d->h; ++y) {
+        uint32_t xend = k->grid - d->w + 1;
+        if (b->side != UINT32_MAX) { /* later rows, columns: larger squares */
+            if (y + d->h > b->side || d->w > b->side)
+                break;
+            if (b->side - d->w + 1 < xend)
+                xend = b->side - d->w + 1;
+        }
+        if (rows_full(k, y, &tight) || !row_first(k, y, xend, &x))
+            continue;
+        uint32_t side = square_side(k, x, y);
+        if (side < b->side || (side == b->side && (y < b->y || (y == b->y && x < b->x)))) {
+            *b = (cand){x, y, side};
+            found = true;
+        }
+    }
+    return found;
 }
 
 static uint32_t longest_free(const uint64_t *row, uint32_t n)
@@ -482,8 +565,7 @@ static void stamp(raster *k, uint32_t x, uint32_t y)
 }
 
 /* Tries chart c in orientation o, turn t at texel factor f against the best position so far. */
-static bool try_candidate(raster *k, uint32_t c, int o, int t, double f, uint32_t *bx,
-                          uint32_t *by)
+static bool try_candidate(raster *k, uint32_t c, int o, int t, double f, cand *b)
 {
     uint32_t w, h, p = k->in->pad;
     chart_dims(k, c, o, t, f, &w, &h);
@@ -493,7 +575,7 @@ static bool try_candidate(raster *k, uint32_t c, int o, int t, double f, uint32_
     if (k->nomem)
         return false;
     dilate(k, p);
-    return !k->nomem && search(k, bx, by);
+    return !k->nomem && search(k, b);
 }
 
 /* Places every chart at texel factor f; true when all fit (positions in k->pl, the highest row
@@ -504,26 +586,36 @@ static bool place_all(raster *k, double f)
     memset(k->occ, 0, (size_t)k->grid * k->gw * sizeof(uint64_t));
     for (uint32_t j = 0; j < k->grid; ++j)
         k->maxfree[j] = k->grid;
-    k->top = 0;
+    k->top = k->used_w = k->used_h = 0;
+    const uint32_t *order = k->order + (size_t)k->key * k->in->nc;
     for (size_t i = 0; i < k->in->nc; ++i) {
-        uint32_t c = k->order[i], bx = UINT32_MAX, by = UINT32_MAX;
+        uint32_t c = order[i];
+        cand b = {UINT32_MAX, UINT32_MAX, UINT32_MAX};
         int first = 4 * k->pl[c].orient + k->pl[c].turn, best = -1;
         for (int n = -1; n < 4 * k->orients; ++n) {
-            int cand = n < 0 ? first : n;
+            int o = n < 0 ? first : n;
             if (n == first)
                 continue;
-            if (try_candidate(k, c, cand / 4, cand % 4, f, &bx, &by))
-                best = cand;
+            if (try_candidate(k, c, o / 4, o % 4, f, &b))
+                best = o;
             if (k->nomem)
                 return false;
         }
         if (best < 0)
             return false;
         raster_chart(k, c, best / 4, best % 4, f);
-        stamp(k, bx + p, by + p);
-        k->pl[c] = (place){(uint8_t)(best / 4), (uint8_t)(best % 4), bx, by};
-        if (by + 2 * p + k->c.h > k->top)
-            k->top = by + 2 * p + k->c.h;
+        stamp(k, b.x + p, b.y + p);
+        k->pl[c] = (place){(uint8_t)(best / 4), (uint8_t)(best % 4), b.x, b.y};
+        uint32_t w = b.x + 2 * p + k->c.w, h = b.y + 2 * p + k->c.h;
+        k->used_w = w > k->used_w ? w : k->used_w;
+        k->used_h = h > k->used_h ? h : k->used_h;
+    }
+    /* the rows a full-width packing of the same area would use (the scale step's estimate) */
+    if (k->rule == RULE_SQUARE) {
+        uint32_t side = k->used_w > k->used_h ? k->used_w : k->used_h;
+        k->top = (uint32_t)ceil((double)side * side / k->grid);
+    } else {
+        k->top = k->used_h;
     }
     return true;
 }
@@ -550,7 +642,7 @@ static sk_status raster_init(raster *k, const sk__raster_in *in, sk_error *err)
     k->tmp.bits = sk__malloc_array(bm, sizeof(uint64_t));
     k->wide = sk__malloc_array(side / 64 + 2, sizeof(uint64_t));
     k->info = sk__malloc_array(side, sizeof(row_info));
-    k->order = sk__malloc_array(nc ? nc : 1, sizeof(uint32_t));
+    k->order = sk__malloc_array(KEYS * (nc ? nc : 1), sizeof(uint32_t));
     k->orients = nc <= FEW_CHARTS ? ORIENTS : 2;
     for (int o = 0; o < ORIENTS; ++o) {
         double a = o < 2 ? 0 : (o - 1) * (M_PI / 2) / (EXTRA_ANGLES + 1);
@@ -583,12 +675,18 @@ static sk_status raster_init(raster *k, const sk__raster_in *in, sk_error *err)
                 k->ext[2 * (ORIENTS * c + (size_t)o) + (size_t)a] = hi[a] - lo[a];
             }
         }
-        keys[2 * c] = in->area[c];
-        keys[2 * c + 1] = (double)c;
     }
-    qsort(keys, nc, 2 * sizeof(double), cmp_area);
-    for (size_t i = 0; i < nc; ++i)
-        k->order[i] = (uint32_t)keys[2 * i + 1];
+    for (int key = 0; key < KEYS; ++key) { /* the orders, largest first */
+        for (size_t c = 0; c < nc; ++c) {
+            const double *e = k->ext + 2 * (ORIENTS * c + 1); /* the smallest box */
+            keys[2 * c] = key == KEY_AREA ? in->area[c] : key == KEY_SIDE ? fmax(e[0], e[1])
+                                                                          : e[0] + e[1];
+            keys[2 * c + 1] = (double)c;
+        }
+        qsort(keys, nc, 2 * sizeof(double), cmp_area);
+        for (size_t i = 0; i < nc; ++i)
+            k->order[(size_t)key * nc + i] = (uint32_t)keys[2 * i + 1];
+    }
     sk__free(keys);
     return SK_OK;
 }
@@ -630,7 +728,7 @@ static void write_uv(const raster *k, double f, double *uv)
 /* The largest scale (returned; 0 when none fits) at which every chart is placed, searched from
  * s0 (lowered by 5% steps while nothing fits when descend) below the bound s1; its placement in
  * k->best. */
-static double scale_search(raster *k, double s0, double s1, bool descend)
+static double scale_search(raster *k, double s0, double s1, bool descend, int most)
 {
     double res = (double)k->in->res, lo = 0, hi = s1, top = 0;
     int trials = 0;
@@ -649,7 +747,7 @@ static double scale_search(raster *k, double s0, double s1, bool descend)
      * bisection once the step lands past a failure; stops within 0.2% (0.5% above FEW_CHARTS
      * charts, where a trial costs more) */
     double tol = k->in->nc <= FEW_CHARTS ? 1.002 : 1.005;
-    for (; lo > 0 && !k->nomem && trials < RASTER_TRIALS && hi > lo * tol; trials++) {
+    for (; lo > 0 && !k->nomem && trials < most && hi > lo * tol; trials++) {
         double s = lo * sqrt((double)k->grid / fmax(top, 1.0)) * 0.998;
         if (!(s > lo * 1.001) || s >= hi * 0.999)
             s = 0.5 * (lo + hi);
@@ -664,6 +762,23 @@ static double scale_search(raster *k, double s0, double s1, bool descend)
     return k->nomem ? 0 : lo;
 }
 
+/* The packings tried: every orientation (all) or the two of each chart, the rule, the order.
+ * The first two (each climbing with RASTER_TRIALS from the scale before) come first; the others,
+ * best first as measured on the shared meshes, while the positions they test stay within
+ * VARIANT_BUDGET times those of the first two. */
+static const struct variant {
+    bool all;
+    int rule, key;
+} variants[] = {
+    {false, RULE_LOW_LEFT, KEY_AREA}, {true, RULE_LOW_LEFT, KEY_AREA},
+    {false, RULE_SQUARE, KEY_AREA},   {false, RULE_LOW_LEFT, KEY_SIDE},
+    {true, RULE_SQUARE, KEY_AREA},    {true, RULE_LOW_LEFT, KEY_SIDE},
+    {true, RULE_SQUARE, KEY_SIDE},    {true, RULE_SQUARE, KEY_PERIM},
+    {true, RULE_LOW_LEFT, KEY_PERIM},
+};
+#define BASE_VARIANTS 2
+#define VARIANT_BUDGET 1
+
 sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double *uv,
                           double *scale, bool *ok, sk_error *err)
 {
@@ -673,18 +788,33 @@ sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double 
     sk_status st = raster_init(&k, in, err);
     if (st)
         goto done;
-    /* two orientations per chart; then, for few charts, all: the greedy placement may do worse
-     * with more choice, so the larger scale of the two wins */
+    /* the variants in turn, each from the best scale so far (the first from s0 down): the
+     * greedy placement may do worse with more choice, so the largest scale wins */
     int most = k.orients;
     double best = 0;
-    for (int v = 0; v < (most > 2 ? 2 : 1) && !k.nomem; ++v) {
-        k.orients = v ? most : 2;
+    size_t won = 0, nv = sizeof variants / sizeof variants[0];
+    uint64_t budget = 0;
+    for (size_t v = 0; v <= nv && !k.nomem; ++v) {
+        bool last = v == nv; /* the winner once more, finer (when it had fewer trials) */
+        const struct variant *var = variants + (last ? won : v);
+        if ((v > 0 && var->all && most == 2) || (last && won < BASE_VARIANTS))
+            continue;
+        if (v == BASE_VARIANTS)
+            budget = VARIANT_BUDGET * k.work + k.work;
+        if (v >= BASE_VARIANTS && !last && k.work > budget)
+            continue;
+        k.orients = var->all ? most : 2;
+        k.rule = var->rule;
+        k.key = var->key;
         memset(k.pl, 0, in->nc * sizeof(place));
-        double lo = scale_search(&k, v ? best : s0, s1, v == 0);
+        bool extra = v >= BASE_VARIANTS && !last;
+        double from = v == 0 ? s0 : last ? best * FINAL_GAIN : extra ? best * VARIANT_GAIN : best;
+        double lo = scale_search(&k, from, s1, v == 0, extra ? VARIANT_TRIALS : RASTER_TRIALS);
         if (lo > best) {
             memcpy(k.pl, k.best, in->nc * sizeof(place));
             write_uv(&k, lo * (double)in->res, uv);
             best = lo;
+            won = last ? won : v;
         }
         if (best == 0)
             break;

@@ -440,6 +440,12 @@ static void pending_clear(pending *p)
     p->cuv = NULL;
 }
 
+static int cmp_u64(const void *x, const void *y)
+{
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return (a > b) - (a < b);
+}
+
 /* Charts per wave at most (bounds the chart meshes held at once to about one mesh's size). */
 #define WAVE_MAX 4096
 
@@ -448,22 +454,22 @@ static void pending_clear(pending *p)
 static void param_wave(pending *b, size_t nb, double max_conf, double max_stretch, bool lscm_first,
                        double area_theta, uint64_t seed)
 {
+    /* largest charts first, so that no large solve starts last while the other threads idle
+     * (each chart's result depends only on the chart: the atlas is the same for any order) */
+    uint64_t order[WAVE_MAX];
+    for (size_t i = 0; i < nb; ++i)
+        order[i] = (uint64_t)(UINT32_MAX - b[i].chart->num_faces) << 32 | i;
+    qsort(order, nb, sizeof *order, cmp_u64);
     int blas = sk__blas_serial_begin();
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(dynamic, 1) if (nb > 1)
 #endif
     for (long i = 0; i < (long)nb; ++i) {
-        pending *p = b + i;
+        pending *p = b + (uint32_t)order[i];
         p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, area_theta, &p->cuv,
                            &p->q, &p->split, &p->s, &p->err);
     }
     sk__blas_serial_end(blas);
-}
-
-static int cmp_u64(const void *x, const void *y)
-{
-    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
-    return (a > b) - (a < b);
 }
 
 /* Neighbouring charts (c0 < c1) and the cost of merging them: their triangles together. */
@@ -983,6 +989,8 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     sk_atlas_opts o = {0};
     if (opts)
         o = *opts;
+    if (o.seed == 0)
+        o.seed = 1; /* as sk_parametrize_opts.seed: 0 and 1 are the same (the CLI's default) */
     double res = o.resolution ? (double)o.resolution : 1024.0;
     double pad = o.padding == 0 ? 2.0 : o.padding < 0 ? 0.0 : o.padding;
     double t0 = sk_seconds();

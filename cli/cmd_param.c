@@ -248,7 +248,7 @@ static int parse_args(int argc, char **argv, param_args *a)
         a->po.linear = &a->linear; /* with mips: refused below */
     if (cli_given(&args, "--padding") && !(a->ao.padding > 0))
         a->ao.padding = -1; /* 0 means the default in sk_atlas_opts */
-    a->ao.seed = cli_given(&args, "--seed") ? a->po.seed : 1;
+    a->ao.seed = a->po.seed; /* 0 (not given) and 1 are the same */
     a->in = cli_input(&args, 0);
     sk_format ofmt = sk_format_from_path(a->out);
     if (ofmt == SK_FORMAT_UNKNOWN)

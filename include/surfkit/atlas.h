@@ -63,7 +63,8 @@ typedef struct sk_atlas_opts {
      * its neighbour; the cube gets its 6 squares. 0 = 60 (the icosahedron's 41.8 stays smooth);
      * negative = off (the components are the first charts). */
     double crease_angle;
-    uint64_t seed;
+    uint64_t seed; /* the charts' MIPS sweep orders; 0 = 1 (0 and 1 are the same; the CLI's
+                      default) */
     sk_progress_fn progress;
     void *progress_user;
 } sk_atlas_opts;

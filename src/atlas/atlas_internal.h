@@ -19,6 +19,7 @@ typedef struct sk__chart_work {
     uint8_t *side;       /* per local face */
     uint32_t *tmp;       /* per face: partition buffer */
     double *centroid;    /* 3 per face */
+    double *fnormal;     /* 4 per face: the normal times the area, the area (coherence) */
     uint32_t *vcount;    /* per vertex: faces of the growing disk around it (zero between uses) */
 } sk__chart_work;
 

@@ -190,6 +190,7 @@ sk_status sk__chart_area(const sk_mesh *chart, uint64_t seed, double theta, doub
         o.max_sweeps = SK__CHART_AREA_LARGE_SWEEPS;
     }
     o.frozen_model = true;
+    o.frozen_keep = true;
     sk_error lerr = {0};
     sk_status st = sk_param_mips(chart, &o, uv, NULL, &lerr);
     if (st == SK_ERR_NOMEM || st == SK_ERR_CANCELLED) {

@@ -23,9 +23,10 @@ sk_status sk__chart_work_init(sk__chart_work *w, const sk_mesh *m, sk_error *err
     w->side = sk__malloc_array(nf, 1);
     w->tmp = sk__malloc_array(nf, sizeof(uint32_t));
     w->centroid = sk__malloc_array(3 * nf, sizeof(double));
+    w->fnormal = sk__malloc_array(4 * nf, sizeof(double));
     w->vcount = sk__calloc_array(m->num_vertices ? m->num_vertices : 1, sizeof(uint32_t));
     if (!w->vcount || !w->label || !w->parent || !w->local || !w->flocal || !w->dist || !w->heap ||
-        !w->heap_pos || !w->side || !w->tmp || !w->centroid) {
+        !w->heap_pos || !w->side || !w->tmp || !w->centroid || !w->fnormal) {
         sk__chart_work_free(w);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
@@ -36,6 +37,9 @@ sk_status sk__chart_work_init(sk__chart_work *w, const sk_mesh *m, sk_error *err
         for (int k = 0; k < 3; ++k, h = m->h_next[h])
             sk__add3(c, c, m->positions + 3 * (size_t)sk_from(m, h));
         sk__scale3(w->centroid + 3 * f, c, 1.0 / 3.0);
+        double n[3], twice = sk_mesh_face_normal(m, (uint32_t)f, n);
+        sk__scale3(w->fnormal + 4 * f, n, 0.5 * twice);
+        w->fnormal[4 * f + 3] = 0.5 * twice;
     }
     return SK_OK;
 }
@@ -52,6 +56,7 @@ void sk__chart_work_free(sk__chart_work *w)
     sk__free(w->side);
     sk__free(w->tmp);
     sk__free(w->centroid);
+    sk__free(w->fnormal);
     sk__free(w->vcount);
     memset(w, 0, sizeof *w);
 }

@@ -11,6 +11,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* A vertex shared by two triangles lies on the line of each edge it ends (orientation 0):
+ * neighbours in a layout share two, and the exact stage of sk_orient2d, which an exactly zero
+ * determinant always reaches, is skipped for them. */
+static bool same_point(const double *a, const double *b)
+{
+    return a[0] == b[0] && a[1] == b[1];
+}
+
 /* True when the interiors of the counter-clockwise triangles a and b intersect. */
 static bool interiors_meet(const double *a, const double *b)
 {
@@ -20,7 +28,8 @@ static bool interiors_meet(const double *a, const double *b)
             const double *p = s + 2 * e, *q = s + 2 * ((e + 1) % 3);
             int inside = 0;
             for (int k = 0; k < 3 && !inside; ++k)
-                inside = sk_orient2d(p, q, t + 2 * k) > 0;
+                inside = !same_point(t + 2 * k, p) && !same_point(t + 2 * k, q) &&
+                         sk_orient2d(p, q, t + 2 * k) > 0;
             if (!inside)
                 return false;
         }
@@ -118,6 +127,11 @@ sk_status sk_uv_overlaps(size_t n, const double *tri, size_t *count, uint32_t fi
             }
     }
     size_t found = 0;
+    /* rows in parallel when no first pair is asked for (the atlas's final check: 1.6 s of the
+     * 832k atlas on one thread) */
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : found) if (!first && n > 50000)
+#endif
     for (size_t y = 0; y < ny; ++y)
         for (size_t x = 0; x < nx; ++x) {
             size_t c = y * nx + x;

@@ -147,6 +147,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         double tg = sk_seconds();
         if ((st = sk__mips_global_init(&G, &c, o.frozen_model, err)))
             goto done;
+        G.keep = o.frozen_keep;
         use_global = true;
         s.global_seconds += sk_seconds() - tg;
     }

@@ -37,11 +37,13 @@ void sk__mips_area_setup(sk__mips_ctx *c, double theta, const double *uv)
     c->area_k = auv > 0.0 ? a3 / auv : 1.0;
 }
 
-/* F(d) and its first two derivatives in d (d > 0). */
+/* F(d) and its first two derivatives in d (d > 0); sqrt for the atlas's theta 0.5 (pow was a
+ * tenth of the 832k atlas's CPU time). */
 static double area_factor(double d, double theta, double *f1, double *f2)
 {
     double id = 1.0 / d, u = d + id, du = 1.0 - id * id, ddu = 2.0 * id * id * id;
-    double f = theta == 1.0 ? u : pow(u, theta), fu = theta == 1.0 ? 1.0 : theta * f / u;
+    double f = theta == 1.0 ? u : theta == 0.5 ? sqrt(u) : pow(u, theta);
+    double fu = theta == 1.0 ? 1.0 : theta * f / u;
     *f1 = fu * du;
     *f2 = (theta - 1.0) * fu / u * du * du + fu * ddu;
     return f;

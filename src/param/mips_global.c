@@ -251,7 +251,7 @@ double sk__mips_global_step(sk__mips_global *G, const sk__mips_ctx *c, double *u
             uv[i] = G->x0[i] + t * G->d[i];
         double e = sk__mips_total_energy_strict(c, uv);
         if (e <= e0 + 1e-4 * t * slope) {
-            G->refactor = it > 0 || t < 0.5;
+            G->refactor = !G->keep && (it > 0 || t < 0.5);
             return e;
         }
     }

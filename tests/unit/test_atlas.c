@@ -835,6 +835,83 @@ static void test_uv_overlaps_cases(void **state)
     assert_int_equal(count_overlaps(2, star), 1);
 }
 
+/* A grid of 2 * 160 * 160 triangles (above the size where the cells are counted in parallel):
+ * neighbours share edges and vertices (no overlap); each copied triangle, shifted by a quarter
+ * cell, overlaps itself and its neighbours; the count is the same with and without the first
+ * pair asked for (serial), and the same as this file's independent check on the small grid. */
+static double *grid_triangles(size_t k, size_t *n)
+{
+    *n = 2 * k * k;
+    double *t = malloc((*n + 2) * 6 * sizeof(double));
+    size_t i = 0;
+    for (size_t y = 0; y < k; ++y)
+        for (size_t x = 0; x < k; ++x) {
+            double x0 = (double)x, y0 = (double)y, x1 = x0 + 1, y1 = y0 + 1;
+            double a[6] = {x0, y0, x1, y0, x1, y1}, b[6] = {x0, y0, x1, y1, x0, y1};
+            memcpy(t + 6 * i++, a, sizeof a);
+            memcpy(t + 6 * i++, b, sizeof b);
+        }
+    return t;
+}
+
+static void test_uv_overlaps_large_grid(void **state)
+{
+    (void)state;
+    size_t n, c0 = 9, c1 = 9;
+    uint32_t first[2];
+    double *t = grid_triangles(160, &n);
+    assert_true(n > 50000);
+    assert_int_equal(sk_uv_overlaps(n, t, &c0, NULL, NULL), SK_OK);
+    assert_int_equal(sk_uv_overlaps(n, t, &c1, first, NULL), SK_OK);
+    assert_int_equal(c0, 0);
+    assert_int_equal(c1, 0);
+    assert_int_equal(first[0], SK_INVALID);
+    /* the lower triangle of cell (7, 9), shifted by a quarter: it meets the cell's two triangles
+     * and the upper triangle of the cell below (x from 7.25 to 8.25 reaches cell 8's lower
+     * triangle too) */
+    const double *src = t + 6 * (2 * (9 * 160 + 7));
+    for (int k = 0; k < 3; ++k) {
+        t[6 * n + 2 * k] = src[2 * k] + 0.25;
+        t[6 * n + 2 * k + 1] = src[2 * k + 1];
+    }
+    assert_int_equal(sk_uv_overlaps(n + 1, t, &c0, NULL, NULL), SK_OK);
+    assert_int_equal(sk_uv_overlaps(n + 1, t, &c1, first, NULL), SK_OK);
+    assert_true(c0 > 0);
+    assert_int_equal(c0, c1);
+    assert_int_equal(first[1], n);
+    /* the same triangles near the origin, few enough for the brute-force check */
+    size_t m;
+    double *small = grid_triangles(12, &m);
+    for (int k = 0; k < 6; ++k)
+        small[6 * m + k] = t[6 * n + k] - (k % 2 ? 9.0 - 3.0 : 7.0 - 3.0);
+    size_t cs = 0;
+    assert_int_equal(sk_uv_overlaps(m + 1, small, &cs, NULL, NULL), SK_OK);
+    assert_int_equal(cs, count_overlaps(m + 1, small));
+    assert_int_equal(cs, c0);
+    free(small);
+    free(t);
+}
+
+/* The library's default seed (0) is the CLI's (1): the same atlas, uv for uv. */
+static void test_seed_default(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("holes.off"));
+    sk_atlas_opts o0 = {0}, o1 = {.seed = 1};
+    sk_atlas *a0 = NULL, *a1 = NULL;
+    sk_atlas_stats s0, s1;
+    assert_int_equal(sk_atlas_build(m, &o0, &a0, &s0, NULL), SK_OK);
+    assert_int_equal(sk_atlas_build(m, &o1, &a1, &s1, NULL), SK_OK);
+    print_message("holes: %zu charts with seed 0, %zu with seed 1\n", s0.charts, s1.charts);
+    assert_int_equal(a0->num_charts, a1->num_charts);
+    assert_int_equal(a0->num_uvs, a1->num_uvs);
+    assert_memory_equal(a0->uvs, a1->uvs, 2 * a0->num_uvs * sizeof(double));
+    assert_memory_equal(a0->corner_uv, a1->corner_uv, m->num_halfedges * sizeof(uint32_t));
+    sk_atlas_destroy(&a0);
+    sk_atlas_destroy(&a1);
+    sk_mesh_destroy(&m);
+}
+
 /* pixels of the checker picture at path in the seam colour */
 static size_t seam_pixels(const char *path)
 {
@@ -884,6 +961,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_uv_overlaps_cases),
+        cmocka_unit_test(test_uv_overlaps_large_grid),
+        cmocka_unit_test(test_seed_default),
         cmocka_unit_test(test_disk_stays_one_chart),
         cmocka_unit_test(test_bounds_trade_charts_for_distortion),
         cmocka_unit_test(test_lscm_first_and_mips_only),

@@ -325,7 +325,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                 "level that meets it (default 6)"),
         OPT_FLAG("--full-checks", a->to.full_checks,
                  "with a tolerance: every refinement round measures all distances again\n"
-                 "(default: a round keeps those of the patches that came out the same)"),
+                 "(default: only what the patches' displacement since the last round\n"
+                 "can have changed)"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
     };
     const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,

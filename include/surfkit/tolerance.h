@@ -50,10 +50,10 @@ typedef struct sk_tolerance_opts {
                                 starting from the level estimate (the coarsest level whose own
                                 triangles are within T) */
     bool full_checks;        /* every refinement round measures all distances again (the
-                                reference for the default, incremental checks: a round keeps the
-                                distances of the patches the VC1 build gave bit for bit again
-                                and of the input samples within T of such a patch; both flag
-                                the same places beyond T) */
+                                reference for the default, incremental checks: a round keeps a
+                                bound within T that the displacement of the patches since the
+                                last round cannot have pushed beyond T, and measures the rest;
+                                both flag the same places beyond T) */
     uint64_t seed;           /* hierarchy seed (0 = 1, as surfkit simplify) */
     sk_collapse_opts collapse; /* the hierarchy's collapses: 0 = a face normal turns by at most
                                 15 degrees, interior valence at least 4 */
@@ -108,7 +108,8 @@ typedef struct sk_tolerance_stats {
     double seconds_estimate; /* of the search: the level estimate */
     double seconds_vc1, seconds_check; /* of search and refinement: VC1 builds, distance checks */
     size_t checked_patches;  /* patches of the refinement rounds' incremental checks ... */
-    size_t reused_patches;   /* ... of them, the ones whose distances were kept */
+    size_t reused_patches;   /* ... of them, the ones paired with a patch of the last round
+                                (same corners, kind and degrees: their bounds may be kept) */
 } sk_tolerance_stats;
 
 /* Builds a VC1 surface of the manifold triangle mesh within the tolerance with few patches.

@@ -73,7 +73,7 @@ typedef struct sk_tolerance_try {
     double max_deviation;    /* two-sided, over the samples; NaN when not built. Exact when
                                 beyond T; within T an upper bound (at most T: the check stops
                                 each closest-point walk at the first triangle within T). A level
-                                the search finds beyond T on the mesh side: the largest distance
+                                the search finds beyond T (either side): the largest distance
                                 found before it stopped (beyond T) */
     size_t singular;         /* singular patches (sk_smooth_patch_shapes; the refinement splits
                                 around them too) */

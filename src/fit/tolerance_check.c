@@ -197,7 +197,7 @@ static double face_worst(const tol_ctx *c, const double *Q, const uint32_t *t, s
     return worst;
 }
 
-/* The surface side: b->sd per tessellation vertex, then per tessellation face (the largest
+/* The surface side (the search: up to the first sample beyond T): b->sd per tessellation vertex, then per tessellation face (the largest
  * distance of its samples to the mesh, bounded within T, exact beyond) and b->sf, the fine face
  * nearest to the worst of them. */
 static void surface_samples(const walk *w, size_t begin, size_t end)
@@ -210,7 +210,9 @@ static void surface_samples(const walk *w, size_t begin, size_t end)
     for (size_t g = begin; g < end; ++g) {
         double worst = -1;
         uint32_t wf = SK_INVALID;
-        if (g < ntv) {
+        if (w->stop && flag_get(w->stop)) {
+            /* the search: this surface already misses T */
+        } else if (g < ntv) {
             worst = sk__bvh_distance_capped(c->mesh_bvh, Q + 3 * g, c->tol, &hint, &wf);
         } else {
             const uint32_t *t = ts->face_indices + ts->face_offsets[g - ntv];
@@ -219,6 +221,8 @@ static void surface_samples(const walk *w, size_t begin, size_t end)
         }
         w->b->sd[g] = worst;
         w->b->sf[g] = wf;
+        if (w->stop && worst > c->tol)
+            flag_set(w->stop);
     }
 }
 
@@ -314,7 +318,7 @@ static double mesh_side_max(const tol_ctx *c, const check_buf *b, uint8_t *bad)
  * mesh_vertices, surface_samples: exact beyond T, bounded within it). With bad, the fine
  * vertices where the tolerance is exceeded (their own distance, or a face of theirs, or the
  * input face nearest to a surface sample beyond T) are collected into bad (a flag per fine
- * vertex); without (the search), the check stops at the first sample of the mesh side beyond T.
+ * vertex); without (the search), the check stops at the first sample beyond T (mesh side first).
  * inc (the refinement's incremental check, else NULL: w's fields from face_patch on) sets the
  * surface side in groups per patch. *max_out: the largest distance found (exact when beyond T). */
 static sk_status check_soup(tol_ctx *c, const sk_soup *ts, const uint8_t *alive, check_buf *b,

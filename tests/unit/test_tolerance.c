@@ -159,6 +159,17 @@ static void scans_met(void **state)
         run_met("bunny00.off", 1e-3, true);
 }
 
+/* the two surfaces are the same to the bit; both destroyed */
+static void same_surfaces(sk_smooth *s[2])
+{
+    assert_int_equal(s[0]->surface.count, s[1]->surface.count);
+    assert_int_equal(s[0]->surface.num_points, s[1]->surface.num_points);
+    assert_memory_equal(s[0]->surface.points, s[1]->surface.points,
+                        3 * s[0]->surface.num_points * sizeof(double));
+    sk_smooth_destroy(&s[0]);
+    sk_smooth_destroy(&s[1]);
+}
+
 /* the search from the level estimate (the default) and the bisection alone (no_estimate) find
  * the same coarsest level, so the refinement starts from the same base and the surfaces are the
  * same to the bit */
@@ -180,12 +191,7 @@ static void estimate_same(const char *name, double rel)
     assert_int_equal(st[1].linear_tried, 0);
     assert_int_equal(st[0].coarsest_met, st[1].coarsest_met);
     assert_int_equal(st[0].base_level, st[1].base_level);
-    assert_int_equal(s[0]->surface.count, s[1]->surface.count);
-    assert_int_equal(s[0]->surface.num_points, s[1]->surface.num_points);
-    assert_memory_equal(s[0]->surface.points, s[1]->surface.points,
-                        3 * s[0]->surface.num_points * sizeof(double));
-    sk_smooth_destroy(&s[0]);
-    sk_smooth_destroy(&s[1]);
+    same_surfaces(s);
     sk_mesh_destroy(&m);
 }
 
@@ -225,13 +231,8 @@ static void incremental_same(const char *name, double rel)
         assert_int_equal(st[0].tried[k].patches, st[1].tried[k].patches);
         assert_int_equal(st[0].tried[k].met, st[1].tried[k].met);
     }
-    assert_int_equal(s[0]->surface.count, s[1]->surface.count);
-    assert_int_equal(s[0]->surface.num_points, s[1]->surface.num_points);
-    assert_memory_equal(s[0]->surface.points, s[1]->surface.points,
-                        3 * s[0]->surface.num_points * sizeof(double));
     assert_true(st[0].deviation.hausdorff == st[1].deviation.hausdorff);
-    sk_smooth_destroy(&s[0]);
-    sk_smooth_destroy(&s[1]);
+    same_surfaces(s);
     sk_mesh_destroy(&m);
 }
 

@@ -115,8 +115,8 @@ fi
 if [[ " $PARTS " == *" coarse "* ]]; then
 echo
 echo "# coarse-level G1: load average $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores"
-echo "| mesh | triangles | T / diag | patches | triangles per patch | STEP MB | max / diag | RMS mesh->surface / diag | RMS surface->mesh / diag | max normal jump deg | singular | met | levels tried, rounds | search / refine / vc1 / check / deviation s | wall s | CPU s | peak MB | load |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| mesh | triangles | T / diag | patches | triangles per patch | STEP MB | max / diag | RMS mesh->surface / diag | RMS surface->mesh / diag | max normal jump deg | singular | met | levels tried, rounds | patches paired / checked in the rounds | search / refine / vc1 / check / deviation s | wall s | CPU s | peak MB | load |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for mesh in $COARSE_MESHES; do
   in=$M/$mesh.off
   if [ "$mesh" = armadillo-loop2 ]; then
@@ -134,17 +134,17 @@ mesh, rel, out = sys.argv[1:]
 try:
     d = json.load(open(out + ".json"))
 except (OSError, ValueError):
-    print("| %s | | %s | failed: %s | | | | | | | | | | | | | | |" % (mesh, rel, open(out + ".err").read().strip()[:80]))
+    print("| %s | | %s | failed: %s | | | | | | | | | | | | | | | |" % (mesh, rel, open(out + ".err").read().strip()[:80]))
     sys.exit(0)
 wall, user, sys_, kb = map(float, open(out + ".time").read().split()[-4:])
 ss = d["stage_seconds"]
 dev, diag = d["deviation"], d["deviation"]["diagonal"]
 step = os.path.getsize(out + ".step") / 1e6 if os.path.exists(out + ".step") else float("nan")
-print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d, %d | %s | %.1f | %.1f | %d | %s |" % (
+print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d, %d | %s / %s | %s | %.1f | %.1f | %d | %s |" % (
     mesh, d["input_faces"], rel, d["patches"], d["input_faces"] / d["patches"], step,
     dev["hausdorff"] / diag, dev["mesh_to_surface_rms"] / diag, dev["surface_to_mesh_rms"] / diag,
     d["max_normal_jump_deg"], d["singular_patches"], "yes" if d["met"] else "no",
-    d["levels_tried"], d["refinement_rounds"],
+    d["levels_tried"], d["refinement_rounds"], d.get("reused_patches", "-"), d.get("checked_patches", "-"),
     " / ".join("%.1f" % ss[k] for k in ("search", "refine", "vc1", "check", "deviation")),
     wall, user + sys_, kb / 1024, open(out + ".load").read().strip()))
 PY

@@ -330,6 +330,10 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_INT("--refine-levels", a->to.refine_levels, 1, 64, "K",
                 "with a tolerance: the local refinement starts K levels below the coarsest\n"
                 "level that meets it (default 6)"),
+        OPT_FLAG("--full-checks", a->to.full_checks,
+                 "with a tolerance: every refinement round measures all distances again\n"
+                 "(default: only what the patches' displacement since the last round\n"
+                 "can have changed)"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
     };
     const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,
@@ -363,6 +367,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         return cli_usage("smooth", "--tolerance builds vc1 surfaces (not --scheme pn)");
     if (cli_given(&args, "--refine-levels") && !a->tolerance)
         return cli_usage("smooth", "--refine-levels needs --tolerance or --tolerance-rel");
+    if (a->to.full_checks && !a->tolerance)
+        return cli_usage("smooth", "--full-checks needs --tolerance or --tolerance-rel");
     return EXIT_OK;
 }
 
@@ -548,6 +554,8 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_kuint(&j, "refinement_rounds", t->rounds);
     json_kuint(&j, "failed_rounds", t->failed_rounds);
     json_kuint(&j, "parity_splits", t->parity_splits);
+    json_kuint(&j, "checked_patches", t->checked_patches);
+    json_kuint(&j, "reused_patches", t->reused_patches);
     json_kbool(&j, "refined", t->refined);
     json_key(&j, "tried");
     json_arr_open(&j);

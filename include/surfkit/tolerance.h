@@ -49,6 +49,11 @@ typedef struct sk_tolerance_opts {
     bool no_estimate;        /* search the levels by bisection alone (the old search), without
                                 starting from the level estimate (the coarsest level whose own
                                 triangles are within T) */
+    bool full_checks;        /* every refinement round measures all distances again (the
+                                reference for the default, incremental checks: a round keeps a
+                                bound within T that the displacement of the patches since the
+                                last round cannot have pushed beyond T, and measures the rest;
+                                both flag the same places beyond T) */
     uint64_t seed;           /* hierarchy seed (0 = 1, as surfkit simplify) */
     sk_collapse_opts collapse; /* the hierarchy's collapses: 0 = a face normal turns by at most
                                 15 degrees, interior valence at least 4 */
@@ -68,7 +73,7 @@ typedef struct sk_tolerance_try {
     double max_deviation;    /* two-sided, over the samples; NaN when not built. Exact when
                                 beyond T; within T an upper bound (at most T: the check stops
                                 each closest-point walk at the first triangle within T). A level
-                                the search finds beyond T on the mesh side: the largest distance
+                                the search finds beyond T (either side): the largest distance
                                 found before it stopped (beyond T) */
     size_t singular;         /* singular patches (sk_smooth_patch_shapes; the refinement splits
                                 around them too) */
@@ -102,6 +107,9 @@ typedef struct sk_tolerance_stats {
     double seconds_normals, seconds_hierarchy, seconds_search, seconds_refine, seconds_deviation;
     double seconds_estimate; /* of the search: the level estimate */
     double seconds_vc1, seconds_check; /* of search and refinement: VC1 builds, distance checks */
+    size_t checked_patches;  /* patches of the refinement rounds' incremental checks ... */
+    size_t reused_patches;   /* ... of them, the ones paired with a patch of the last round
+                                (same corners, kind and degrees: their bounds may be kept) */
 } sk_tolerance_stats;
 
 /* Builds a VC1 surface of the manifold triangle mesh within the tolerance with few patches.

@@ -135,6 +135,7 @@ static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
     t->c.so.allow_split = true; /* only where no split of the hierarchy evens a closed component */
     t->c.n = t->o.face_samples ? t->o.face_samples : 2;
     t->c.tess = t->o.tess ? t->o.tess : 4;
+    t->c.incremental = !t->o.full_checks && t->c.tess <= 8 && t->c.n <= 4;
     sample_pattern(&t->c);
     t->stats->diagonal = sk_mesh_diagonal(mesh);
     double rel = t->o.tolerance_rel > 0 ? t->o.tolerance_rel : 1e-3;

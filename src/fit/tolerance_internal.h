@@ -36,9 +36,27 @@ typedef struct tol_ctx {
     double bary[64 * 64][2];
     unsigned tess;
     sk_smooth_opts so;
+    bool incremental;          /* the refinement rounds' checks reuse the last round's */
     sk_status last_fail;       /* the last VC1 failure and its message */
     char last_msg[SK_ERROR_MESSAGE_SIZE];
 } tol_ctx;
+
+/* The last surface a refinement round checked (tolerance_reuse.c), for the next round's
+ * incremental check: its patches (corners as input vertices, SK_INVALID when not all are) and,
+ * per patch, its groups of surface samples' distances */
+typedef struct tol_prev {
+    bool valid;
+    size_t count, cap, cap_points, cap_s;
+    uint32_t *kind;     /* kind | degree << 8 | degree_v << 16 */
+    uint32_t *corners;  /* 4 per patch */
+    size_t *first;      /* control points in points */
+    double *points;
+    size_t *goff;       /* count + 1: the patch's groups in sd, sf */
+    double *sd;
+    uint32_t *sf;
+    uint32_t *head;     /* per input vertex: the first patch whose smallest corner it is */
+    uint32_t *next;
+} tol_prev;
 
 /* per-sample distances of one check, kept between checks */
 typedef struct check_buf {
@@ -47,6 +65,11 @@ typedef struct check_buf {
     double *sd;     /* per surface sample group: largest distance to the mesh */
     uint32_t *sf;   /* ... and the fine face nearest to the worst of them */
     size_t cap_s;
+    /* the refinement's incremental checks: per fine face sample and per fine vertex, the patch
+     * of the surface triangle found within T (SK_INVALID: beyond T, or not recorded) */
+    uint32_t *fw, *vw;
+    tol_prev prev;
+    size_t reused_patches, checked_patches; /* of the last check (incremental) */
 } check_buf;
 
 /* one surface of a cut and its figures */
@@ -69,6 +92,18 @@ sk_status sk__tol_build_cut(tol_ctx *c, uint8_t *alive, sk_mesh **out, uint32_t 
                             sk_error *err);
 void sk__tol_level_cut(const tol_ctx *c, size_t j, uint8_t *alive);
 void sk__tol_ctx_free(tol_ctx *c);
+
+/* tolerance_reuse.c */
+void sk__tol_prev_free(tol_prev *pv);
+/* keep[p] := the last round's patch over the same corners as the new patch p, of the same kind
+ * and degrees (else SK_INVALID), prev2new the inverse, moved[q] (for those q) the largest
+ * distance between their control points (a bound on how far any point of the patch moved);
+ * *kept: how many */
+void sk__tol_match(const sk_smooth *s, const uint32_t *m2f, const tol_prev *pv, uint32_t *keep,
+                   uint32_t *prev2new, double *moved, size_t *kept);
+/* pv := the patches of s (its sd, sf, goff are the caller's) */
+sk_status sk__tol_remember(const sk_smooth *s, const uint32_t *m2f, size_t nv, tol_prev *pv,
+                           sk_error *err);
 
 /* tolerance_check.c */
 void sk__tol_check_buf_free(check_buf *b);

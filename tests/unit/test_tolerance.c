@@ -2,7 +2,7 @@
  * the coarsest level within T, checked against the hierarchy's own level meshes), the sphere within 1e-2 of its diagonal with fewer patches than
  * triangles, G1 and the deviation measured again independently, an unreachable tolerance
  * (SK_WARN_TOLERANCE with a surface), the shared scans (cow, bunny00; skipped with SK_TEST_QUICK
- * for bunny00), bad options. */
+ * for bunny00), incremental checks against full ones, bad options. */
 #include "testutil.h"
 #include "surfkit/tolerance.h"
 #include "surfkit/deviation.h"
@@ -159,6 +159,17 @@ static void scans_met(void **state)
         run_met("bunny00.off", 1e-3, true);
 }
 
+/* the two surfaces are the same to the bit; both destroyed */
+static void same_surfaces(sk_smooth *s[2])
+{
+    assert_int_equal(s[0]->surface.count, s[1]->surface.count);
+    assert_int_equal(s[0]->surface.num_points, s[1]->surface.num_points);
+    assert_memory_equal(s[0]->surface.points, s[1]->surface.points,
+                        3 * s[0]->surface.num_points * sizeof(double));
+    sk_smooth_destroy(&s[0]);
+    sk_smooth_destroy(&s[1]);
+}
+
 /* the search from the level estimate (the default) and the bisection alone (no_estimate) find
  * the same coarsest level, so the refinement starts from the same base and the surfaces are the
  * same to the bit */
@@ -180,12 +191,7 @@ static void estimate_same(const char *name, double rel)
     assert_int_equal(st[1].linear_tried, 0);
     assert_int_equal(st[0].coarsest_met, st[1].coarsest_met);
     assert_int_equal(st[0].base_level, st[1].base_level);
-    assert_int_equal(s[0]->surface.count, s[1]->surface.count);
-    assert_int_equal(s[0]->surface.num_points, s[1]->surface.num_points);
-    assert_memory_equal(s[0]->surface.points, s[1]->surface.points,
-                        3 * s[0]->surface.num_points * sizeof(double));
-    sk_smooth_destroy(&s[0]);
-    sk_smooth_destroy(&s[1]);
+    same_surfaces(s);
     sk_mesh_destroy(&m);
 }
 
@@ -194,6 +200,47 @@ static void estimate_start(void **state)
     (void)state;
     estimate_same("sphere.off", 1e-2);
     estimate_same("mushroom.off", 1e-2);
+}
+
+/* the refinement's incremental checks (the default: a round keeps the bounds that its patches'
+ * displacement since the last round cannot break) flag the same places and give the same
+ * surface, to the bit, as checking everything again in every round (full_checks) */
+static void incremental_same(const char *name, double rel)
+{
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh(name));
+    sk_smooth *s[2] = {NULL, NULL};
+    sk_tolerance_stats st[2];
+    for (int k = 0; k < 2; ++k) {
+        sk_tolerance_opts o = {.tolerance_rel = rel, .full_checks = k == 1};
+        assert_int_equal(sk_smooth_tolerance(m, &o, &s[k], NULL, &st[k], NULL), SK_OK);
+        assert_true(st[k].met && st[k].refined);
+    }
+    print_message("%s T = %g diag: %zu rounds, %zu of %zu patches paired with the last round's\n",
+                  name, rel, st[0].rounds, st[0].reused_patches, st[0].checked_patches);
+    size_t round_patches = 0;
+    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k)
+        if (st[0].tried[k].refined)
+            round_patches += st[0].tried[k].patches;
+    assert_true(st[0].rounds >= 2 && st[0].num_tried <= SK_TOLERANCE_MAX_TRIED);
+    assert_int_equal(st[0].checked_patches, round_patches);
+    assert_true(st[0].reused_patches > 0 && st[0].reused_patches < st[0].checked_patches);
+    assert_int_equal(st[1].checked_patches, 0);
+    assert_int_equal(st[0].rounds, st[1].rounds);
+    assert_int_equal(st[0].vertices, st[1].vertices);
+    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k) {
+        assert_int_equal(st[0].tried[k].patches, st[1].tried[k].patches);
+        assert_int_equal(st[0].tried[k].met, st[1].tried[k].met);
+    }
+    assert_true(st[0].deviation.hausdorff == st[1].deviation.hausdorff);
+    same_surfaces(s);
+    sk_mesh_destroy(&m);
+}
+
+static void incremental_checks(void **state)
+{
+    (void)state;
+    incremental_same("sphere.off", 1e-2);
+    incremental_same("nefertiti.off", 1e-2);
 }
 
 static void unreachable(void **state)
@@ -247,6 +294,7 @@ int main(void)
         cmocka_unit_test(plane_levels),
         cmocka_unit_test(sphere_met),
         cmocka_unit_test(estimate_start),
+        cmocka_unit_test(incremental_checks),
         cmocka_unit_test(unreachable),
         cmocka_unit_test(bad_options),
         cmocka_unit_test(scans_met),

@@ -228,7 +228,7 @@ done
 # --- fit (bench/approx.sh with its machine-readable rows)
 frows=$S/fit-rows.txt
 : > "$frows"
-BUILD=$B MESHES="$FIT" SK_BENCH_ROWS=$frows bench/approx.sh "$S/approx" > "$S/approx.txt" 2>&1 ||
+BUILD=$B MESHES="$FIT" RELS=1e-3 SK_BENCH_ROWS=$frows bench/approx.sh "$S/approx" > "$S/approx.txt" 2>&1 ||
   echo "# bench/approx.sh failed: $(tail -1 "$S/approx.txt")"
 cat "$frows" >> "$ROWS"
 

@@ -1,13 +1,16 @@
 #!/bin/bash
-# B-spline fitting of disks (issue 13, the B-spline half): `surfkit fit` against Open CASCADE's
-# own approximation (GeomAPI_PointsToBSplineSurface, through FreeCAD's
-# Part.BSplineSurface().approximate, its defaults: degree 3 to 8, C2) of the same mesh resampled on a G x G grid
-# through our square parametrization (`surfkit param --method floater --boundary square`, the map
-# the fit starts from), both at T = 1e-3 of the diagonal. Both surfaces are measured the same way
-# inside FreeCAD (bench/approx_occt.py): mesh vertices and face centroids projected onto the
-# surface by Open CASCADE (max), a 65 x 65 grid of the surface against the mesh (max). Open
-# CASCADE's tolerance bounds its distance to the grid points only: it is run at T, T/2, T/4 and
-# the first surface within T of the mesh (by that measure) is kept, else the closest.
+# B-spline fitting of disks (issue 13, the B-spline half): `surfkit fit` (its default: the square
+# map chosen among area thetas 1, 0.5, none) against Open CASCADE's own approximation
+# (GeomAPI_PointsToBSplineSurface, through FreeCAD's Part.BSplineSurface().approximate: degree 3
+# to 8, C2) of the same mesh resampled on a G x G grid through our square parametrization
+# (`surfkit param --method floater --boundary square`), at each T of RELS times the diagonal.
+# Both surfaces are measured the same way inside FreeCAD (bench/approx_occt.py): mesh vertices
+# and face centroids projected onto the surface by Open CASCADE (max), a 65 x 65 grid of the
+# surface against the mesh (max); "max dev" is the larger. Open CASCADE's tolerance bounds its
+# distance to the grid points only: it is run at T, T/2, T/4 and the first surface within T of
+# the mesh is kept, else the closest. Each Open CASCADE approximation runs under a CPU limit
+# (OCCT_CPU seconds, ulimit -t); one that hits it is reported as such and the disk is tried
+# again on a grid half as fine (down to 20 x 20); the grid used is in the table.
 # mask_cone has two components: the cone (the one holding its last vertex) is used; the other
 # is the nefertiti mask again.
 #
@@ -17,7 +20,9 @@
 # patches, seconds per stage (wall: search, refinement, of both the VC1 builds and the checks,
 # and the final deviation), wall and CPU seconds, peak MB, the load average before the run.
 #   bench/approx.sh [SCRATCH_DIR]      env: BUILD (default build-bench), SHARED, GRID (default 60),
-#                                      REL (default 1e-3), MESHES, PARTS (default "fit coarse"),
+#                                      RELS (default "1e-2 5e-3 2e-3 1e-3"; REL: one of them),
+#                                      OCCT_CPU (default 300), MESHES, PARTS (default "fit coarse"),
+#                                      FIT_ARGS (more surfkit fit options, e.g. --area-theta 0),
 #                                      SHARE (surfkit fit --refine-share; default its own),
 #                                      COARSE_MESHES, COARSE_RELS (default "1e-3 1e-4"),
 #                                      SK (a built surfkit to run instead of building one),
@@ -28,7 +33,7 @@ SRC=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${BUILD:-$SRC/build-bench}
 SHARED=${SHARED:-$SRC/../shared}
 SCRATCH=${1:-$(mktemp -d /tmp/sk-bench-approx.XXXXXX)}
-GRID=${GRID:-60} REL=${REL:-1e-3}
+GRID=${GRID:-60} RELS=${RELS:-${REL:-"1e-2 5e-3 2e-3 1e-3"}} OCCT_CPU=${OCCT_CPU:-300}
 MESHES=${MESHES:-"paraboloid-patch nefertiti patch-01 mask_cone lion-head"}
 PARTS=${PARTS:-"fit coarse"}
 COARSE_MESHES=${COARSE_MESHES:-"cow armadillo bunny00 armadillo-loop2"}
@@ -43,9 +48,13 @@ M=$SHARED/data/meshes
 export HOME=$SCRATCH/home; mkdir -p "$HOME"
 if [[ " $PARTS " == *" fit "* ]]; then
 command -v freecadcmd > /dev/null || { echo "freecadcmd not installed (scripts/setup.sh --interop)"; exit 1; }
-echo "# load average: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores; T = $REL of the diagonal, OCCT grid ${GRID}x${GRID}"
-echo "| disk | tool | control points | max mesh->surface / diag | max surface->mesh / diag | met | CPU s (OCCT: approximation) |"
-echo "|---|---|---|---|---|---|---|"
+occt() { # occt MODE OUT [VAR=VALUE...]: one approx_occt.py job
+  local mode=$1 out=$2; shift 2
+  env "$@" SK_MODE="$mode" SK_OUT="$out" freecadcmd "$SRC/bench/approx_occt.py" > "$out.log" 2>&1
+}
+echo "# load average: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores; OCCT grid ${GRID}x${GRID} (smaller where it hit the ${OCCT_CPU} CPU s limit)"
+echo "| disk | T / diag | surfkit control points | max dev / diag | met | CPU s | area theta (maps tried: control points) | OCCT poles | max dev / diag | met | CPU s | OCCT grid, tolerance | OCCT tries |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for mesh in $MESHES; do
   in=$M/$mesh.off
   if [ "$mesh" = mask_cone ]; then
@@ -53,42 +62,84 @@ for mesh in $MESHES; do
       "$(( $(sed -n 2p "$in" | cut -d' ' -f1) - 1 ))"
     in=$SCRATCH/$mesh.off
   fi
-  "$SK" param "$in" -o "$SCRATCH/$mesh-uv.obj" --method floater --boundary square -q 2> /dev/null
-  /usr/bin/time -f '%U %S %M' -o "$SCRATCH/$mesh.fit.kb" "$SK" fit "$in" -o "$SCRATCH/$mesh.step" --tolerance-rel "$REL" \
-    ${SHARE:+--refine-share "$SHARE"} --json -q > "$SCRATCH/$mesh.json" 2> /dev/null || true
-  tol=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tolerance"])' "$SCRATCH/$mesh.json")
-  SK_MESH=$SCRATCH/$mesh-uv.obj SK_STEP=$SCRATCH/$mesh.step SK_TOL=$tol SK_GRID=$GRID \
-    SK_OUT=$SCRATCH/$mesh.occt.json /usr/bin/time -f %M -o "$SCRATCH/$mesh.fc.kb" timeout 1800 freecadcmd "$SRC/bench/approx_occt.py" > "$SCRATCH/$mesh.fc.log" 2>&1 || true
-  python3 - "$mesh" "$SCRATCH/$mesh.json" "$SCRATCH/$mesh.occt.json" "$SCRATCH/$mesh" <<'PY'
-import json, os, sys
-mesh, ours_p, occ_p, base = sys.argv[1:]
-o = json.load(open(ours_p))
+  uvmesh=$SCRATCH/$mesh-uv.obj
+  "$SK" param "$in" -o "$uvmesh" --method floater --boundary square -q 2> /dev/null
+  for rel in $RELS; do
+    b=$SCRATCH/$mesh-$rel
+    # shellcheck disable=SC2086
+    /usr/bin/time -f '%U %S %M' -o "$b.fit.kb" "$SK" fit "$in" -o "$b.step" --tolerance-rel "$rel" \
+      ${SHARE:+--refine-share "$SHARE"} ${FIT_ARGS:-} --json -q > "$b.json" 2> /dev/null || true
+    tol=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tolerance"])' "$b.json")
+    occt measure "$b.ours.json" SK_MESH="$uvmesh" SK_SURF="$b.step" || true
+    g=$GRID tries=""
+    rm -f "$b.occt.json"
+    for factor in 1 0.5 0.25; do
+      while :; do
+        t=$b.occt-$g-$factor
+        rc=0
+        ( ulimit -t "$OCCT_CPU"; occt approximate "$t.json" SK_MESH="$uvmesh" SK_TOL="$tol" \
+            SK_FACTOR="$factor" SK_GRID="$g" SK_BREP="$t.brep" ) || rc=$?
+        if [ -s "$t.brep" ] && [ $rc = 0 ]; then
+          occt measure "$t.m.json" SK_MESH="$uvmesh" SK_SURF="$t.brep" || true
+          break
+        fi
+        tries="$tries ${g}x${g} at ${factor}T: $([ $rc -gt 128 ] && echo "over ${OCCT_CPU} CPU s" || echo "failed");"
+        [ $rc -gt 128 ] && [ $((g / 2)) -ge 20 ] || break
+        g=$((g / 2))
+      done
+      [ -s "$t.m.json" ] || continue
+      python3 - "$t.json" "$t.m.json" "$b.occt.json" "$tol" "$factor" <<'PY' && break
+import json, sys
+run, m, best_p, tol, factor = sys.argv[1:]
+r, m = json.load(open(run)), json.load(open(m))
+m.update(seconds=r["seconds"], grid=r["grid"], factor=float(factor))
+dev = max(m["mesh_to_surface_max"], m["surface_to_mesh_max"])
 try:
-    r = json.load(open(occ_p))
+    b = json.load(open(best_p))
+    keep = dev < max(b["mesh_to_surface_max"], b["surface_to_mesh_max"])
 except (OSError, ValueError):
-    r = {}
+    keep = True
+if keep:
+    json.dump(m, open(best_p, "w"))
+sys.exit(0 if dev <= float(tol) else 1)  # within T: no tighter try needed
+PY
+      tries="$tries ${g}x${g} at ${factor}T: not within T;"
+    done
+    python3 - "$mesh" "$rel" "$b" "$tries" <<'PY'
+import json, os, sys
+mesh, rel, base, tries = sys.argv[1:]
+o = json.load(open(base + ".json"))
 d, tol = o["deviation"]["diagonal"], o["tolerance"]
-def row(tool, m, secs):
-    if not m:
-        print("| %s | %s | - | - | - | - | - |" % (mesh, tool))
-        return
-    met = max(m["mesh_to_surface_max"], m["surface_to_mesh_max"]) <= tol
-    print("| %s | %s | %d (%d x %d) | %.3g | %.3g | %s | %.2f |" % (
-        mesh, tool, m["control_points"], m["poles"][0], m["poles"][1],
-        m["mesh_to_surface_max"] / d, m["surface_to_mesh_max"] / d, "yes" if met else "no", secs))
-try:  # CPU seconds of the whole `surfkit fit` run (fit, STEP, its own deviation check)
+def load(p):
+    try:
+        return json.load(open(p))
+    except (OSError, ValueError):
+        return {}
+ours, occ = load(base + ".ours.json"), load(base + ".occt.json")
+def dev(m):
+    return max(m["mesh_to_surface_max"], m["surface_to_mesh_max"])
+try:  # CPU seconds of the whole `surfkit fit` run (all maps tried, STEP, its own deviation check)
     user, sys_ = map(float, open(base + ".fit.kb").read().split()[-3:-1])
-    cpu = user + sys_
+    cpu = "%.1f" % (user + sys_)
 except (OSError, ValueError):
-    cpu = o["seconds_param"] + o["seconds_fit"]
-row("surfkit fit", r.get("ours"), cpu)
-if "occt_error" in r:
-    print("| %s | OCCT approximate | failed: %s | | | | |" % (mesh, r["occt_error"][:60]))
-elif r.get("grid_missing"):
-    print("| %s | OCCT approximate | grid has %d holes | | | | |" % (mesh, r["grid_missing"]))
+    cpu = "-"
+maps = ", ".join("%g: %d%s" % (t["area_theta"], t["control_points"], "" if t["met"] else " (not met)")
+                 for t in o.get("maps_tried", []))
+cols = [mesh, rel]
+if "control_points" in ours:
+    cols += ["%d" % ours["control_points"], "%.3g" % (dev(ours) / d), "yes" if dev(ours) <= tol else "no", cpu,
+             "%g (%s)" % (o.get("area_theta", 0), maps)]
 else:
-    row("OCCT approximate, degree %s, tol %sT" % ("x".join(map(str, r.get("occt_degrees", []))),
-        r.get("occt_factor", 1)), r.get("occt"), r.get("occt_seconds", 0))
+    cols += ["-", "-", "-", cpu, ours.get("error", "not measured")]
+if occ:
+    cols += ["%d (%d x %d, degree %d x %d)" % (occ["control_points"], occ["poles"][0], occ["poles"][1],
+             occ["degrees"][0], occ["degrees"][1]), "%.3g" % (dev(occ) / d),
+             "yes" if dev(occ) <= tol else "no", "%.1f" % occ["seconds"],
+             "%dx%d, %gT" % (occ["grid"], occ["grid"], occ["factor"])]
+else:
+    cols += ["-", "-", "-", "-", "-"]
+cols.append(tries.strip() or "-")
+print("| " + " | ".join(cols) + " |")
 rows = os.environ.get("SK_BENCH_ROWS")
 if rows:
     def mb(path):
@@ -97,18 +148,16 @@ if rows:
         except (OSError, ValueError, IndexError):
             return "-"
     def desc(m):
-        if not m:
+        if not m or "control_points" not in m:
             return "-"
-        met = max(m["mesh_to_surface_max"], m["surface_to_mesh_max"]) <= tol
-        return "%d control points, max dev %.3g of diag%s" % (m["control_points"], max(
-            m["mesh_to_surface_max"], m["surface_to_mesh_max"]) / d, "" if met else " (NOT met)")
-    occ = r.get("occt")
+        return "%d control points, max dev %.3g of diag%s" % (m["control_points"], dev(m) / d,
+                                                              "" if dev(m) <= tol else " (NOT met)")
     with open(rows, "a") as fp:
-        fp.write("fit (T=%s diag)\t%s.off\t%s\t%.3f\t%s\tOCCT PointsToBSplineSurface\t%s\t%s\tsurfkit %s; OCCT %s\n" % (
-            os.environ.get("REL", "1e-3"), mesh, o.get("faces", "-"), o["seconds_param"] + o["seconds_fit"],
-            mb(base + ".fit.kb"), "%.3f" % r["occt_seconds"] if occ and "occt_seconds" in r else "-",
-            mb(base + ".fc.kb"), desc(r.get("ours")), desc(occ) if occ else r.get("occt_error", "failed")[:60]))
+        fp.write("fit (T=%s diag)\t%s.off\t%s\t%.3f\t%s\tOCCT PointsToBSplineSurface\t%s\t-\tsurfkit %s; OCCT %s\n" % (
+            rel, mesh, o.get("faces", "-"), o["seconds_param"] + o["seconds_fit"], mb(base + ".fit.kb"),
+            "%.3f" % occ["seconds"] if occ else "-", desc(ours), desc(occ) if occ else (tries.strip() or "failed")[:60]))
 PY
+  done
 done
 fi
 

@@ -37,13 +37,32 @@ typedef struct sk_fit_opts {
     sk_param_method method;  /* the square map: 0 = Floater (shape preserving, linear);
                                 SK_PARAM_MIPS = hierarchical MIPS with the square boundary fixed
                                 (the same corners and spacing); others as sk_parametrize */
-    double area_theta;       /* > 0: the square map is then balanced by MIPS with the area term
-                                (sk_mips_opts.area_theta), the sides kept; 0 = none */
+    double area_theta;       /* > 0: the square map is balanced by MIPS with the area term
+                                (sk_mips_opts.area_theta), the sides kept; negative: no balance
+                                (the method's map alone); 0 = automatic: the disk is fitted over
+                                SK_FIT_AUTO_THETAS maps (theta 1, 0.5, and none), and the fit kept
+                                is the one with the fewest control points among those meeting the
+                                tolerance, or the closest one when none does (stats->tried) */
     bool has_corners;        /* corners: four boundary vertices, counter-clockwise around the */
     uint32_t corners[4];     /* surface, mapped to (0,0), (1,0), (1,1), (0,1) */
     sk_progress_fn progress;
     void *progress_user;
 } sk_fit_opts;
+
+/* The maps the automatic choice tries (sk_fit_opts.area_theta 0), in this order: a later map's
+ * refinement stops below the control points of an earlier one that met the tolerance. */
+#define SK_FIT_AUTO_THETAS 3
+
+/* One square map tried and the fit over it (sk_fit_stats.tried). */
+typedef struct sk_fit_try {
+    double area_theta;     /* 0: the method's map without balance */
+    size_t control_points; /* of the fit kept for this map */
+    double deviation;      /* max(max_error, surface_to_mesh) of that fit */
+    bool met;
+    bool capped;           /* its refinement stopped at an earlier map's count (it could only
+                              lose) */
+    double seconds;        /* balance and fit of this map */
+} sk_fit_try;
 
 typedef struct sk_fit_stats {
     uint32_t corners[4];       /* the corners used */
@@ -61,7 +80,10 @@ typedef struct sk_fit_stats {
                                   square map */
     size_t flipped;            /* flipped triangles of the square parametrization (of the split
                                   mesh) */
-    double seconds_param, seconds_fit;
+    double area_theta;         /* the map of the result (0: no balance) */
+    size_t tries;              /* maps fitted: 1, or up to SK_FIT_AUTO_THETAS when automatic */
+    sk_fit_try tried[SK_FIT_AUTO_THETAS];
+    double seconds_param, seconds_fit; /* all maps tried: the square map and balances, fits */
 } sk_fit_stats;
 
 /* Fits a B-spline to a triangulated disk (sk_param_check_disk's conditions: SK_ERR_TOPOLOGY with

@@ -451,9 +451,9 @@ static double mesh_diagonal(const sk_mesh *m)
 }
 
 /* The square parametrization with the corners (Floater's map, or another method of
- * sk_parametrize with the square boundary fixed), and its flip count. */
-static sk_status square_map(const sk_mesh *disk, sk_param_method method, double area_theta,
-                            const uint32_t c[4], double *uv, size_t *flipped, sk_error *err)
+ * sk_parametrize with the square boundary fixed). */
+static sk_status square_map(const sk_mesh *disk, sk_param_method method, const uint32_t c[4],
+                            double *uv, sk_error *err)
 {
     sk_parametrize_opts po = {0};
     po.method = method ? method : SK_PARAM_FLOATER;
@@ -464,12 +464,21 @@ static sk_status square_map(const sk_mesh *disk, sk_param_method method, double 
     sk_parametrize_stats ps;
     sk_status st = sk_parametrize(disk, &po, uv, &ps, err);
     if (st == SK_WARN_FLIPS)
-        st = SK_OK; /* counted below; the fit still works on a folded map, less well */
-    else if (!st && area_theta > 0) {
-        /* area balance: MIPS with the area term, the square's sides kept, so that the knot grid
-         * (uniform in uv at the start) covers the surface evenly instead of crowding the parts
-         * a conformal or shape-preserving map shrinks */
-        sk_mips_opts mo = {.boundary = SK_BOUNDARY_GIVEN, .area_theta = area_theta};
+        st = SK_OK; /* counted by balance(); the fit still works on a folded map, less well */
+    sk_parametrize_stats_release(&ps);
+    return st;
+}
+
+/* The map of one try: uv as the square map gave it (theta 0), or balanced by MIPS with the area
+ * term, the square's sides kept, so that the knot grid (uniform in uv at the start) covers the
+ * surface evenly instead of crowding the parts a conformal or shape-preserving map shrinks;
+ * and its flip count. */
+static sk_status balance(const sk_mesh *disk, double theta, double *uv, size_t *flipped,
+                         sk_error *err)
+{
+    sk_status st = SK_OK;
+    if (theta > 0) {
+        sk_mips_opts mo = {.boundary = SK_BOUNDARY_GIVEN, .area_theta = theta};
         st = sk_param_mips(disk, &mo, uv, NULL, err);
         if (st == SK_WARN_FLIPS)
             st = SK_OK;
@@ -479,7 +488,179 @@ static sk_status square_map(const sk_mesh *disk, sk_param_method method, double 
         st = sk_param_metrics_compute(disk, uv, &pm, err);
     if (!st)
         *flipped = pm.flipped;
-    sk_parametrize_stats_release(&ps);
+    return st;
+}
+
+static double deviation_of(const sk_fit_stats *fs)
+{
+    return fmax(fs->max_error, fs->surface_to_mesh);
+}
+
+/* The knots of s refined where the scores say (refine_knots), its points reset; *grown false
+ * (and s unchanged) when the grid would pass cap control points or MAX_CTRL_1D a side. */
+static sk_status grow_grid(sk_bspline_surface *s, const double *score_u, const double *score_v,
+                           double share, size_t cap, bool *grown, sk_error *err)
+{
+    size_t nu = s->nu, nv = s->nv;
+    double *ku = refine_knots(s->knots_u, &nu, s->degree_u, score_u, share);
+    double *kv = refine_knots(s->knots_v, &nv, s->degree_v, score_v, share);
+    *grown = ku && kv && nu * nv <= cap && nu <= MAX_CTRL_1D && nv <= MAX_CTRL_1D;
+    double *pts = *grown ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
+    if (!ku || !kv || (*grown && !pts)) {
+        sk__free(ku);
+        sk__free(kv);
+        *grown = false;
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    if (!*grown) {
+        sk__free(ku);
+        sk__free(kv);
+        return SK_OK;
+    }
+    sk__free(s->knots_u);
+    sk__free(s->knots_v);
+    sk__free(s->points);
+    s->knots_u = ku, s->knots_v = kv, s->points = pts, s->nu = nu, s->nv = nv;
+    return SK_OK;
+}
+
+/* The hierarchical refinement over one map: rounds of fit_round, knots inserted in the worst
+ * spans, until T holds on the dense check, the rounds run out or the grid would pass cap control
+ * points (no more than the mesh has vertices: beyond that the surface is no reduction of the
+ * data, the face samples being interpolated from the vertices; or fewer than an earlier map's
+ * fit within T). *out is the fit within T, else the round nearest to T. fs comes in with the
+ * tolerance and the map's figures; progress runs from p0 to p1. */
+static sk_status fit_map(const sk_mesh *disk, const double *uv, const sk_bvh *bvh,
+                         const sk_fit_opts *o, int deg, size_t cap, double p0, double p1,
+                         sk_bspline_surface **out, sk_fit_stats *fs, bool *capped, sk_error *err)
+{
+    size_t spans = o->initial_spans ? o->initial_spans : 4;
+    unsigned rounds = o->max_rounds ? o->max_rounds : 40;
+    double share = o->refine_share > 0 ? o->refine_share : REFINE_SHARE;
+    sk_bspline_surface *s = NULL, *best = NULL;
+    sk_fit_stats best_fs = *fs;
+    best_fs.max_error = INFINITY;
+    double *score_u = NULL, *score_v = NULL;
+    samples x = {0};
+    *capped = false;
+    sk_status st = sk_bspline_create(deg, deg, spans + (size_t)deg, spans + (size_t)deg, &s, err);
+    for (unsigned r = 1; !st && r <= rounds; ++r) {
+        fs->rounds = r;
+        if ((st = fit_round(disk, uv, bvh, o, s, &x, fs, &score_u, &score_v, err)))
+            break;
+        fs->control_points = s->nu * s->nv;
+        fs->met = fs->max_error <= fs->tolerance && fs->surface_to_mesh <= fs->tolerance;
+        if (fs->met) { /* confirmed on the dense grid, or refined where that finds a stray */
+            memset(score_u, 0, (s->nu + 1) * sizeof *score_u);
+            memset(score_v, 0, (s->nv + 1) * sizeof *score_v);
+            fs->surface_to_mesh = stray(s, bvh, fs->tolerance, true, score_u, score_v);
+            fs->met = fs->surface_to_mesh <= fs->tolerance;
+        }
+        if (fs->met || r == rounds)
+            break;
+        /* the round nearest to T so far, handed out if T is never met: on a noisy disk later
+         * rounds can stray further (mask_cone at 1e-3: 0.0145 of the diagonal after 40
+         * rounds against 0.0035 at round 5) */
+        if (deviation_of(fs) < deviation_of(&best_fs)) {
+            sk_bspline_destroy(&best);
+            if (!(best = bspline_copy(s))) {
+                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+                break;
+            }
+            best_fs = *fs;
+        }
+        if ((st = sk__progress(o->progress, o->progress_user, p0 + (p1 - p0) * r / rounds, err)))
+            break;
+        bool grown = false;
+        if ((st = grow_grid(s, score_u, score_v, share, cap, &grown, err)) || !grown) {
+            *capped = !st;
+            break; /* more control points than allowed: keep the last fit */
+        }
+    }
+    if (!st && !fs->met && best && deviation_of(&best_fs) < deviation_of(fs)) {
+        sk_bspline_surface *t = s;
+        s = best;
+        best = t;
+        size_t r = fs->rounds;
+        *fs = best_fs;
+        fs->rounds = r; /* rounds run, the kept one being an earlier one */
+    }
+    if (!st) {
+        *out = s;
+        s = NULL;
+    }
+    sk_bspline_destroy(&s);
+    sk_bspline_destroy(&best);
+    sk__free(score_u);
+    sk__free(score_v);
+    samples_free(&x);
+    return st;
+}
+
+/* a better than b: within T against not, then fewer control points (the smaller deviation on a
+ * tie), or when neither is within T the smaller deviation */
+static bool better_fit(const sk_fit_stats *a, const sk_fit_stats *b)
+{
+    if (a->met != b->met)
+        return a->met;
+    if (a->met && a->control_points != b->control_points)
+        return a->control_points < b->control_points;
+    return deviation_of(a) < deviation_of(b);
+}
+
+/* The automatic choice's maps, the balanced ones first: they mostly need fewer control points
+ * (the cut cone at 1e-2 of the diagonal: 289 with theta 1, 812 without), so the refinement of
+ * the later ones stops early at their count. */
+static const double auto_thetas[SK_FIT_AUTO_THETAS] = {1, 0.5, 0};
+
+/* The fits over the maps to try (one when o->area_theta is set, else auto_thetas), the best
+ * (better_fit) into *out and fs; base_uv is the square map, fs comes in with the tolerance. */
+static sk_status fit_maps(const sk_mesh *disk, const double *base_uv, const sk_bvh *bvh,
+                          const sk_fit_opts *o, int deg, size_t n_input,
+                          sk_bspline_surface **out, sk_fit_stats *fs, sk_error *err)
+{
+    double one = o->area_theta > 0 ? o->area_theta : 0;
+    const double *thetas = o->area_theta == 0 ? auto_thetas : &one;
+    size_t n = o->area_theta == 0 ? SK_FIT_AUTO_THETAS : 1, nv = disk->num_vertices;
+    double *uv = sk__malloc_array(2 * nv, sizeof *uv), tp = 0;
+    sk_fit_stats in = *fs;
+    sk_status st = uv ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t k = 0; !st && k < n; ++k) {
+        double t0 = sk_seconds();
+        sk_fit_stats f = in;
+        sk_bspline_surface *s = NULL;
+        bool capped = false;
+        size_t first = (size_t)(o->initial_spans ? o->initial_spans : 4) + (size_t)deg;
+        if (*out && fs->met && fs->control_points <= first * first)
+            break; /* met on the first grid: no map can do with fewer */
+        memcpy(uv, base_uv, 2 * nv * sizeof *uv);
+        if ((st = balance(disk, thetas[k], uv, &f.flipped, err)))
+            break;
+        tp += sk_seconds() - t0;
+        /* a later map is of use only with fewer control points than a fit within T */
+        size_t cap = *out && fs->met ? fs->control_points - 1 : n_input;
+        if ((st = fit_map(disk, uv, bvh, o, deg, cap, (double)k / n, (double)(k + 1) / n, &s, &f,
+                          &capped, err)))
+            break;
+        f.area_theta = thetas[k];
+        fs->tried[k] = (sk_fit_try){thetas[k], f.control_points, deviation_of(&f), f.met,
+                                    capped && cap < n_input, sk_seconds() - t0};
+        if (!*out || better_fit(&f, fs)) {
+            sk_bspline_destroy(out);
+            *out = s;
+            sk_fit_try tried[SK_FIT_AUTO_THETAS];
+            memcpy(tried, fs->tried, sizeof tried);
+            *fs = f;
+            memcpy(fs->tried, tried, sizeof tried);
+        } else {
+            sk_bspline_destroy(&s);
+        }
+        fs->tries = k + 1;
+    }
+    fs->seconds_param += tp;
+    if (st)
+        sk_bspline_destroy(out);
+    sk__free(uv);
     return st;
 }
 
@@ -492,8 +673,8 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
         o = *opts;
     sk_fit_stats fs = {0};
     int deg = o.degree ? o.degree : 3;
-    if (deg < 2 || deg > MAX_DEG || o.tolerance < 0 || o.smoothing < 0 || !(o.area_theta >= 0) || o.initial_spans > 256 ||
-        !(o.refine_share >= 0 && o.refine_share <= 1))
+    if (deg < 2 || deg > MAX_DEG || o.tolerance < 0 || o.smoothing < 0 || isnan(o.area_theta) ||
+        o.initial_spans > 256 || !(o.refine_share >= 0 && o.refine_share <= 1))
         return sk__fail(err, SK_ERR_ARG, "fit options out of range (degree 2..%d, spans <= 256, "
                         "refine share 0..1)",
                         MAX_DEG);
@@ -505,10 +686,6 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     uint32_t *loop = NULL;
     size_t nb = 0;
     double *uv = sk__malloc_array(2 * disk->num_vertices, sizeof *uv);
-    sk_bspline_surface *s = NULL, *best = NULL;
-    sk_fit_stats best_fs = {.max_error = INFINITY};
-    double *score_u = NULL, *score_v = NULL;
-    samples x = {0};
     sk_soup *soup = NULL;
     sk_bvh *bvh = NULL;
     sk_mesh *split = NULL;
@@ -533,7 +710,7 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
             uv = grown;
     }
     if (!st)
-        st = square_map(disk, o.method, o.area_theta, o.corners, uv, &fs.flipped, err);
+        st = square_map(disk, o.method, o.corners, uv, err);
     if (st)
         goto done;
     memcpy(fs.corners, o.corners, sizeof fs.corners);
@@ -542,85 +719,13 @@ sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bsplin
     fs.seconds_param = sk_seconds() - t0;
     fs.tolerance = o.tolerance > 0 ? o.tolerance
                                    : (o.tolerance_rel > 0 ? o.tolerance_rel : 1e-3) * mesh_diagonal(disk);
-    size_t spans = o.initial_spans ? o.initial_spans : 4;
-    unsigned rounds = o.max_rounds ? o.max_rounds : 40;
-    double share = o.refine_share > 0 ? o.refine_share : REFINE_SHARE;
-    st = sk_bspline_create(deg, deg, spans + (size_t)deg, spans + (size_t)deg, &s, err);
-    for (unsigned r = 1; !st && r <= rounds; ++r) {
-        fs.rounds = r;
-        if ((st = fit_round(disk, uv, bvh, &o, s, &x, &fs, &score_u, &score_v, err)))
-            break;
-        fs.control_points = s->nu * s->nv;
-        fs.met = fs.max_error <= fs.tolerance && fs.surface_to_mesh <= fs.tolerance;
-        if (fs.met) { /* confirmed on the dense grid, or refined where that finds a stray */
-            memset(score_u, 0, (s->nu + 1) * sizeof *score_u);
-            memset(score_v, 0, (s->nv + 1) * sizeof *score_v);
-            fs.surface_to_mesh = stray(s, bvh, fs.tolerance, true, score_u, score_v);
-            fs.met = fs.surface_to_mesh <= fs.tolerance;
-        }
-        if (fs.met || r == rounds)
-            break;
-        /* the round nearest to T so far, handed out if T is never met: on a noisy disk later
-         * rounds can stray further (mask_cone at 1e-3: 0.0145 of the diagonal after 40
-         * rounds against 0.0035 at round 5) */
-        if (fmax(fs.max_error, fs.surface_to_mesh) < fmax(best_fs.max_error, best_fs.surface_to_mesh)) {
-            sk_bspline_destroy(&best);
-            if (!(best = bspline_copy(s))) {
-                st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-                break;
-            }
-            best_fs = fs;
-        }
-        if ((st = sk__progress(o.progress, o.progress_user, (double)r / rounds, err)))
-            break;
-        size_t nu = s->nu, nv = s->nv;
-        double *ku = refine_knots(s->knots_u, &nu, s->degree_u, score_u, share);
-        double *kv = refine_knots(s->knots_v, &nv, s->degree_v, score_v, share);
-        /* no more control points than the mesh has vertices: beyond that the surface is no
-         * reduction of the data (the face samples are interpolated from the vertices) */
-        bool grow = ku && kv && nu * nv <= n_input && nu <= MAX_CTRL_1D &&
-                    nv <= MAX_CTRL_1D;
-        double *pts = grow ? sk__calloc_array(3 * nu * nv, sizeof *pts) : NULL;
-        if (!ku || !kv || (grow && !pts)) {
-            sk__free(ku);
-            sk__free(kv);
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            break;
-        }
-        if (!grow) { /* more control points than the data supports: keep the last fit */
-            sk__free(ku);
-            sk__free(kv);
-            break;
-        }
-        sk__free(s->knots_u);
-        sk__free(s->knots_v);
-        sk__free(s->points);
-        s->knots_u = ku, s->knots_v = kv, s->points = pts, s->nu = nu, s->nv = nv;
-    }
-    if (!st && !fs.met && best &&
-        fmax(best_fs.max_error, best_fs.surface_to_mesh) < fmax(fs.max_error, fs.surface_to_mesh)) {
-        sk_bspline_surface *t = s;
-        s = best;
-        best = t;
-        size_t r = fs.rounds;
-        fs = best_fs;
-        fs.rounds = r; /* rounds run, the kept one being an earlier one */
-    }
+    st = fit_maps(disk, uv, bvh, &o, deg, n_input, out, &fs, err);
     fs.seconds_fit = sk_seconds() - t0 - fs.seconds_param;
-    if (!st) {
-        *out = s;
-        s = NULL;
-    }
 done:
     if (stats)
         *stats = fs;
-    sk_bspline_destroy(&s);
-    sk_bspline_destroy(&best);
-    sk__free(score_u);
-    sk__free(score_v);
     sk__free(loop);
     sk__free(uv);
-    samples_free(&x);
     sk_bvh_destroy(&bvh);
     sk_soup_destroy(&soup);
     sk_mesh_destroy(&split);

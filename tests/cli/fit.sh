@@ -53,10 +53,10 @@ corners=$(tr -d ' \n' < "$tmp/auto.json" | sed 's/.*"corners":\[\([0-9,]*\)\].*/
   || fail "the same corners gave another surface"
 
 # a ragged disk (cut from bunny00): the dividing edges are split, the square map flips nothing;
-# --method mips runs too and flips nothing
+# --method mips runs too and flips nothing (the maps themselves: --area-theta 0, no balance)
 python3 "$2/tests/cli/cut_disk.py" "$m/bunny00.off" "$tmp/rag.off" 4000 0 || fail "cut"
 for meth in floater mips; do
-  "$bin" fit "$tmp/rag.off" -o "$tmp/rag.step" --method $meth --json > "$tmp/rag.json" 2> /dev/null
+  "$bin" fit "$tmp/rag.off" -o "$tmp/rag.step" --method $meth --area-theta 0 --json > "$tmp/rag.json" 2> /dev/null
   rc=$?
   [ $rc = 0 ] || [ $rc = 4 ] || fail "ragged $meth: exit $rc"
   [ "$(val flipped "$tmp/rag.json")" = 0 ] || fail "ragged $meth: $(val flipped "$tmp/rag.json") flipped"
@@ -68,12 +68,14 @@ done
 # the cut, where the surface can wiggle between the points of the fit's coarse check. With the
 # map's areas balanced (--area-theta 1) it is met at 1e-2 with fewer control points than
 # without; "met" (and exit 0) holds for the deviation the summary reports, not only for the
-# fit's own grid (it claimed 1e-2 at a Hausdorff distance of 0.029 before the dense check)
+# fit's own grid (it claimed 1e-2 at a Hausdorff distance of 0.029 before the dense check);
+# the default (the map chosen among theta 1, 0.5 and none) needs no more than theta 1
 in=$m/mask_cone.off
 python3 "$2/tests/cli/cut_disk.py" "$in" "$tmp/cone.off" "$(sed -n 2p "$in" | cut -d' ' -f2)" \
   "$(( $(sed -n 2p "$in" | cut -d' ' -f1) - 1 ))" || fail "cut cone"
-for th in 0 1; do
-  "$bin" fit "$tmp/cone.off" -o "$tmp/cone.step" --tolerance-rel 1e-2 --area-theta $th --json \
+for th in 0 1 auto; do
+  args=(--area-theta "$th"); [ $th = auto ] && args=()
+  "$bin" fit "$tmp/cone.off" -o "$tmp/cone.step" --tolerance-rel 1e-2 "${args[@]}" --json \
     > "$tmp/cone$th.json" 2> /dev/null
   rc=$?
   met=$(val met "$tmp/cone$th.json")
@@ -84,13 +86,19 @@ for th in 0 1; do
     || fail "cone theta $th: met $met at Hausdorff $(val hausdorff_rel "$tmp/cone$th.json") of the diagonal"
 done
 [ "$(val met "$tmp/cone1.json")" = true ] || fail "balanced cone not within 1e-2"
+# the default tries the maps (theta 1, 0.5, none) and keeps the fewest control points within T
+[ "$(val met "$tmp/coneauto.json")" = true ] || fail "automatic map: cone not within 1e-2"
+[ "$(val area_theta_auto "$tmp/coneauto.json")" = true ] || fail "automatic map not the default"
+[ "$(val area_theta_auto "$tmp/cone1.json")" = false ] || fail "--area-theta 1 is not forced"
+[ "$(val control_points "$tmp/coneauto.json")" -le "$(val control_points "$tmp/cone1.json")" ] \
+  || fail "automatic map: $(val control_points "$tmp/coneauto.json") control points, theta 1 $(val control_points "$tmp/cone1.json")"
 [ "$(val control_points "$tmp/cone1.json")" -lt "$(val control_points "$tmp/cone0.json")" ] \
   || fail "balanced cone: $(val control_points "$tmp/cone1.json") control points, unbalanced $(val control_points "$tmp/cone0.json")"
 "$bin" fit "$tmp/cone.off" -o "$tmp/cone.step" --area-theta -1 > /dev/null 2>&1
 [ $? = 2 ] || fail "--area-theta -1 is not a usage error"
 
 # a tolerance that cannot be met: exit 4, the file is written, stderr says so
-"$bin" fit "$m/nefertiti.off" -o "$tmp/n.step" --tolerance-rel 1e-6 -q 2> "$tmp/n.err"
+"$bin" fit "$m/nefertiti.off" -o "$tmp/n.step" --tolerance-rel 1e-6 --area-theta 0 -q 2> "$tmp/n.err"
 [ $? = 4 ] || fail "unmet tolerance does not exit 4"
 [ -s "$tmp/n.step" ] || fail "unmet tolerance wrote no file"
 grep -q "not met" "$tmp/n.err" || fail "no 'not met' message: $(cat "$tmp/n.err")"

@@ -1,7 +1,8 @@
 /* B-spline basis and fitting: partition of unity and derivatives against finite differences, a
  * plane reproduced exactly, a shared disk within 1e-3 of its diagonal both ways (vertices to the
  * tessellated surface, and the surface's own check of its distance to the mesh), refining the
- * worst spans first needs no more control points than bisecting all, bad input. */
+ * worst spans first needs no more control points than bisecting all, the square map chosen
+ * automatically, bad input. */
 #include "testutil.h"
 #include "surfkit/fit.h"
 #include "surfkit/deviation.h"
@@ -157,7 +158,7 @@ static void unmet_keeps_nearest(void **state)
 {
     (void)state;
     sk_mesh *m = skt_read_mesh(skt_shared_mesh("nefertiti.off"));
-    sk_fit_opts o = {.tolerance_rel = 1e-3};
+    sk_fit_opts o = {.tolerance_rel = 1e-3, .area_theta = -1}; /* one map: the rounds are tested */
     sk_bspline_surface *s = NULL;
     sk_fit_stats all;
     assert_int_equal(sk_fit_bspline(m, &o, &s, &all, NULL), SK_OK);
@@ -173,6 +174,53 @@ static void unmet_keeps_nearest(void **state)
         assert_true(dev <= fmax(st.max_error, st.surface_to_mesh));
         sk_bspline_destroy(&s);
     }
+    sk_mesh_destroy(&m);
+}
+
+/* The square map chosen automatically (area_theta 0): the fit kept is the one with the fewest
+ * control points among the maps tried that meet T, it is within T as measured independently,
+ * and it needs no more control points than the map forced to no balance (area_theta < 0, the
+ * old default) or to theta 1 (paraboloid-patch at 2e-3 of the diagonal: 225 and 121). */
+static void auto_map(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("paraboloid-patch.off"));
+    sk_fit_opts o = {.tolerance_rel = 2e-3};
+    sk_bspline_surface *s = NULL;
+    sk_fit_stats st;
+    assert_int_equal(sk_fit_bspline(m, &o, &s, &st, NULL), SK_OK);
+    double chord = 0, h = independent_deviation(s, m, st.tolerance, &chord);
+    sk_bspline_destroy(&s);
+    assert_true(st.met);
+    assert_true(h <= st.tolerance + chord);
+    assert_true(st.tries >= 2 && st.tries <= SK_FIT_AUTO_THETAS);
+    size_t fewest = SIZE_MAX;
+    for (size_t k = 0; k < st.tries; ++k) {
+        print_message("theta %g: %zu control points, deviation %.3g, met %d, capped %d\n",
+                      st.tried[k].area_theta, st.tried[k].control_points, st.tried[k].deviation,
+                      st.tried[k].met, st.tried[k].capped);
+        if (st.tried[k].met && st.tried[k].control_points < fewest)
+            fewest = st.tried[k].control_points;
+    }
+    assert_int_equal(st.control_points, fewest);
+    bool found = false;
+    for (size_t k = 0; k < st.tries; ++k)
+        found |= st.tried[k].area_theta == st.area_theta && st.tried[k].control_points == fewest;
+    assert_true(found);
+    const double forced[2] = {-1, 1};
+    for (int k = 0; k < 2; ++k) {
+        sk_fit_opts f = {.tolerance_rel = 2e-3, .area_theta = forced[k]};
+        sk_fit_stats fs;
+        assert_int_equal(sk_fit_bspline(m, &f, &s, &fs, NULL), SK_OK);
+        sk_bspline_destroy(&s);
+        print_message("forced theta %g: %zu control points, met %d (auto: %zu, theta %g)\n",
+                      forced[k], fs.control_points, fs.met, st.control_points, st.area_theta);
+        assert_int_equal(fs.tries, 1);
+        assert_true(fs.area_theta == (forced[k] > 0 ? forced[k] : 0));
+        assert_true(!fs.met || st.control_points <= fs.control_points);
+    }
+    o.area_theta = NAN;
+    assert_int_equal(sk_fit_bspline(m, &o, &s, NULL, NULL), SK_ERR_ARG);
     sk_mesh_destroy(&m);
 }
 
@@ -201,6 +249,7 @@ int main(void)
         cmocka_unit_test(shared_disk),
         cmocka_unit_test(refinement_share),
         cmocka_unit_test(unmet_keeps_nearest),
+        cmocka_unit_test(auto_map),
         cmocka_unit_test(bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

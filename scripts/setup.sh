@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs (idempotently) every Debian package surfkit needs to build, test and benchmark.
 # Usage: scripts/setup.sh [--peers] [--interop]
-#   --peers    also CGAL and OpenMesh for bench/peers, and xatlas-web (npm, bench/package.json)
+#   --peers    also CGAL and OpenMesh for bench/peers, and xatlas-web and xatlasjs (npm, bench/package.json)
 #   --interop  also the programs tests/interop runs (Blender, FreeCAD, VTK's Python module;
 #              scripts/test.sh, hence CI, asks for them). MeshLab is not installed:
 #              meshlabserver 2020.09 does not run headless (no X: xcb fails; QT_QPA_PLATFORM=
@@ -36,8 +36,9 @@ if [ ! -e viewer/node_modules/three/build/three.module.js ]; then
   fi
   (cd viewer && npm ci --no-audit --no-fund --loglevel=error)
 fi
-# the xatlas peer of bench/atlas.sh (npm xatlas-web, pinned by bench/package-lock.json)
-if [[ " $* " == *" --peers "* ]] && [ ! -e bench/node_modules/xatlas-web/dist/xatlas-web.wasm ]; then
+# the xatlas peers of bench/atlas.sh (npm xatlas-web and xatlasjs, pinned by bench/package-lock.json)
+if [[ " $* " == *" --peers "* ]] && { [ ! -e bench/node_modules/xatlas-web/dist/xatlas-web.wasm ] ||
+                                      [ ! -e bench/node_modules/xatlasjs/package.json ]; }; then
   (cd bench && npm ci --no-audit --no-fund --loglevel=error)
 fi
 echo "setup: all packages present (${#pkgs[@]} checked), three.js $(sed -n 's/.*"version": "\(.*\)".*/\1/p' viewer/node_modules/three/package.json | head -1)"

@@ -122,6 +122,53 @@ static bool side_is_smooth(double bend, double jump, double A)
     return bend <= 0.5 * A || SK_CREASE_JUMP_PER_BEND * bend <= jump;
 }
 
+/* a hinge is a fold: its face normals are more than this (degrees) apart, its faces meet at an
+ * acute angle */
+#define SK_CREASE_FOLD_DEG 90.0
+/* a flag in a chain's edge count: one of its edges is no fold hinge */
+#define SK_CREASE_NOT_HINGE 0x80000000u
+
+/* Step 3b: a face whose edges are all crease candidates is a facet sharp against every
+ * neighbour (a fold-over on a scan: the cow's tail root, where three such faces sit around
+ * vertex 43), not two smooth sides meeting along a line. Such a face keeps only its sharpest
+ * edge, the hinge of the fold (hinge[e] = 1), and its other crease edges are dropped (every face
+ * is judged before any edge is dropped, so the order does not matter; a hinge of one face that
+ * another face drops is dropped). drop holds ne zero flags on entry and on return; deg is
+ * updated. */
+static void prune_crease_islands(const sk_mesh *m, const double *dih, uint8_t *crease,
+                                 uint32_t *deg, uint32_t *drop, uint8_t *hinge)
+{
+    size_t ne = sk_num_edges(m);
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        uint32_t h0 = m->f_halfedge[f], h = h0, sharpest = SK_INVALID;
+        bool all = true;
+        do {
+            uint32_t e = sk_edge(h);
+            all = all && crease[e];
+            if (sharpest == SK_INVALID || dih[e] > dih[sharpest])
+                sharpest = e;
+            h = m->h_next[h];
+        } while (h != h0 && all);
+        if (!all)
+            continue;
+        do {
+            if (sk_edge(h) != sharpest)
+                drop[sk_edge(h)] = 1;
+            h = m->h_next[h];
+        } while (h != h0);
+        hinge[sharpest] = dih[sharpest] > SK_CREASE_FOLD_DEG;
+    }
+    for (uint32_t e = 0; e < ne; ++e)
+        if (drop[e]) {
+            crease[e] = hinge[e] = 0;
+            deg[sk_from(m, 2 * e)]--;
+            deg[sk_to(m, 2 * e)]--;
+            drop[e] = 0;
+        }
+}
+
 static uint32_t uf_find(uint32_t *parent, uint32_t x)
 {
     while (parent[x] != x) {
@@ -152,11 +199,12 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
     uint32_t *vpar = sk__malloc_array(nv + 1, sizeof(uint32_t));   /* step 3: groups */
     uint32_t *nall = sk__calloc_array(nv + 1, sizeof(uint32_t));
     uint32_t *nstrong = sk__calloc_array(nv + 1, sizeof(uint32_t));
+    uint8_t *hinge = sk__calloc_array(ne + 1, 1); /* step 3b: the hinge of a fold */
     uint32_t stamp = 0;
     sk_status st = SK_OK;
     memset(crease, 0, ne);
     if (!fa || !deg || !first || !parent || !size || !dih || !mark || !queue || !vpar || !nall ||
-        !nstrong) {
+        !nstrong || !hinge) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory detecting creases");
         goto done;
     }
@@ -214,7 +262,11 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
         deg[sk_from(m, 2 * e)]++;
         deg[sk_to(m, 2 * e)]++;
     }
-    /* chains: the two crease edges of a vertex with exactly two are one line */
+    prune_crease_islands(m, dih, crease, deg, size, hinge);
+    /* chains: the two crease edges of a vertex with exactly two are one line (unless one is a
+     * fold hinge and the other not: a piece of a crease line too short to stand alone is not
+     * made a line by the fold it touches; on the cow edge 492-956 next to the hinges 956-43-2384
+     * made their sectors fail, and the whole line was dropped) */
     for (uint32_t e = 0; e < ne; ++e)
         parent[e] = e;
     for (uint32_t v = 0; v < nv; ++v)
@@ -229,18 +281,24 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
                 continue;
             if (first[v] == SK_INVALID)
                 first[v] = e;
-            else
+            else if (hinge[e] == hinge[first[v]])
                 parent[uf_find(parent, e)] = uf_find(parent, first[v]);
         }
     }
+    /* size[root]: the chain's edge count; a chain of fold hinges (step 3b) is kept however
+     * short: the surface turns back along it, and one normal per vertex cannot follow that */
     for (uint32_t e = 0; e < ne; ++e)
-        if (crease[e])
-            size[uf_find(parent, e)]++;
+        if (crease[e]) {
+            uint32_t r = uf_find(parent, e);
+            size[r] = (size[r] + 1) | (hinge[e] ? 0u : SK_CREASE_NOT_HINGE);
+        }
     for (uint32_t e = 0; e < ne; ++e) {
         if (!crease[e])
             continue;
         bool corners = deg[sk_from(m, 2 * e)] >= 3 && deg[sk_to(m, 2 * e)] >= 3;
-        if (size[uf_find(parent, e)] < SK_CREASE_MIN_CHAIN && !corners)
+        uint32_t sz = size[uf_find(parent, e)];
+        bool fold = !(sz & SK_CREASE_NOT_HINGE);
+        if ((sz & ~SK_CREASE_NOT_HINGE) < SK_CREASE_MIN_CHAIN && !corners && !fold)
             crease[e] = 0; /* a short piece, not a line */
         else
             n++;
@@ -260,5 +318,6 @@ done:
     sk__free(vpar);
     sk__free(nall);
     sk__free(nstrong);
+    sk__free(hinge);
     return st;
 }

@@ -263,6 +263,58 @@ static void test_meshes(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* true when edge a-b of m is flagged in c */
+static bool edge_flagged(const sk_mesh *m, const uint8_t *c, uint32_t a, uint32_t b)
+{
+    for (uint32_t e = 0; e < sk_num_edges(m); ++e) {
+        uint32_t x = sk_from(m, 2 * e), y = sk_to(m, 2 * e);
+        if ((x == a && y == b) || (x == b && y == a))
+            return c[e] != 0;
+    }
+    fail_msg("no edge %u-%u", a, b);
+    return false;
+}
+
+/* Given the cow's tail root, where the plain rules found a cluster of seven crease edges around
+ * vertex 43 that closes three faces (956-43-961, 970-961-43, 43-2384-970: every edge sharp), when
+ * the creases are detected, then each such face keeps only its sharpest edge, the fold's hinges
+ * 43-956 (160 degrees between the face normals) and 43-2384 (113 degrees) stay as a line of two
+ * edges, and the edges of 58-59 degrees across the fold (43-961, 43-970, 961-970, 970-2384) and
+ * 956-961 are gone. On every shared mesh no face has all its edges creases. */
+static void test_fold_hinges(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("cow.off"));
+    uint8_t *c = NULL;
+    creases(m, 0.0, &c);
+    assert_true(edge_flagged(m, c, 43, 956));
+    assert_true(edge_flagged(m, c, 43, 2384));
+    const uint32_t gone[][2] = {{43, 961}, {43, 970}, {961, 970}, {970, 2384}, {956, 961}};
+    for (size_t i = 0; i < sizeof gone / sizeof *gone; ++i)
+        assert_false(edge_flagged(m, c, gone[i][0], gone[i][1]));
+    free(c);
+    sk_mesh_destroy(&m);
+    const char *names[] = {"cow.off",       "lion-head.off", "pig.off",  "elephant.off",
+                           "fandisk.off",   "cube.off",      "mech-holes-shark.off",
+                           "icosahedron.off", "three_peaks.off"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
+        m = skt_read_mesh(skt_shared_mesh(names[i]));
+        creases(m, 0.0, &c);
+        for (uint32_t f = 0; f < m->num_faces; ++f) {
+            uint32_t h0 = m->f_halfedge[f], h = h0;
+            bool all = true;
+            do {
+                all = all && c[sk_edge(h)];
+                h = m->h_next[h];
+            } while (h != h0);
+            if (all)
+                fail_msg("%s: face %u has only crease edges", names[i], f);
+        }
+        free(c);
+        sk_mesh_destroy(&m);
+    }
+}
+
 static void test_smooth_reports(void **state)
 {
     (void)state;
@@ -303,6 +355,7 @@ int main(void)
         cmocka_unit_test(test_fold),
         cmocka_unit_test(test_smooth_sides),
         cmocka_unit_test(test_meshes),
+        cmocka_unit_test(test_fold_hinges),
         cmocka_unit_test(test_smooth_reports),
         cmocka_unit_test(test_bad_angle),
     };

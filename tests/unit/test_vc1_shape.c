@@ -635,6 +635,18 @@ static void test_cow_flips(void **state)
     assert_true(flipped.max_verr < 1e-12);
 }
 
+/* the cow's default VC1 surface: at most max_singular singular patches, no spike (overshoot at
+ * most 0.5), normal jumps and normal errors at rounding level, the vertices interpolated */
+static void assert_cow_shape(size_t max_singular)
+{
+    shape_result r = measure("cow.off", false);
+    assert_true(r.singular <= max_singular);
+    assert_true(r.max_overshoot <= 0.5);
+    assert_true(r.max_jump < 1e-7);
+    assert_true(r.max_nerr < 1e-7);
+    assert_true(r.max_verr < 1e-12);
+}
+
 /* smallest cosine between n and the unit normals of the faces around v */
 static double star_smallest_cos(const sk_mesh *m, uint32_t v, const double *n)
 {
@@ -701,12 +713,31 @@ static void test_fold_normals(void **state)
     free(n0);
     free(n1);
     sk_mesh_destroy(&mesh);
-    shape_result r = measure("cow.off", false);
-    assert_true(r.singular <= 4);
-    assert_true(r.max_overshoot <= 0.5);
-    assert_true(r.max_jump < 1e-7);
-    assert_true(r.max_nerr < 1e-7);
-    assert_true(r.max_verr < 1e-12);
+    assert_cow_shape(4);
+}
+
+/* Given the cow, whose tail root folds at vertex 43 (the hinges 43-956 and 43-2384, crease.c
+ * step 3b), when its VC1 surface is built, then both hinges are G0 crease edges of the surface
+ * (one normal per side at 43), the surface has at most 2 singular patches (4 when the cluster of
+ * sharp edges there was dropped whole and 43 kept one normal), no spike, normal jumps at
+ * rounding level away from the creases, and it interpolates. */
+static void test_cow_fold_crease(void **state)
+{
+    (void)state;
+    sk_mesh *mesh = skt_read_mesh(skt_shared_mesh("cow.off"));
+    sk_smooth *s = NULL;
+    sk_error err = {0};
+    assert_int_equal(sk_smooth_build(mesh, NULL, &s, &err), SK_OK);
+    assert_non_null(s->crease_edge);
+    const uint32_t hinge[2][2] = {{43, 956}, {43, 2384}};
+    for (int i = 0; i < 2; ++i) {
+        uint32_t h = sk__find_halfedge(s->config, hinge[i][0], hinge[i][1]);
+        assert_true(h != SK_INVALID);
+        assert_int_equal(s->crease_edge[sk_edge(h)], 1);
+    }
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&mesh);
+    assert_cow_shape(2);
 }
 
 /* the before/after table of the meshes (SK_SHAPE_TABLE=1; SK_SHAPE_MESH=name for one) */
@@ -792,6 +823,7 @@ int main(void)
         cmocka_unit_test(test_targets_reached),
         cmocka_unit_test(test_cow_flips),
         cmocka_unit_test(test_fold_normals),
+        cmocka_unit_test(test_cow_fold_crease),
         cmocka_unit_test(test_fair_energy_matrices),
         cmocka_unit_test(test_fair_vs_lsq),
         cmocka_unit_test(test_fair_points_eight),

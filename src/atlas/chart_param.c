@@ -191,6 +191,7 @@ sk_status sk__chart_area(const sk_mesh *chart, uint64_t seed, double theta, doub
     }
     o.frozen_model = true;
     o.frozen_keep = true;
+    o.frozen_steps = o.global_steps; /* one factorization unless a step finds no decrease */
     sk_error lerr = {0};
     sk_status st = sk_param_mips(chart, &o, uv, NULL, &lerr);
     if (st == SK_ERR_NOMEM || st == SK_ERR_CANCELLED) {

@@ -49,8 +49,9 @@ sk_status sk_uv_overlaps(size_t n, const double *tri, size_t *count, uint32_t fi
     double *t = sk__malloc_array(6 * n, sizeof(double));
     double *box = sk__malloc_array(4 * n, sizeof(double));
     uint32_t *cstart = NULL, *items = NULL, *fill = NULL;
+    uint32_t *corner = sk__malloc_array(2 * n, sizeof(uint32_t)); /* cell of the box's low corner */
     uint8_t *live = sk__calloc_array(n, 1);
-    if (!t || !box || !live) {
+    if (!t || !box || !live || !corner) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
@@ -99,6 +100,8 @@ sk_status sk_uv_overlaps(size_t n, const double *tri, size_t *count, uint32_t fi
             continue;
         const double *b = box + 4 * i;
         size_t x0 = CELL_X(b[0]), x1 = CELL_X(b[2]), y0 = CELL_Y(b[1]), y1 = CELL_Y(b[3]);
+        corner[2 * i] = (uint32_t)x0;
+        corner[2 * i + 1] = (uint32_t)y0;
         for (size_t y = y0; y <= y1; ++y)
             for (size_t x = x0; x <= x1; ++x)
                 cstart[y * nx + x + 1]++;
@@ -119,7 +122,7 @@ sk_status sk_uv_overlaps(size_t n, const double *tri, size_t *count, uint32_t fi
         if (!live[i])
             continue;
         const double *b = box + 4 * i;
-        size_t x0 = CELL_X(b[0]), x1 = CELL_X(b[2]), y0 = CELL_Y(b[1]), y1 = CELL_Y(b[3]);
+        size_t x0 = corner[2 * i], x1 = CELL_X(b[2]), y0 = corner[2 * i + 1], y1 = CELL_Y(b[3]);
         for (size_t y = y0; y <= y1; ++y)
             for (size_t x = x0; x <= x1; ++x) {
                 size_t c = y * nx + x;
@@ -141,8 +144,11 @@ sk_status sk_uv_overlaps(size_t n, const double *tri, size_t *count, uint32_t fi
                     const double *bi = box + 4 * (size_t)i, *bj = box + 4 * (size_t)j;
                     if (bi[0] > bj[2] || bj[0] > bi[2] || bi[1] > bj[3] || bj[1] > bi[3])
                         continue;
-                    /* the pair is tested in the cell of the lower-left corner of the overlap */
-                    if (CELL_X(fmax(bi[0], bj[0])) != x || CELL_Y(fmax(bi[1], bj[1])) != y)
+                    /* the pair is tested in the cell of the lower-left corner of the overlap (the
+                     * cell maps are monotone: that corner's cell is the larger of the two boxes'
+                     * low-corner cells, kept per triangle instead of two divisions per pair) */
+                    const uint32_t *ki = corner + 2 * (size_t)i, *kj = corner + 2 * (size_t)j;
+                    if ((ki[0] > kj[0] ? ki[0] : kj[0]) != x || (ki[1] > kj[1] ? ki[1] : kj[1]) != y)
                         continue;
                     if (interiors_meet(t + 6 * (size_t)i, t + 6 * (size_t)j)) {
                         if (found == 0 && first) {
@@ -160,6 +166,7 @@ done:
     sk__free(t);
     sk__free(box);
     sk__free(live);
+    sk__free(corner);
     sk__free(cstart);
     sk__free(fill);
     sk__free(items);

@@ -148,6 +148,7 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         if ((st = sk__mips_global_init(&G, &c, o.frozen_model, err)))
             goto done;
         G.keep = o.frozen_keep;
+        G.serves = o.frozen_keep && o.frozen_steps ? o.frozen_steps : 3;
         use_global = true;
         s.global_seconds += sk_seconds() - tg;
     }

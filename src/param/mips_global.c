@@ -223,7 +223,7 @@ double sk__mips_global_step(sk__mips_global *G, const sk__mips_ctx *c, double *u
 {
     size_t n2 = 2 * c->nv;
     global_assemble(G, c, uv); /* (the values are only used when factorizing) */
-    if (!G->frozen || !G->factored || G->refactor || G->since_factor >= 3) {
+    if (!G->frozen || !G->factored || G->refactor || (size_t)G->since_factor >= G->serves) {
         if ((*st = sk_solver_factorize(G->solver, G->P, err)))
             return e0;
         G->factored = true;

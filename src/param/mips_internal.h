@@ -52,7 +52,8 @@ typedef struct sk__mips_global {
     bool factored;
     bool refactor; /* the frozen model did poorly (line search cut the step): factorize again */
     bool keep;     /* frozen_keep: only a step without decrease sets refactor */
-    int since_factor; /* steps on the current factorization (a frozen model serves at most 3) */
+    int since_factor; /* steps on the current factorization */
+    size_t serves;    /* steps a frozen model's factorization serves at most (frozen_steps) */
     int scale_exp;    /* uv was scaled by 2^scale_exp since the factorization (renormalize): the
                          model then scales by 2^-2scale_exp, its direction is corrected */
     sk_sparse *P;

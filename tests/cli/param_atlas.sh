@@ -27,6 +27,12 @@ done
 [ "$(val charts "$TMP/mask_cone.json")" -ge 2 ] || fail "mask_cone charts"
 [ "$(val charts "$TMP/eight.json")" -ge 2 ] || fail "eight charts"
 
+# the atlas does not depend on the thread count (parallel waves, bisections, merges, overlap
+# checks): cow on one thread and on two, the same OBJ byte for byte
+OMP_NUM_THREADS=1 "$BIN" param "$M/cow.off" -o "$TMP/cow1.obj" -q || fail "cow one thread"
+OMP_NUM_THREADS=2 "$BIN" param "$M/cow.off" -o "$TMP/cow2.obj" -q || fail "cow two threads"
+cmp -s "$TMP/cow1.obj" "$TMP/cow2.obj" || fail "cow atlas depends on the thread count"
+
 # PLY: the texcoord face list; --split-seams: per-vertex u v and one vertex per uv
 "$BIN" param "$M/eight.off" -o "$TMP/e.ply" --ascii -q || fail "ply"
 grep -q 'property list uchar double texcoord' "$TMP/e.ply" || fail "PLY lacks texcoord"

@@ -25,6 +25,7 @@
 #                                      FIT_ARGS (more surfkit fit options, e.g. --area-theta 0),
 #                                      SHARE (surfkit fit --refine-share; default its own),
 #                                      COARSE_MESHES, COARSE_RELS (default "1e-3 1e-4"),
+#                                      SMOOTH_ARGS (more surfkit smooth options, e.g. --full-search),
 #                                      SK (a built surfkit to run instead of building one),
 #                                      SK_BENCH_ROWS (a file: also one tab-separated row per
 #                                      disk for bench/all.sh)
@@ -175,8 +176,9 @@ for mesh in $COARSE_MESHES; do
   for rel in $COARSE_RELS; do
     out=$SCRATCH/$mesh-$rel
     cut -d' ' -f1 /proc/loadavg > "$out.load"
+    # shellcheck disable=SC2086
     /usr/bin/time -f "%e %U %S %M" -o "$out.time" timeout 3600 "$SK" smooth "$in" -o "$out.step" \
-      --tolerance-rel "$rel" --allow-fail --json -q > "$out.json" 2> "$out.err" || true
+      --tolerance-rel "$rel" ${SMOOTH_ARGS:-} --allow-fail --json -q > "$out.json" 2> "$out.err" || true
     python3 - "$mesh" "$rel" "$out" <<'PY'
 import json, os, sys
 mesh, rel, out = sys.argv[1:]
@@ -189,11 +191,11 @@ wall, user, sys_, kb = map(float, open(out + ".time").read().split()[-4:])
 ss = d["stage_seconds"]
 dev, diag = d["deviation"], d["deviation"]["diagonal"]
 step = os.path.getsize(out + ".step") / 1e6 if os.path.exists(out + ".step") else float("nan")
-print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d, %d | %s / %s | %s | %.1f | %.1f | %d | %s |" % (
+print("| %s | %d | %s | %d | %.1f | %.1f | %.3g | %.3g | %.3g | %.2g | %d | %s | %d%s, %d | %s / %s | %s | %.1f | %.1f | %d | %s |" % (
     mesh, d["input_faces"], rel, d["patches"], d["input_faces"] / d["patches"], step,
     dev["hausdorff"] / diag, dev["mesh_to_surface_rms"] / diag, dev["surface_to_mesh_rms"] / diag,
     d["max_normal_jump_deg"], d["singular_patches"], "yes" if d["met"] else "no",
-    d["levels_tried"], d["refinement_rounds"], d.get("reused_patches", "-"), d.get("checked_patches", "-"),
+    d["levels_tried"], " (estimate assumed)" if d.get("level_assumed") else "", d["refinement_rounds"], d.get("reused_patches", "-"), d.get("checked_patches", "-"),
     " / ".join("%.1f" % ss[k] for k in ("search", "refine", "vc1", "check", "deviation")),
     wall, user + sys_, kb / 1024, open(out + ".load").read().strip()))
 PY

@@ -334,6 +334,10 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                  "with a tolerance: every refinement round measures all distances again\n"
                  "(default: only what the patches' displacement since the last round\n"
                  "can have changed)"),
+        OPT_FLAG("--full-search", a->to.full_search,
+                 "with a tolerance: search the levels with VC1 builds until the coarsest one\n"
+                 "within it is found (default: only 3 levels under the estimate; missed there,\n"
+                 "the refinement starts from the estimate)"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
     };
     const cli_spec spec = {"smooth", "IN [-o OUT.obj|OUT.ply|OUT.igs|OUT.step]", about,
@@ -369,6 +373,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         return cli_usage("smooth", "--refine-levels needs --tolerance or --tolerance-rel");
     if (a->to.full_checks && !a->tolerance)
         return cli_usage("smooth", "--full-checks needs --tolerance or --tolerance-rel");
+    if (a->to.full_search && !a->tolerance)
+        return cli_usage("smooth", "--full-search needs --tolerance or --tolerance-rel");
     return EXIT_OK;
 }
 
@@ -549,6 +555,7 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_kuint(&j, "failed_levels", t->failed_levels);
     json_kuint(&j, "singular_levels", t->singular_levels);
     json_kbool(&j, "level_met", t->level_met);
+    json_kbool(&j, "level_assumed", t->level_assumed);
     json_kuint(&j, "coarsest_level_met", t->coarsest_met);
     json_kuint(&j, "base_level", t->base_level);
     json_kuint(&j, "refinement_rounds", t->rounds);

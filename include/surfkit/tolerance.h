@@ -49,6 +49,16 @@ typedef struct sk_tolerance_opts {
     bool no_estimate;        /* search the levels by bisection alone (the old search), without
                                 starting from the level estimate (the coarsest level whose own
                                 triangles are within T) */
+    bool full_search;        /* search the levels with VC1 builds until the coarsest level
+                                within T is bracketed (the old route). The default builds the
+                                level PROBE_BELOW (3) under the estimate only: missed there,
+                                the estimate is taken as the coarsest level within T and the
+                                refinement starts refine_levels below it (on scans the
+                                estimate is that level, so the result is the same without the
+                                two largest builds); met there, or the estimate is the input
+                                itself, or the refinement ends without a surface within T and
+                                without singular patches: the full search follows (and its
+                                refinement when its base differs) */
     bool full_checks;        /* every refinement round measures all distances again (the
                                 reference for the default, incremental checks: a round keeps a
                                 bound within T that the displacement of the patches since the
@@ -94,6 +104,9 @@ typedef struct sk_tolerance_stats {
     size_t singular_levels;  /* of them, whose surface has singular patches */
     size_t coarsest_met;     /* the coarsest full level found to meet T (levels - 1 when none) */
     bool level_met;          /* some full level meets T */
+    bool level_assumed;      /* the search took the estimate as the coarsest level within T
+                                (see full_search): coarsest_met is the estimate, level_met
+                                false, and no full level met T was built */
     size_t base_level;       /* the level the refinement started from */
     size_t rounds;           /* refinement rounds (surfaces built from the base level) */
     size_t failed_rounds;    /* rounds where VC1 could not be built (the region was widened) */

@@ -262,10 +262,45 @@ static void probe_update(probe *p, size_t j, bool met)
     p->step *= 2;
 }
 
+/* What the default search (probe_below) found PROBE_BELOW levels under the estimate */
+typedef enum probed { PROBED_NONE, PROBED_MISSED, PROBED_MET } probed;
+
+/* The default search's one VC1 build (see sk_tolerance_opts.full_search): the level
+ * PROBE_BELOW under the estimate, when the estimate is neither too low for it nor the input
+ * itself. Missed: its surface goes to t->best; met: it stays in t->r for the full search; no
+ * VC1 surface there: PROBED_NONE (the full search builds it again and goes upwards). */
+static sk_status probe_below(tol_run *t, size_t est, probed *out, sk_error *err)
+{
+    *out = PROBED_NONE;
+    if (est < PROBE_BELOW || est + 1 >= t->c.levels)
+        return SK_OK;
+    size_t j = est - PROBE_BELOW, nvert = 0;
+    sk_status vs = SK_OK;
+    sk__tol_level_cut(&t->c, j, t->alive);
+    sk_status st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, &t->r, &vs, &nvert,
+                                         t->stats, err);
+    if (st)
+        return st;
+    t->stats->levels_tried++;
+    sk__tol_record_try(t->stats, j, false, vs, nvert, &t->r);
+    if (vs != SK_OK) {
+        t->stats->failed_levels++;
+        sk__tol_cut_result_free(&t->r);
+        return SK_OK;
+    }
+    t->stats->singular_levels += t->r.singular > 0;
+    *out = t->r.met ? PROBED_MET : PROBED_MISSED;
+    if (!t->r.met)
+        keep_better(&t->best, &t->r, &t->best_refined, false);
+    return SK_OK;
+}
+
 /* The search: the coarsest level that meets T (*coarsest_met; the number of levels when none
- * does), assuming finer levels are closer, starting from the level estimate; the best surface
- * seen is kept in t->best. */
-static sk_status search_levels(tol_run *t, size_t *coarsest_met, sk_error *err)
+ * does), assuming finer levels are closer, starting from the level estimate est (ignored with
+ * no_estimate) after what probe_below found there (pr); the best surface seen is kept in
+ * t->best. */
+static sk_status search_levels(tol_run *t, size_t est, probed pr, size_t *coarsest_met,
+                               sk_error *err)
 {
     sk_status st = SK_OK;
     /* invariant: the levels below lo miss T (or have no VC1 surface); hi meets T when hi_met */
@@ -274,10 +309,21 @@ static sk_status search_levels(tol_run *t, size_t *coarsest_met, sk_error *err)
     cut_result *at_hi = &t->at_hi; /* the surface of the met level hi */
     probe p = {.next = hi, .step = 1, .bisect = t->o.no_estimate};
     if (!p.bisect) {
-        if ((st = estimate_level(t, &p.est, err)))
-            return st;
+        p.est = est;
         p.below = p.est >= PROBE_BELOW;
         p.next = p.below ? p.est - PROBE_BELOW : p.est;
+    }
+    if (pr != PROBED_NONE) { /* the state after the loop's first build, PROBE_BELOW under est */
+        probe_update(&p, est - PROBE_BELOW, pr == PROBED_MET);
+        if (pr == PROBED_MET) {
+            hi = est - PROBE_BELOW;
+            hi_met = true;
+            *at_hi = t->r;
+            memset(&t->r, 0, sizeof t->r);
+            t->r.max = INFINITY;
+        } else {
+            lo = est - PROBE_BELOW + 1;
+        }
     }
     for (;;) {
         bool last = lo >= hi; /* only hi is left: the input itself (or a met level) */
@@ -366,6 +412,7 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
 {
     size_t base = coarsest_met > t->refine_levels ? coarsest_met - t->refine_levels : 0;
     t->stats->base_level = base;
+    t->b.prev.valid = false; /* a search may have checked other surfaces since */
     sk__tol_level_cut(&t->c, base, t->alive);
     size_t failures = 0;
     sk_status st = SK_OK;
@@ -459,6 +506,52 @@ static sk_status finish(tol_run *t, sk_smooth **out, uint32_t **fine_ids, sk_err
     return SK_OK;
 }
 
+/* The full search, then the refinement from the coarsest met level (when there is one below the
+ * input); skip: the base level an earlier refinement started from (none: t->c.levels) */
+static sk_status full_search(tol_run *t, size_t est, probed pr, size_t skip, double *search_s,
+                             sk_error *err)
+{
+    size_t coarsest_met = 0;
+    double t0 = sk_seconds();
+    sk_status st = search_levels(t, est, pr, &coarsest_met, err);
+    *search_s += sk_seconds() - t0;
+    size_t base = coarsest_met > t->refine_levels ? coarsest_met - t->refine_levels : 0;
+    if (!st && coarsest_met < t->c.levels && coarsest_met > 0 && base != skip)
+        st = refine(t, coarsest_met, err);
+    return st;
+}
+
+/* The search and the refinement: by default (sk_tolerance_opts.full_search) from the estimate
+ * when the level PROBE_BELOW under it misses T, falling back to the full search when that ends
+ * without a surface within T and without singular patches */
+static sk_status search_and_refine(tol_run *t, sk_error *err)
+{
+    double t0 = sk_seconds(), search_s = 0;
+    size_t est = 0;
+    probed pr = PROBED_NONE;
+    sk_status st = SK_OK;
+    if (!t->o.no_estimate && (st = estimate_level(t, &est, err)))
+        return st;
+    if (!t->o.no_estimate && !t->o.full_search && (st = probe_below(t, est, &pr, err)))
+        return st;
+    search_s = sk_seconds() - t0;
+    if (pr == PROBED_MISSED) {
+        t->stats->level_assumed = true;
+        t->stats->coarsest_met = est;
+        if ((st = refine(t, est, err)))
+            return st;
+        if (!cut_ok(&t->best)) {
+            t->stats->level_assumed = false;
+            st = full_search(t, est, pr, t->stats->base_level, &search_s, err);
+        }
+    } else {
+        st = full_search(t, est, pr, t->c.levels, &search_s, err);
+    }
+    t->stats->seconds_search = search_s;
+    t->stats->seconds_refine = sk_seconds() - t0 - search_s;
+    return st;
+}
+
 sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts,
                               sk_smooth **out, uint32_t **fine_ids,
                               sk_tolerance_stats *stats_out, sk_error *err)
@@ -477,24 +570,15 @@ sk_status sk_smooth_tolerance(const sk_mesh *mesh, const sk_tolerance_opts *opts
     sk_status st = check_input(mesh, &t.o, err);
     if (st)
         return st;
-    size_t coarsest_met = 0;
     if ((st = setup(&t, mesh, err)))
         goto done;
-    double tc = sk_seconds();
-    if ((st = search_levels(&t, &coarsest_met, err)))
+    if (!(t.fresh = sk__calloc_array(t.c.nv, 1))) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
-    double td = sk_seconds();
-    t.stats->seconds_search = td - tc;
-    if (coarsest_met < t.c.levels && coarsest_met > 0) {
-        if (!(t.fresh = sk__calloc_array(t.c.nv, 1))) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-            goto done;
-        }
-        if ((st = refine(&t, coarsest_met, err)))
-            goto done;
     }
-    t.stats->seconds_refine = sk_seconds() - td;
-    st = finish(&t, out, fine_ids, err);
+    st = search_and_refine(&t, err);
+    if (!st)
+        st = finish(&t, out, fine_ids, err);
 done:
     run_free(&t);
     return st;

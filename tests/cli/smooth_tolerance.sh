@@ -38,6 +38,14 @@ grep -q '"stage_seconds": {' "$tmp/s.json" || fail "no stage_seconds"
 "$bin" smooth "$sphere" -o "$tmp/a.step" --tolerance "$tol" --json -q > "$tmp/a.json" || fail "absolute"
 [ "$(val patches "$tmp/a.json")" = "$p" ] || fail "--tolerance $tol: $(val patches "$tmp/a.json") patches, not $p"
 
+# --full-search (the sphere's estimate is too fine: the default searches fully too, no level assumed)
+"$bin" smooth "$sphere" -o "$tmp/f.step" --tolerance-rel 1e-2 --full-search --json -q > "$tmp/f.json" \
+  || fail "--full-search"
+[ "$(val patches "$tmp/f.json")" = "$p" ] || fail "--full-search: $(val patches "$tmp/f.json") patches, not $p"
+[ "$(val level_assumed "$tmp/s.json")" = false ] || fail "level assumed on the sphere"
+[ "$(val level_assumed "$tmp/f.json")" = false ] || fail "level assumed with --full-search"
+[ "$(val levels_tried "$tmp/f.json")" = "$tried" ] || fail "--full-search tried other levels"
+
 # the text summary
 out=$("$bin" smooth "$sphere" -o "$tmp/t.step" --tolerance-rel 1e-2) || fail "text"
 echo "$out" | grep -q "^smooth: $p patches (vc1) for 320 triangles, tolerance .* met; deviation max" \
@@ -54,7 +62,7 @@ grep -q "not met" "$tmp/u.err" || fail "stderr: $(cat "$tmp/u.err")"
 
 # usage errors
 for args in "--tolerance 1 --tolerance-rel 1e-3" "--tolerance-rel 1e-3 --scheme pn" \
-            "--refine-levels 2" "--tolerance -1" "--tolerance-rel 2"; do
+            "--refine-levels 2" "--full-search" "--tolerance -1" "--tolerance-rel 2"; do
   # shellcheck disable=SC2086
   "$bin" smooth "$sphere" -o "$tmp/x.step" $args 2> /dev/null
   rc=$?

@@ -170,6 +170,14 @@ static void same_surfaces(sk_smooth *s[2])
     sk_smooth_destroy(&s[1]);
 }
 
+/* the same coarsest level and base, and the same surfaces to the bit (destroyed) */
+static void same_base(const sk_tolerance_stats st[2], sk_smooth *s[2])
+{
+    assert_int_equal(st[0].coarsest_met, st[1].coarsest_met);
+    assert_int_equal(st[0].base_level, st[1].base_level);
+    same_surfaces(s);
+}
+
 /* the search from the level estimate (the default) and the bisection alone (no_estimate) find
  * the same coarsest level, so the refinement starts from the same base and the surfaces are the
  * same to the bit */
@@ -189,9 +197,7 @@ static void estimate_same(const char *name, double rel)
     assert_true(st[0].linear_tried > 0 && st[0].linear_tried <= (size_t)ceil(log2((double)st[0].levels)) + 1);
     assert_true(st[0].estimate_level < st[0].levels);
     assert_int_equal(st[1].linear_tried, 0);
-    assert_int_equal(st[0].coarsest_met, st[1].coarsest_met);
-    assert_int_equal(st[0].base_level, st[1].base_level);
-    same_surfaces(s);
+    same_base(st, s);
     sk_mesh_destroy(&m);
 }
 
@@ -200,6 +206,52 @@ static void estimate_start(void **state)
     (void)state;
     estimate_same("sphere.off", 1e-2);
     estimate_same("mushroom.off", 1e-2);
+}
+
+/* the default search builds one level, PROBE_BELOW (3) under the estimate; missed there, the
+ * refinement starts from the estimate. Where the estimate is the coarsest level within T (on
+ * mushroom at 1e-2 of the diagonal, as on the scans) it gives the full search's surface to the
+ * bit with one VC1 level built instead of three; with one refinement round (rounds ends
+ * without a surface within T), it falls back to the full search and again gives its surface. */
+static void assumed_same(const char *name, double rel, unsigned max_rounds)
+{
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh(name));
+    sk_smooth *s[2] = {NULL, NULL};
+    sk_tolerance_stats st[2];
+    for (int k = 0; k < 2; ++k) {
+        sk_tolerance_opts o = {.tolerance_rel = rel, .full_search = k == 1,
+                               .max_rounds = max_rounds};
+        assert_int_equal(sk_smooth_tolerance(m, &o, &s[k], NULL, &st[k], NULL), SK_OK);
+    }
+    print_message("%s T = %g diag, %u rounds at most: estimate %zu, coarsest met %zu (full "
+                  "search), VC1 levels built %zu (full search %zu), rounds %zu (%zu), %zu patches "
+                  "(%zu), assumed %d\n", name, rel, max_rounds, st[0].estimate_level,
+                  st[1].coarsest_met, st[0].levels_tried, st[1].levels_tried, st[0].rounds,
+                  st[1].rounds, st[0].patches, st[1].patches, st[0].level_assumed);
+    assert_int_equal(st[1].coarsest_met, st[1].estimate_level);
+    assert_false(st[1].level_assumed);
+    assert_true(st[0].met && st[1].met);
+    assert_int_equal(st[0].patches, st[1].patches);
+    assert_true(st[0].deviation.hausdorff == st[1].deviation.hausdorff);
+    if (max_rounds == 0) {
+        assert_true(st[0].level_assumed && st[0].refined);
+        assert_int_equal(st[0].levels_tried, 1);
+        assert_true(st[1].levels_tried > 1);
+        assert_int_equal(st[0].rounds, st[1].rounds);
+    } else { /* fell back: the full search, its refinement skipped (the same base) */
+        assert_false(st[0].level_assumed);
+        assert_int_equal(st[0].levels_tried, st[1].levels_tried);
+        assert_int_equal(st[0].rounds, max_rounds);
+    }
+    same_base(st, s);
+    sk_mesh_destroy(&m);
+}
+
+static void assumed_level(void **state)
+{
+    (void)state;
+    assumed_same("mushroom.off", 1e-2, 0);
+    assumed_same("mushroom.off", 1e-2, 1);
 }
 
 /* the refinement's incremental checks (the default: a round keeps the bounds that its patches'
@@ -294,6 +346,7 @@ int main(void)
         cmocka_unit_test(plane_levels),
         cmocka_unit_test(sphere_met),
         cmocka_unit_test(estimate_start),
+        cmocka_unit_test(assumed_level),
         cmocka_unit_test(incremental_checks),
         cmocka_unit_test(unreachable),
         cmocka_unit_test(bad_options),

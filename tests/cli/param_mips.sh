@@ -11,6 +11,10 @@ m=$shared/data/meshes
 [ "$(val flipped "$tmp/h.json")" = 0 ] || fail "hierarchical flipped"
 [ "$(val boundary "$tmp/h.json")" = '"free"' ] || fail "mips default boundary is free"
 grep -q '"levels": \[' "$tmp/h.json" || fail "no levels table"
+# the certified gap above any converged energy: mips_sum / (2 faces) - 1
+gap=$(val gap_bound "$tmp/h.json") sum=$(val mips_sum "$tmp/h.json") nf=$(val faces "$tmp/h.json")
+awk "BEGIN{g = $sum / (2 * $nf) - 1; d = $gap - g; exit !($gap >= 0 && d < 1e-9 && d > -1e-9)}" ||
+  fail "gap_bound $gap is not mips_sum / (2 faces) - 1 ($sum, $nf faces)"
 # same budget, flat: worse (Table 1 of the paper; on mushroom: the tiny nefertiti converges
 # either way within the budget)
 "$bin" param "$m/mushroom.off" -o "$tmp/h2.obj" --method mips --report "$tmp/h2.json" -q || fail "hierarchical mushroom"

@@ -28,6 +28,11 @@ awk "BEGIN{exit !($hier < $flat)}" || fail "hierarchical $hier not below flat $f
 "$bin" param "$m/mushroom.off" -o "$tmp/c.obj" --method mips --boundary circle --report "$tmp/c.json" -q || fail "circle"
 [ "$(val flipped "$tmp/c.json")" = 0 ] || fail "circle flipped"
 grep -c '^vt ' "$tmp/c.obj" | grep -q '^2337$' || fail "vt count"
+# the same uv for one thread and two (67k triangles: the parallel setup and repair scans run)
+"$bin" subdivide -q "$m/lion-head.off" -o "$tmp/lion1.off" -n 1 || fail "subdivide"
+OMP_NUM_THREADS=1 "$bin" param -q "$tmp/lion1.off" -o "$tmp/t1.obj" --method mips --hierarchical || fail "1 thread"
+OMP_NUM_THREADS=2 "$bin" param -q "$tmp/lion1.off" -o "$tmp/t2.obj" --method mips --hierarchical || fail "2 threads"
+cmp -s "$tmp/t1.obj" "$tmp/t2.obj" || fail "uv differ between 1 and 2 threads"
 # usage errors
 "$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --flat >/dev/null 2>&1; [ $? -eq 2 ] || fail "--flat without mips"
 "$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --method mips --flat --hierarchical >/dev/null 2>&1; [ $? -eq 2 ] || fail "flat+hier"

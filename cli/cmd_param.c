@@ -114,6 +114,8 @@ static void write_json(FILE *fp, const void *ctx)
         json_kuint(&j, "steps", hs->steps);
         json_kuint(&j, "repaired_insertions", hs->repaired);
         json_kuint(&j, "fallbacks", hs->fallbacks);
+        json_knum(&j, "gap_bound", hs->gap_bound); /* above any converged energy, at most */
+        json_kuint(&j, "gap_stopped_levels", hs->gap_stopped_levels);
         json_knum(&j, "hierarchy_seconds", hs->hierarchy_seconds);
         json_key(&j, "levels"); /* coarsest first */
         json_arr_open(&j);

@@ -59,6 +59,11 @@ typedef struct sk_mips_opts {
      * that angle distortion is traded for area distortion; flip-free as plain MIPS. 0 (the
      * default) = plain MIPS; 1 is a balanced choice. Negative: SK_ERR_ARG. */
     double area_theta;
+    /* Certified stop (plain MIPS only: ignored with area_theta > 0): every triangle's energy is at
+     * least 2, so a converged run's energy is at least 2 T (T triangles) and (E - 2 T) / (2 T)
+     * bounds how far E lies above it. Sweeps stop once that bound is at most gap_stop (checked
+     * at the start and after each sweep, by the running sum); 0 = off. */
+    double gap_stop;
 } sk_mips_opts;
 
 /* What sk_param_mips did (plain values, nothing to free). */
@@ -70,6 +75,7 @@ typedef struct sk_mips_stats {
     size_t triangles;
     size_t global_steps;   /* global steps taken (accepted or not) */
     double global_seconds; /* time in global steps (assembly, factorization, line search) */
+    bool gap_stopped;      /* the sweeps stopped on gap_stop */
 } sk_mips_stats;
 
 /* MIPS energy of uv (2 per vertex) over the alive triangles of mesh into *energy; *inverted

@@ -13,7 +13,7 @@
 /* The options with their defaults filled in. */
 typedef struct schedule {
     size_t sweeps_cap, gsteps, gmax, gsweeps, max_steps, finest_sweeps;
-    double tol, work, growth;
+    double tol, work, growth, gap;
     bool fixed;
     uint64_t seed;
 } schedule;
@@ -32,6 +32,9 @@ static schedule schedule_from(const sk_hparam_opts *o)
     c.max_steps = o->max_steps;
     c.finest_sweeps = o->finest_sweeps;
     c.seed = o->seed;
+    /* (the default certified stop goes with the default tolerance: an explicit tolerance asks
+     * for that stopping rule alone) */
+    c.gap = o->target_gap > 0.0 ? o->target_gap : o->target_gap == 0.0 && o->tolerance == 0.0 ? 5e-4 : 0.0;
     return c;
 }
 
@@ -74,6 +77,7 @@ static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, s
         mo.max_sweeps = c->finest_sweeps;
     mo.tolerance = c->tol;
     mo.seed = c->seed + l;
+    mo.gap_stop = c->gap;
     if (c->gsteps && nv <= c->gmax) {
         mo.global_steps = c->gsteps;
         mo.sweeps_per_global = c->gsweeps;
@@ -222,12 +226,17 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         lv->global_steps = ms.global_steps;
         lv->global_seconds = ms.global_seconds;
         s.steps += ms.steps;
+        s.gap_stopped_levels += ms.gap_stopped;
         lv->seconds = sk_seconds() - tl;
         if ((st = sk__progress(o.progress, o.progress_user, (double)(l + 1) / (double)L, err)))
             goto done;
     }
     memcpy(uv, cur, 2 * nfine * sizeof(double));
     s.energy = s.levels[L - 1].energy;
+    if (m->num_faces - m->num_deleted_faces > 0) {
+        double two_t = 2.0 * (double)(m->num_faces - m->num_deleted_faces);
+        s.gap_bound = (s.energy - two_t) / two_t;
+    }
     s.total_seconds = sk_seconds() - t0;
 done:
     if (finest_id) {

@@ -5,6 +5,7 @@
 #include "core/internal.h"
 #include "param/mips_internal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -94,23 +95,43 @@ static bool move_into_kernel(const sk_mesh *m, double *uv, uint32_t v)
     return true;
 }
 
+/* True when face f (alive) fails the margin at one of its corners. */
+static bool face_bad(const sk_mesh *m, const double *uv, uint32_t f, uint32_t w[3])
+{
+    uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];
+    w[0] = sk_from(m, h);
+    w[1] = sk_from(m, hb);
+    w[2] = sk_from(m, hc);
+    const double *q[3] = {uv + 2 * (size_t)w[0], uv + 2 * (size_t)w[1], uv + 2 * (size_t)w[2]};
+    return !(sk__mips_corner_ok(q[0], q[1], q[2]) && sk__mips_corner_ok(q[1], q[2], q[0]) &&
+             sk__mips_corner_ok(q[2], q[0], q[1]));
+}
+
 /* Makes every triangle flip-free by moving the vertices of inverted triangles into the kernels of
  * their one rings, a few rounds; returns the number of moves, or -1 when some remain inverted. */
 long sk__mips_repair(const sk_mesh *m, double *uv)
 {
-    long moved = 0;
+    long moved = 0, nf = (long)m->num_faces;
     for (int round = 0; round < 8; ++round) {
+        /* the first failing face, found in parallel (read only; the minimum is the same for any
+         * thread count): none ends the repair, else the scan below starts there */
+        long first = LONG_MAX;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) reduction(min : first) if (nf > 50000)
+#endif
+        for (long f = 0; f < nf; ++f) {
+            uint32_t w[3];
+            if (!m->f_deleted[f] && f < first && face_bad(m, uv, (uint32_t)f, w))
+                first = f;
+        }
+        if (first == LONG_MAX)
+            return moved;
         size_t bad = 0;
         /* a scan over the faces (sequential memory); only the vertices of a face that fails the
          * margin somewhere get the one-ring test and, if needed, the move */
-        for (uint32_t f = 0; f < m->num_faces; ++f) {
-            if (m->f_deleted[f])
-                continue;
-            uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];
-            uint32_t w[3] = {sk_from(m, h), sk_from(m, hb), sk_from(m, hc)};
-            const double *q[3] = {uv + 2 * (size_t)w[0], uv + 2 * (size_t)w[1], uv + 2 * (size_t)w[2]};
-            if (sk__mips_corner_ok(q[0], q[1], q[2]) && sk__mips_corner_ok(q[1], q[2], q[0]) &&
-                sk__mips_corner_ok(q[2], q[0], q[1]))
+        for (uint32_t f = (uint32_t)first; f < m->num_faces; ++f) {
+            uint32_t w[3];
+            if (m->f_deleted[f] || !face_bad(m, uv, f, w))
                 continue;
             for (int k = 0; k < 3; ++k) {
                 if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))

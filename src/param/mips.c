@@ -156,6 +156,13 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
         c.area_k = ldexp(c.area_k, -2 * sk__mips_renormalize(&c, uv));
     bool budget_left = true;
     ran = true;
+    /* gap_stop: E <= (1 + gap_stop) 2 T certifies the distance from any converged energy */
+    double gap_energy = o.gap_stop > 0.0 && o.area_theta == 0.0
+                            ? (1.0 + o.gap_stop) * 2.0 * (double)c.nt : -INFINITY;
+    if (s.energy <= gap_energy) {
+        s.gap_stopped = true;
+        budget_left = false;
+    }
     double block_start = s.energy;
     for (size_t sweep = 0; sweep < max_sweeps && cl.n && budget_left; ++sweep) {
         double gdrop = 0.0;
@@ -190,6 +197,10 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
             block_start = s.energy + drop;
         if (tol > 0.0 && block_end && block_start - s.energy < tol * block_start)
             break;
+        if (block_end && s.energy <= gap_energy) {
+            s.gap_stopped = true;
+            break;
+        }
     }
     s.energy = sk__mips_total_energy(&c, uv, &inverted); /* exact sum, not the running one */
     if (st == SK_OK && inverted)

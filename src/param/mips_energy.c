@@ -14,6 +14,7 @@
 #include "core/vec.h"
 #include "param/mips_internal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +29,33 @@ void sk__mips_ctx_free(sk__mips_ctx *c)
     sk__free(c->s3);
 }
 
+/* Triangle t of c from face f: its vertices, corner cotangents and 1 / 2A; false when it is
+ * degenerate in 3D. */
+static bool ctx_triangle(sk__mips_ctx *c, const sk_mesh *m, uint32_t f, size_t t)
+{
+    uint32_t h = m->f_halfedge[f];
+    for (int k = 0; k < 3; ++k, h = m->h_next[h])
+        c->tri[3 * t + k] = sk_from(m, h);
+    const double *p[3];
+    for (int k = 0; k < 3; ++k)
+        p[k] = m->positions + 3 * (size_t)c->tri[3 * t + k];
+    /* one normal per triangle: cot at corner k = (e1 . e2) / |e1 x e2| with the same
+     * |e1 x e2| = 2A at every corner */
+    double e[3][3], x[3]; /* e[k] = p[k+1] - p[k] */
+    for (int k = 0; k < 3; ++k)
+        sk__sub3(e[k], p[(k + 1) % 3], p[k]);
+    sk__cross3(x, e[0], e[2]);
+    double s = sk__norm3(x), lmax = 0.0;
+    for (int k = 0; k < 3; ++k)
+        lmax = fmax(lmax, sk__dot3(e[k], e[k]));
+    if (!(s > 1e-14 * lmax + 1e-300))
+        return false;
+    for (int k = 0; k < 3; ++k) /* corner k: edges e[k] and -e[k+2] */
+        c->cot[3 * t + k] = -sk__dot3(e[k], e[(k + 2) % 3]) / s;
+    c->s3[t] = 1.0 / s;
+    return true;
+}
+
 sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
 {
     memset(c, 0, sizeof *c);
@@ -35,7 +63,8 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
     for (size_t f = 0; f < nf; ++f) {
         if (m->f_deleted[f])
             continue;
-        if (sk_mesh_face_size(m, (uint32_t)f) != 3)
+        uint32_t h = m->f_halfedge[f];
+        if (m->h_next[m->h_next[m->h_next[h]]] != h)
             return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle: MIPS needs a "
                             "triangle mesh", f);
         nt++;
@@ -48,51 +77,37 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
     c->rec = sk__malloc_array(3 * nt, sizeof(sk__mips_corner));
     c->movable = sk__malloc_array(nv, 1);
     c->s3 = sk__malloc_array(nt ? nt : 1, sizeof(double));
-    if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable || !c->s3) {
+    uint32_t *fill = sk__malloc_array(nv + 1, sizeof(uint32_t));
+    if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable || !c->s3 || !fill) {
+        sk__free(fill);
         sk__mips_ctx_free(c);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
-    size_t t = 0;
-    for (size_t f = 0; f < nf; ++f) {
-        if (m->f_deleted[f])
-            continue;
-        uint32_t h = m->f_halfedge[f];
-        for (int k = 0; k < 3; ++k, h = m->h_next[h])
-            c->tri[3 * t + k] = sk_from(m, h);
-        const double *p[3];
-        for (int k = 0; k < 3; ++k)
-            p[k] = m->positions + 3 * (size_t)c->tri[3 * t + k];
-        /* one normal per triangle: cot at corner k = (e1 . e2) / |e1 x e2| with the same
-         * |e1 x e2| = 2A at every corner */
-        double e[3][3], x[3]; /* e[k] = p[k+1] - p[k] */
-        for (int k = 0; k < 3; ++k)
-            sk__sub3(e[k], p[(k + 1) % 3], p[k]);
-        sk__cross3(x, e[0], e[2]);
-        double s = sk__norm3(x), lmax = 0.0;
-        for (int k = 0; k < 3; ++k)
-            lmax = fmax(lmax, sk__dot3(e[k], e[k]));
-        if (!(s > 1e-14 * lmax + 1e-300))
-            goto degenerate;
-        for (int k = 0; k < 3; ++k) /* corner k: edges e[k] and -e[k+2] */
-            c->cot[3 * t + k] = -sk__dot3(e[k], e[(k + 2) % 3]) / s;
-        c->s3[t] = 1.0 / s;
-        for (int k = 0; k < 3; ++k)
-            c->vt_start[c->tri[3 * t + k] + 1]++;
-        ++t;
-        continue;
-    degenerate:
-        sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is degenerate in 3D (zero area): MIPS is "
-                 "undefined there; remove it first", f);
-        sk__mips_ctx_free(c);
-        return SK_ERR_TOPOLOGY;
+    /* the triangles in face order: in parallel when no face is deleted (triangle t = face t;
+     * each writes only its own entries), else one pass; the first degenerate face is reported */
+    long bad = LONG_MAX;
+    if (nt == nf) {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) reduction(min : bad) if (nf > 50000)
+#endif
+        for (long f = 0; f < (long)nf; ++f)
+            if (!ctx_triangle(c, m, (uint32_t)f, (size_t)f) && f < bad)
+                bad = f;
+    } else {
+        for (size_t f = 0, t = 0; f < nf && bad == LONG_MAX; ++f)
+            if (!m->f_deleted[f] && !ctx_triangle(c, m, (uint32_t)f, t++))
+                bad = (long)f;
     }
+    if (bad != LONG_MAX) {
+        sk__free(fill);
+        sk__mips_ctx_free(c);
+        return sk__fail(err, SK_ERR_TOPOLOGY, "face %ld is degenerate in 3D (zero area): MIPS is "
+                        "undefined there; remove it first", bad);
+    }
+    for (size_t i = 0; i < 3 * nt; ++i)
+        c->vt_start[c->tri[i] + 1]++;
     for (size_t v = 0; v < nv; ++v)
         c->vt_start[v + 1] += c->vt_start[v];
-    uint32_t *fill = sk__malloc_array(nv + 1, sizeof(uint32_t));
-    if (!fill) {
-        sk__mips_ctx_free(c);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    }
     memcpy(fill, c->vt_start, (nv + 1) * sizeof(uint32_t));
     for (size_t i = 0; i < 3 * nt; ++i) {
         size_t t3 = i - i % 3, k = i % 3;

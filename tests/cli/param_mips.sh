@@ -11,6 +11,10 @@ m=$shared/data/meshes
 [ "$(val flipped "$tmp/h.json")" = 0 ] || fail "hierarchical flipped"
 [ "$(val boundary "$tmp/h.json")" = '"free"' ] || fail "mips default boundary is free"
 grep -q '"levels": \[' "$tmp/h.json" || fail "no levels table"
+# the certified gap above any converged energy: mips_sum / (2 faces) - 1
+gap=$(val gap_bound "$tmp/h.json") sum=$(val mips_sum "$tmp/h.json") nf=$(val faces "$tmp/h.json")
+awk "BEGIN{g = $sum / (2 * $nf) - 1; d = $gap - g; exit !($gap >= 0 && d < 1e-9 && d > -1e-9)}" ||
+  fail "gap_bound $gap is not mips_sum / (2 faces) - 1 ($sum, $nf faces)"
 # same budget, flat: worse (Table 1 of the paper; on mushroom: the tiny nefertiti converges
 # either way within the budget)
 "$bin" param "$m/mushroom.off" -o "$tmp/h2.obj" --method mips --report "$tmp/h2.json" -q || fail "hierarchical mushroom"
@@ -24,6 +28,11 @@ awk "BEGIN{exit !($hier < $flat)}" || fail "hierarchical $hier not below flat $f
 "$bin" param "$m/mushroom.off" -o "$tmp/c.obj" --method mips --boundary circle --report "$tmp/c.json" -q || fail "circle"
 [ "$(val flipped "$tmp/c.json")" = 0 ] || fail "circle flipped"
 grep -c '^vt ' "$tmp/c.obj" | grep -q '^2337$' || fail "vt count"
+# the same uv for one thread and two (67k triangles: the parallel setup and repair scans run)
+"$bin" subdivide -q "$m/lion-head.off" -o "$tmp/lion1.off" -n 1 || fail "subdivide"
+OMP_NUM_THREADS=1 "$bin" param -q "$tmp/lion1.off" -o "$tmp/t1.obj" --method mips --hierarchical || fail "1 thread"
+OMP_NUM_THREADS=2 "$bin" param -q "$tmp/lion1.off" -o "$tmp/t2.obj" --method mips --hierarchical || fail "2 threads"
+cmp -s "$tmp/t1.obj" "$tmp/t2.obj" || fail "uv differ between 1 and 2 threads"
 # usage errors
 "$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --flat >/dev/null 2>&1; [ $? -eq 2 ] || fail "--flat without mips"
 "$bin" param "$m/nefertiti.off" -o "$tmp/x.obj" --method mips --flat --hierarchical >/dev/null 2>&1; [ $? -eq 2 ] || fail "flat+hier"

@@ -175,6 +175,103 @@ static void given_three_meshes_when_equal_budget_then_hierarchical_beats_convent
     }
 }
 
+/* The certified gap: every triangle's MIPS energy is at least 2, so (E - 2T) / 2T bounds the
+ * distance from any converged energy. The reported bound is that value of the result, and a much
+ * longer run (schedule x4, 20 finest sweeps, no certified stop) ends at most that far below. */
+static void given_disk_meshes_when_hierarchical_then_gap_bound_holds_against_a_long_run(void **state)
+{
+    (void)state;
+    size_t count = quick() ? 2 : 6;
+    for (size_t i = 0; i < count; ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(disks[i]));
+        double *uv = malloc(2 * m->num_vertices * sizeof(double));
+        sk_hparam_opts o = {.seed = 1};
+        sk_hparam_stats s;
+        assert_int_equal(sk_param_hierarchical(m, &o, uv, &s, NULL), SK_OK);
+        assert_int_equal(flips(m, uv), 0);
+        double e = 0.0, two_t = 2.0 * (double)m->num_faces;
+        size_t inv = 1;
+        assert_int_equal(sk_mips_energy(m, uv, &e, &inv, NULL), SK_OK);
+        assert_int_equal(inv, 0);
+        assert_true(fabs(s.gap_bound - (e - two_t) / two_t) <= 1e-12 * (1.0 + s.gap_bound));
+        assert_true(s.gap_bound >= 0.0);
+        sk_hparam_stats_release(&s);
+        sk_hparam_opts lo = {.seed = 2, .level_work = 8.0, .finest_sweeps = 20,
+                             .tolerance = 1e-12, .target_gap = -1.0};
+        assert_int_equal(sk_param_hierarchical(m, &lo, uv, &s, NULL), SK_OK);
+        assert_int_equal(s.gap_stopped_levels, 0);
+        if (!((e - s.energy) / s.energy <= (e - two_t) / two_t))
+            fail_msg("%s: default %.12g, long run %.12g, bound %.3g", disks[i], e, s.energy,
+                     (e - two_t) / two_t);
+        sk_hparam_stats_release(&s);
+        free(uv);
+        sk_mesh_destroy(&m);
+    }
+}
+
+/* A planar disk reaches 2 per triangle on every level: the default stops each level once it is
+ * certified within 5e-4 (fewer steps than without the stop), flip-free and within the bound. */
+static void given_planar_disk_when_default_then_levels_stop_on_the_certified_gap(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_planar_disk(60, 5);
+    double *uv = malloc(2 * m->num_vertices * sizeof(double));
+    double two_t = 2.0 * (double)m->num_faces;
+    sk_hparam_opts o = {.seed = 1};
+    sk_hparam_stats on, off;
+    assert_int_equal(sk_param_hierarchical(m, &o, uv, &on, NULL), SK_OK);
+    assert_int_equal(flips(m, uv), 0);
+    assert_true(on.gap_stopped_levels > 0);
+    assert_true(on.gap_bound <= 5e-4 + 1e-9);
+    assert_true(on.energy <= two_t * (1.0 + 5e-4 + 1e-9));
+    o.target_gap = -1.0;
+    assert_int_equal(sk_param_hierarchical(m, &o, uv, &off, NULL), SK_OK);
+    assert_int_equal(off.gap_stopped_levels, 0);
+    assert_true(on.steps < off.steps);
+    /* an explicit tolerance turns the default stop off; an explicit target turns it back on */
+    sk_hparam_opts t = {.seed = 1, .tolerance = 1e-5};
+    sk_hparam_stats ts;
+    assert_int_equal(sk_param_hierarchical(m, &t, uv, &ts, NULL), SK_OK);
+    assert_int_equal(ts.gap_stopped_levels, 0);
+    assert_int_equal(ts.steps, off.steps);
+    sk_hparam_stats_release(&ts);
+    t.target_gap = 5e-4;
+    assert_int_equal(sk_param_hierarchical(m, &t, uv, &ts, NULL), SK_OK);
+    assert_int_equal(ts.steps, on.steps);
+    assert_true(ts.energy == on.energy);
+    sk_hparam_stats_release(&ts);
+    sk_hparam_stats_release(&on);
+    sk_hparam_stats_release(&off);
+    free(uv);
+    sk_mesh_destroy(&m);
+}
+
+/* sk_param_mips's gap_stop: a start already within it takes no sweep (its energy stays); with
+ * the area term (whose energies are not bounded by 2) it is ignored. */
+static void given_start_within_gap_when_mips_then_no_sweep_unless_area_term(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_planar_disk(20, 3);
+    size_t nv = m->num_vertices;
+    double *uv = malloc(2 * nv * sizeof(double));
+    for (size_t v = 0; v < nv; ++v) /* the identity: 2 per triangle up to rounding */
+        memcpy(uv + 2 * v, m->positions + 3 * v, 2 * sizeof(double));
+    sk_mips_opts o = {.gap_stop = 1e-6, .seed = 1};
+    sk_mips_stats s;
+    assert_int_equal(sk_param_mips(m, &o, uv, &s, NULL), SK_OK);
+    assert_true(s.gap_stopped);
+    assert_int_equal(s.sweeps, 0);
+    assert_int_equal(s.steps, 0);
+    assert_true(fabs(s.energy - s.energy_start) <= 1e-12 * s.energy_start);
+    assert_true(s.energy <= 2.0 * (double)m->num_faces * (1.0 + 1e-6));
+    o.area_theta = 1.0;
+    assert_int_equal(sk_param_mips(m, &o, uv, &s, NULL), SK_OK);
+    assert_false(s.gap_stopped);
+    assert_true(s.sweeps > 0);
+    free(uv);
+    sk_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -182,6 +279,9 @@ int main(void)
         cmocka_unit_test(given_every_disk_mesh_and_seeds_when_hierarchical_then_no_flip),
         cmocka_unit_test(given_planar_disk_when_global_steps_free_boundary_then_2_per_triangle),
         cmocka_unit_test(given_three_meshes_when_equal_budget_then_hierarchical_beats_conventional),
+        cmocka_unit_test(given_disk_meshes_when_hierarchical_then_gap_bound_holds_against_a_long_run),
+        cmocka_unit_test(given_planar_disk_when_default_then_levels_stop_on_the_certified_gap),
+        cmocka_unit_test(given_start_within_gap_when_mips_then_no_sweep_unless_area_term),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -121,6 +121,9 @@ void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
  * control net certifies it regular everywhere (sk__patch_certify, src/bezier). cone_regular (may be NULL):
  * the Ginkel-Peters-Umlauf cone test. */
 bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
+/* The same test with the sample tried first: *first on entry (0 .. 80; beyond the grid: none),
+ * on a singular answer the sample that failed (the repair keeps one per patch). */
+bool sk__patch_singular_from(const sk_smooth *s, size_t p, bool *cone_regular, uint8_t *first);
 
 /* The patches whose control-point box overlaps the box of a patch sharing no corner with it
  * (box_candidates.c): cand[p] = 1 for those (np bytes), the only ones that can cross another. */

@@ -728,6 +728,50 @@ static void test_table(void **state)
  * and the cow's surfaces: every patch whose control-point box overlaps that of a patch sharing no
  * corner is a candidate, and the grid leaves out most of the others (it may keep some: crowded
  * cells). */
+/* sk__patch_singular_from gives the answer of sk__patch_singular from any first sample, and a
+ * singular answer names a sample that fails again. Some of the pig's patches are folded first
+ * (a control point next to a corner pushed through the surface) so both answers occur. */
+static void test_singular_any_start(void **state)
+{
+    (void)state;
+    sk_mesh *mesh = skt_read_mesh(skt_shared_mesh("pig.off"));
+    sk_smooth *s = NULL;
+    sk_error err = {0};
+    if (sk_smooth_build(mesh, NULL, &s, &err) != SK_OK)
+        fail_msg("pig: %s", err.message);
+    sk_patch_set *set = &s->surface;
+    for (size_t p = 0; p < set->count; p += 5) {
+        double *cp = set->points + 3 * set->patches[p].first;
+        const double *nrm = sk__corner_normal(s, p, 0);
+        double len = dist(cp, cp + 3 * sk_patch_num_points(&set->patches[p]) - 3);
+        for (int k = 0; k < 3; ++k) /* point 1: next to corner 0 on its first edge */
+            cp[3 + k] -= (double)(p % 3) * len * nrm[k];
+    }
+    const uint8_t starts[] = {0, 1, 7, 30, 44, 45, 80, 81, 255};
+    size_t singular = 0, regular = 0;
+    for (size_t p = 0; p < set->count; ++p) {
+        bool want = sk__patch_singular(s, p, NULL);
+        singular += want;
+        regular += !want;
+        for (size_t i = 0; i < sizeof starts; ++i) {
+            uint8_t first = starts[i];
+            assert_int_equal(sk__patch_singular_from(s, p, NULL, &first), want);
+            if (!want) {
+                assert_int_equal(first, starts[i]); /* untouched when regular */
+                continue;
+            }
+            uint8_t again = first;
+            assert_true(sk__patch_singular_from(s, p, NULL, &again));
+            assert_int_equal(again, first); /* it failed at the first sample tried */
+        }
+    }
+    print_message("pig with folded patches: %zu singular, %zu regular\n", singular, regular);
+    assert_true(singular >= 10);
+    assert_true(regular >= 100);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&mesh);
+}
+
 static void test_box_candidates(void **state)
 {
     (void)state;
@@ -798,6 +842,7 @@ int main(void)
         cmocka_unit_test(test_fair_model_energy),
         cmocka_unit_test(test_table),
         cmocka_unit_test(test_box_candidates),
+        cmocka_unit_test(test_singular_any_start),
     };
     /* SK_SHAPE_ONLY=name runs that test alone (the diagnostics while working) */
     if (getenv("SK_SHAPE_ONLY"))

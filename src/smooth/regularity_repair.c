@@ -426,6 +426,7 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     R.tried = sk__calloc_array(nv + 1, sizeof *R.tried);
     R.slot = sk__calloc_array(nv + 1, sizeof *R.slot);
     R.changed = sk__calloc_array(np + 1, sizeof *R.changed);
+    W->memo = sk__vsys_memo_create(); /* optional: without it every solve runs */
     if (!cand || !R.sing || !R.mark || !R.first || !R.faces || !R.tried || !R.slot || !R.changed) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
         goto done;
@@ -467,5 +468,7 @@ done:
     sk__free(R.slot);
     sk__free(R.changed);
     sk__free(R.cache);
+    sk__vsys_memo_destroy(W->memo);
+    W->memo = NULL;
     return st;
 }

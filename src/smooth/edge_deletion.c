@@ -240,6 +240,21 @@ static void merge_across_edge(sk_mesh *m, uint32_t e)
     m->num_deleted_faces++;
 }
 
+/* Per vertex, everything one step of Initialise's search reads and writes, in one place: the
+ * search visits the vertices in an order unrelated to their ids, and the state spread over
+ * separate arrays cost a cache miss per array and neighbour (most of the edge deletion at 832k
+ * triangles). The search numbers the vertices in breadth-first order (ed_state.perm: neighbours
+ * get near ids, so their states share cache lines and pages); vs, adj, pred, via and mate use
+ * those ids, src and the candidates the mesh's (the tie-breaks stay the mesh order's). dist,
+ * src, pred, via: see initialise_search; mate: the matched edge's other end (ed_state.medge,
+ * copied before the first round, cleared by the pairing); flags: ED_DONE, ED_BND. */
+typedef struct ed_vstate {
+    uint32_t dist, src, pred, via, mate, flags;
+} ed_vstate;
+
+#define ED_DONE 1u
+#define ED_BND 2u
+
 /* The state of one run: per-vertex and per-edge arrays, the paths, the statistics. */
 typedef struct ed_state {
     const sk_mesh *m;
@@ -248,11 +263,13 @@ typedef struct ed_state {
     const uint8_t *crease; /* per edge: a crease edge, kept (NULL = none) */
     uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
     uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
-    uint32_t *comp, *queue, *dist, *src, *pred, *partner;
+    uint32_t *comp, *queue, *pred, *partner;
     uint32_t *medge;     /* per vertex: its mate across a matched (deleted) edge, or SK_INVALID */
     uint8_t *mflag;      /* per edge: an edge of the matching of adjacent even vertices */
-    uint32_t *via, *deque; /* Initialise's 0-1 search (see initialise_search) */
-    uint8_t *done;
+    ed_vstate *vs;       /* Initialise's 0-1 search (see initialise_search) */
+    uint32_t *deque;
+    uint32_t *adj_off, *adj; /* the search's graph: v's allowed neighbours adj[adj_off[v] ..) */
+    uint32_t *perm, *iperm;  /* the search's vertex order: new id perm[v], vertex iperm[i] */
     uint32_t *remaining; /* even vertices not yet paired */
     size_t nrem;
     cand *cands;
@@ -268,8 +285,6 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     S->bnd = sk__calloc_array(nv ? nv : 1, 1);
     S->comp = sk__malloc_array(nv + 1, sizeof *S->comp);
     S->queue = sk__malloc_array(nv + 1, sizeof *S->queue);
-    S->dist = sk__malloc_array(nv + 1, sizeof *S->dist);
-    S->src = sk__malloc_array(nv + 1, sizeof *S->src);
     S->pred = sk__malloc_array(nv + 1, sizeof *S->pred);
     S->partner = sk__malloc_array(nv + 1, sizeof *S->partner);
     S->remaining = sk__malloc_array(nv + 1, sizeof *S->remaining);
@@ -277,11 +292,14 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     S->forbid = sk__calloc_array(ne ? ne : 1, 1);
     S->medge = sk__malloc_array(nv + 1, sizeof *S->medge);
     S->mflag = sk__calloc_array(ne ? ne : 1, 1);
-    S->via = sk__malloc_array(nv + 1, sizeof *S->via);
+    S->vs = sk__malloc_array(nv + 1, sizeof *S->vs);
     S->deque = sk__malloc_array(2 * nv + 2, sizeof *S->deque);
-    S->done = sk__malloc_array(nv + 1, 1);
-    if (!S->medge || !S->mflag || !S->via || !S->deque || !S->done ||
-        !S->even || !S->bnd || !S->comp || !S->queue || !S->dist || !S->src || !S->pred ||
+    S->adj_off = sk__malloc_array(nv + 1, sizeof *S->adj_off);
+    S->adj = sk__malloc_array(2 * ne + 1, sizeof *S->adj);
+    S->perm = sk__malloc_array(nv + 1, sizeof *S->perm);
+    S->iperm = sk__malloc_array(nv + 1, sizeof *S->iperm);
+    if (!S->medge || !S->mflag || !S->vs || !S->deque || !S->adj_off || !S->adj || !S->perm || !S->iperm ||
+        !S->even || !S->bnd || !S->comp || !S->queue || !S->pred ||
         !S->partner || !S->remaining || !S->dcnt || !S->forbid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     return SK_OK;
@@ -295,16 +313,17 @@ static void ed_free(ed_state *S)
     sk__free(S->forbid);
     sk__free(S->comp);
     sk__free(S->queue);
-    sk__free(S->dist);
-    sk__free(S->src);
     sk__free(S->pred);
     sk__free(S->partner);
     sk__free(S->remaining);
     sk__free(S->medge);
     sk__free(S->mflag);
-    sk__free(S->via);
+    sk__free(S->vs);
     sk__free(S->deque);
-    sk__free(S->done);
+    sk__free(S->adj_off);
+    sk__free(S->adj);
+    sk__free(S->perm);
+    sk__free(S->iperm);
     sk__free(S->cands);
     sk__free(S->ps.v);
     sk__free(S->ps.start);
@@ -428,79 +447,138 @@ static bool push_cand(ed_state *S, cand c)
  * crosses, changes the parity exactly at its ends, so the result stays an edge deletion. */
 static sk_status initialise_search(ed_state *S, sk_error *err)
 {
-    const sk_mesh *m = S->m;
     size_t cap = 2 * S->nv + 2, qh = 0, qt = 0; /* ring; a vertex is queued at most twice */
     uint32_t *dq = S->deque;
-#define DQ_FRONT(x) (qh = (qh + cap - 1) % cap, dq[qh] = (x))
-#define DQ_BACK(x) (dq[qt] = (x), qt = (qt + 1) % cap)
+    ed_vstate *vs = S->vs;
+    const uint32_t *adj = S->adj, *off = S->adj_off;
+#define DQ_FRONT(x) (qh = (qh == 0 ? cap : qh) - 1, dq[qh] = (x))
+#define DQ_BACK(x) (dq[qt] = (x), qt = qt + 1 == cap ? 0 : qt + 1)
+    const uint32_t *iperm = S->iperm;
     for (uint32_t v = 0; v < S->nv; ++v) {
-        S->dist[v] = SK_INVALID;
-        S->via[v] = SK_INVALID;
-        S->done[v] = 0;
+        vs[v].dist = vs[v].pred = vs[v].via = SK_INVALID;
+        vs[v].flags &= ~ED_DONE;
     }
     for (size_t i = 0; i < S->nrem; ++i) {
-        uint32_t v = S->remaining[i];
-        S->dist[v] = 0;
-        S->src[v] = v;
-        S->pred[v] = SK_INVALID;
-        DQ_BACK(v);
+        uint32_t v = S->remaining[i], vn = S->perm[v];
+        vs[vn].dist = 0;
+        vs[vn].src = v;
+        DQ_BACK(vn);
     }
     S->nc = 0;
     while (qh != qt) {
         uint32_t v = dq[qh];
-        qh = (qh + 1) % cap;
-        if (S->done[v])
+        qh = qh + 1 == cap ? 0 : qh + 1;
+        ed_vstate *x = vs + v;
+        if (x->flags & ED_DONE)
             continue;
-        S->done[v] = 1;
-        if (S->bnd[v]) {
+        x->flags |= ED_DONE;
+        if (x->flags & ED_BND) {
             /* boundary vertices end paths, the search does not pass them */
-            if (!push_cand(S, (cand){S->dist[v], v, SK_INVALID}))
+            if (!push_cand(S, (cand){x->dist, iperm[v], SK_INVALID}))
                 return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
             continue;
         }
-        uint32_t h0 = m->v_halfedge[v], h = h0, dv = S->dist[v];
-        do {
-            uint32_t w = sk_to(m, h), e = sk_edge(h);
-            if (S->forbid[e] || S->medge[v] == w) {
-                /* avoided; a matched edge is only crossed right after entering its end */
-            } else if (S->done[w]) {
+        uint32_t dv = x->dist, sv = x->src, mv = x->mate;
+        for (uint32_t k = off[v]; k < off[v + 1]; ++k) {
+            uint32_t w = adj[k];
+            ed_vstate *y = vs + w;
+            if (mv == w) {
+                /* a matched edge is only crossed right after entering its end */
+            } else if (y->flags & ED_DONE) {
                 /* a meeting edge, seen from its endpoint finished last */
-                if (S->src[w] != S->src[v] && !S->bnd[w] &&
-                    !push_cand(S, (cand){dv + S->dist[w] + 1, v, w}))
+                if (y->src != sv && !(y->flags & ED_BND) &&
+                    !push_cand(S, (cand){dv + y->dist + 1, iperm[v], iperm[w]}))
                     return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
             } else {
-                if (S->dist[w] == SK_INVALID || S->dist[w] > dv + 1) {
-                    S->dist[w] = dv + 1;
-                    S->src[w] = S->src[v];
-                    S->pred[w] = v;
-                    S->via[w] = SK_INVALID;
+                if (y->dist == SK_INVALID || y->dist > dv + 1) {
+                    y->dist = dv + 1;
+                    y->src = sv;
+                    y->pred = v;
+                    y->via = SK_INVALID;
                     DQ_BACK(w);
                 }
-                uint32_t b = S->medge[w];
-                if (b != SK_INVALID && !S->done[b] &&
-                    (S->dist[b] == SK_INVALID || S->dist[b] > dv)) {
-                    S->dist[b] = dv;
-                    S->src[b] = S->src[v];
-                    S->pred[b] = v;
-                    S->via[b] = w;
+                uint32_t b = y->mate;
+                ed_vstate *z = vs + b;
+                if (b != SK_INVALID && !(z->flags & ED_DONE) &&
+                    (z->dist == SK_INVALID || z->dist > dv)) {
+                    z->dist = dv;
+                    z->src = sv;
+                    z->pred = v;
+                    z->via = w;
                     DQ_FRONT(b);
                 }
             }
-            h = sk_cw_out(m, h);
-        } while (h != h0);
+        }
     }
 #undef DQ_FRONT
 #undef DQ_BACK
     return SK_OK;
 }
 
-/* the search path from x back to its source: x, (via), pred, ... */
+/* The search's vertex order (once): breadth first over the mesh from each vertex not yet
+ * numbered, iperm doubling as the queue; with it the per-vertex state (vs) and the mates. */
+static void order_search_vertices(ed_state *S)
+{
+    const sk_mesh *m = S->m;
+    uint32_t *perm = S->perm, *iperm = S->iperm, k = 0;
+    for (uint32_t v = 0; v < S->nv; ++v)
+        perm[v] = SK_INVALID;
+    for (uint32_t s0 = 0; s0 < S->nv; ++s0) {
+        if (perm[s0] != SK_INVALID)
+            continue;
+        uint32_t qh = k;
+        perm[s0] = k;
+        iperm[k++] = s0;
+        while (qh < k) {
+            uint32_t v = iperm[qh++], h0 = m->v_halfedge[v], h = h0;
+            if (m->v_deleted[v] || h0 == SK_INVALID)
+                continue;
+            do {
+                uint32_t w = sk_to(m, h);
+                if (perm[w] == SK_INVALID) {
+                    perm[w] = k;
+                    iperm[k++] = w;
+                }
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+    }
+    for (uint32_t i = 0; i < S->nv; ++i) {
+        uint32_t v = iperm[i], mate = S->medge[v];
+        S->vs[i].mate = mate == SK_INVALID ? SK_INVALID : perm[mate];
+        S->vs[i].flags = S->bnd[v] ? ED_BND : 0u;
+    }
+}
+
+/* The search's graph: for every vertex (in the search's order), its neighbours across edges that
+ * are not forbidden, in the order of sk_cw_out from v_halfedge (the order the search relaxes
+ * them, so ties resolve as they would over the half-edges). Rebuilt when the forbidden edges are
+ * relaxed. */
+static void build_search_graph(ed_state *S)
+{
+    const sk_mesh *m = S->m;
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < S->nv; ++i) {
+        uint32_t v = S->iperm[i], h0 = m->v_halfedge[v], h = h0;
+        S->adj_off[i] = k;
+        if (m->v_deleted[v] || h0 == SK_INVALID)
+            continue;
+        do {
+            if (!S->forbid[sk_edge(h)])
+                S->adj[k++] = S->perm[sk_to(m, h)];
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+    S->adj_off[S->nv] = k;
+}
+
+/* the search path from x (a search id) back to its source: x, (via), pred, ... as vertices */
 static bool push_chain(ed_state *S, uint32_t x)
 {
-    for (; x != SK_INVALID; x = S->pred[x]) {
-        if (!ps_push_vertex(&S->ps, x))
+    for (; x != SK_INVALID; x = S->vs[x].pred) {
+        if (!ps_push_vertex(&S->ps, S->iperm[x]))
             return false;
-        if (S->via[x] != SK_INVALID && !ps_push_vertex(&S->ps, S->via[x]))
+        if (S->vs[x].via != SK_INVALID && !ps_push_vertex(&S->ps, S->iperm[S->vs[x].via]))
             return false;
     }
     return true;
@@ -517,26 +595,27 @@ static long initialise_pair(ed_state *S)
     long paired = 0;
     for (size_t i = 0; i < S->nc; ++i) {
         cand c = S->cands[i];
-        uint32_t a = S->src[c.u], b = c.v == SK_INVALID ? SK_INVALID : S->src[c.v];
+        uint32_t un = S->perm[c.u], vn = c.v == SK_INVALID ? SK_INVALID : S->perm[c.v];
+        uint32_t a = S->vs[un].src, b = vn == SK_INVALID ? SK_INVALID : S->vs[vn].src;
         if (S->partner[a] != SK_INVALID || (b != SK_INVALID && S->partner[b] != SK_INVALID))
             continue;
         size_t first = ps->nv;
-        if (!push_chain(S, c.u))
+        if (!push_chain(S, un))
             return -1;
         for (size_t i0 = first, i1 = ps->nv - 1; i0 < i1; ++i0, --i1) {
             uint32_t t = ps->v[i0];
             ps->v[i0] = ps->v[i1];
             ps->v[i1] = t;
         }
-        if (b != SK_INVALID && !push_chain(S, c.v))
+        if (b != SK_INVALID && !push_chain(S, vn))
             return -1;
         if (!ps_close_path(ps))
             return -1;
         for (size_t k = first; k < ps->nv; ++k) {
-            uint32_t x = ps->v[k], y = S->medge[x];
+            uint32_t x = S->perm[ps->v[k]], y = S->vs[x].mate;
             if (y != SK_INVALID) {
-                S->medge[x] = SK_INVALID;
-                S->medge[y] = SK_INVALID;
+                S->vs[x].mate = SK_INVALID;
+                S->vs[y].mate = SK_INVALID;
             }
         }
         S->st.path_edges += ps->nv - first - 1;
@@ -740,6 +819,10 @@ done:
 static sk_status initialise(ed_state *S, sk_error *err)
 {
     bool relaxed_forbid = false;
+    if (S->nrem > 0) {
+        order_search_vertices(S);
+        build_search_graph(S);
+    }
     while (S->nrem > 0) {
         S->st.initialise_rounds++;
         sk_status st = initialise_search(S, err);
@@ -757,6 +840,7 @@ static sk_status initialise(ed_state *S, sk_error *err)
             /* the avoided edges cut some even vertex off: allow them all */
             memset(S->forbid, 0, S->ne);
             relaxed_forbid = true;
+            build_search_graph(S);
             continue;
         }
         if (paired == 0 && S->nrem > 0)

@@ -55,19 +55,23 @@ static size_t local_faces(const sk_mesh *m, uint32_t v, uint8_t *mark, uint32_t 
 }
 
 /* Rebuilds the patches of faces after new vertex solutions at verts and counts the singular
- * ones, stopping once the count reaches limit (the variant cannot win then; the patches are all
- * assembled either way). faces lists the ones singular before first, so a losing variant is
- * usually found out after a few tests. */
-static size_t rebuild_local(sk_smooth *s, sk__vc1_work *W, const uint32_t *verts, size_t nverts,
-                            const uint32_t *faces, size_t nf, size_t limit)
+ * ones, stopping once the count reaches limit (the variant cannot win then). limit 0: every patch
+ * assembled, none tested; else a patch is assembled just before its test, so the ones after the
+ * stop keep stale points (nothing reads them before the rebuild with limit 0 that ends every
+ * try). faces lists the ones singular before first, so a losing variant is usually found out
+ * after a few tests; first (per patch) holds the sample that failed last (see
+ * sk__patch_singular_from): a patch still singular fails there again, mostly. */
+static size_t rebuild_local(sk_smooth *s, sk__vc1_work *W, uint8_t *first, const uint32_t *verts,
+                            size_t nverts, const uint32_t *faces, size_t nf, size_t limit)
 {
     for (size_t i = 0; i < nverts; ++i)
         sk__vc1_interior_points(W, verts[i]);
-    for (size_t i = 0; i < nf; ++i)
-        sk__vc1_assemble_patch(W, faces[i], sk_patch_cp(&s->surface, faces[i]));
     size_t bad = 0;
-    for (size_t i = 0; i < nf && bad < limit; ++i)
-        bad += sk__patch_singular(s, faces[i], NULL);
+    for (size_t i = 0; i < nf && (limit == 0 || bad < limit); ++i) {
+        sk__vc1_assemble_patch(W, faces[i], sk_patch_cp(&s->surface, faces[i]));
+        if (limit)
+            bad += sk__patch_singular_from(s, faces[i], NULL, first + faces[i]);
+    }
     return bad;
 }
 
@@ -91,7 +95,7 @@ static const double wide_scales[] = {0.3, 0.45, 0.6, 0.85, 1.15, 1.5, 2.0, 2.6, 
 typedef struct repair_ctx {
     sk_smooth *s;
     sk__vc1_work *W;
-    uint8_t *status, *sing, *mark;
+    uint8_t *status, *sing, *mark, *first; /* first: see rebuild_local */
     uint32_t *faces, *tried, *changed, *slot; /* slot: per vertex 1 + its cache slot, 0 none */
     double *cache;
     size_t cache_used, cache_cap, nsing, repaired;
@@ -182,7 +186,7 @@ static int try_variant(repair_ctx *R, uint32_t v, const uint32_t *E, int n, int 
 static void take_gain(repair_ctx *R, const uint32_t *faces, size_t nf)
 {
     for (size_t i = 0; i < nf; ++i) {
-        uint8_t now = sk__patch_singular(R->s, faces[i], NULL);
+        uint8_t now = sk__patch_singular_from(R->s, faces[i], NULL, R->first + faces[i]);
         R->nsing = R->nsing - R->sing[faces[i]] + now;
         R->sing[faces[i]] = now;
         R->changed[faces[i]] = R->tick;
@@ -234,7 +238,7 @@ static void repair_vertex(repair_ctx *R, uint32_t v, int wide)
         int code = try_variant(R, v, E, n, wide, t);
         if (code > R->status[v] || code >= 2)
             continue; /* never trade regularity for an angle violation or a failed system */
-        size_t after = rebuild_local(R->s, W, verts, nverts, faces, nf, best);
+        size_t after = rebuild_local(R->s, W, R->first, verts, nverts, faces, nf, best);
         if (after < best) {
             best = after;
             best_variant = t;
@@ -252,7 +256,7 @@ static void repair_vertex(repair_ctx *R, uint32_t v, int wide)
             R->tried[v] = R->tick;
         restore_solution(W, E, n, P0, w0);
     }
-    rebuild_local(R->s, W, verts, nverts, faces, nf, 0);
+    rebuild_local(R->s, W, R->first, verts, nverts, faces, nf, 0);
     /* restored: the same solution gives the same patches, their flags stand */
     if (best_variant >= 0)
         take_gain(R, faces, nf);
@@ -335,11 +339,11 @@ static void repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
                 break; /* the bound of LATE_BUDGET */
             R->late_budget--;
             if (fixed == SIZE_MAX)
-                fixed = rebuild_local(R->s, W, F.verts, F.na, F.fa, F.nfa, best);
+                fixed = rebuild_local(R->s, W, R->first, F.verts, F.na, F.fa, F.nfa, best);
             if (fixed >= best)
                 continue; /* no variant of b can win with this one of a */
-            size_t after = fixed + rebuild_local(R->s, W, F.verts + F.na, F.nb, F.fb, F.nfb,
-                                                 best - fixed);
+            size_t after = fixed + rebuild_local(R->s, W, R->first, F.verts + F.na, F.nb, F.fb,
+                                                 F.nfb, best - fixed);
             if (after < best)
                 best = after, best_s = t, best_t = u, code_a = ca, code_b = cb;
         }
@@ -356,7 +360,7 @@ static void repair_pair(repair_ctx *R, uint32_t a, uint32_t b)
         restore_solution(W, Ea, n_a, Pa, wa);
         restore_solution(W, Eb, n_b, Pb, wb);
     }
-    rebuild_local(R->s, W, F.verts, F.na + F.nb, F.all, F.nall, 0);
+    rebuild_local(R->s, W, R->first, F.verts, F.na + F.nb, F.all, F.nall, 0);
     if (best_t >= 0)
         take_gain(R, F.all, F.nall);
 }
@@ -417,11 +421,13 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     uint8_t *cand = sk__calloc_array(nv + 1, 1);
     R.sing = sk__malloc_array(np + 1, 1);
     R.mark = sk__calloc_array(np + 1, 1);
+    R.first = sk__calloc_array(np + 1, 1);
     R.faces = sk__malloc_array(2 * LOCAL_FACES, sizeof *R.faces); /* see pair_faces */
     R.tried = sk__calloc_array(nv + 1, sizeof *R.tried);
     R.slot = sk__calloc_array(nv + 1, sizeof *R.slot);
     R.changed = sk__calloc_array(np + 1, sizeof *R.changed);
-    if (!cand || !R.sing || !R.mark || !R.faces || !R.tried || !R.slot || !R.changed) {
+    W->memo = sk__vsys_memo_create(); /* optional: without it every solve runs */
+    if (!cand || !R.sing || !R.mark || !R.first || !R.faces || !R.tried || !R.slot || !R.changed) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
         goto done;
     }
@@ -456,10 +462,13 @@ done:
     sk__free(cand);
     sk__free(R.sing);
     sk__free(R.mark);
+    sk__free(R.first);
     sk__free(R.faces);
     sk__free(R.tried);
     sk__free(R.slot);
     sk__free(R.changed);
     sk__free(R.cache);
+    sk__vsys_memo_destroy(W->memo);
+    W->memo = NULL;
     return st;
 }

@@ -111,6 +111,17 @@ typedef struct sk__vsys {
  * constraints hold to rounding (residual <= 1e-12), else -1 (the best iterate is left in p, w). */
 int sk__vsys_solve(sk__vsys *s);
 
+/* A memo of solves (vertex_system.c): the solver is deterministic, so inputs equal to the bit
+ * (n_edges, closed, fixed_first, fixed_last, pstar, du, dd, nu) give the same p, w, residual,
+ * iterations, used_fallback and return value; a repeated solve is copied from the memo. The
+ * regularity repair keeps one (its variants of one vertex step through the same relaxed targets
+ * inside sk__vc1_solve_vertex). Not thread-safe: one memo per thread. */
+typedef struct sk__vsys_memo sk__vsys_memo;
+sk__vsys_memo *sk__vsys_memo_create(void); /* NULL when out of memory (then solve without) */
+void sk__vsys_memo_destroy(sk__vsys_memo *memo);
+/* sk__vsys_solve through memo (NULL: plain sk__vsys_solve) */
+int sk__vsys_solve_memo(sk__vsys *s, sk__vsys_memo *memo);
+
 /* Smallest and largest counter-clockwise angle (radians) between consecutive edges of a patch
  * corner around the vertex (n_edges pairs if closed, n_edges - 1 else). */
 void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
@@ -121,6 +132,9 @@ void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle);
  * control net certifies it regular everywhere (sk__patch_certify, src/bezier). cone_regular (may be NULL):
  * the Ginkel-Peters-Umlauf cone test. */
 bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular);
+/* The same test with the sample tried first: *first on entry (0 .. 80; beyond the grid: none),
+ * on a singular answer the sample that failed (the repair keeps one per patch). */
+bool sk__patch_singular_from(const sk_smooth *s, size_t p, bool *cone_regular, uint8_t *first);
 
 /* The patches whose control-point box overlaps the box of a patch sharing no corner with it
  * (box_candidates.c): cand[p] = 1 for those (np bytes), the only ones that can cross another. */

@@ -23,6 +23,7 @@ typedef struct sk__vc1_work {
     const uint8_t *crease_e;
     const uint8_t *crease_v;
     const double *cn;
+    sk__vsys_memo *memo; /* the solves of sk__vc1_solve_vertex go through it (NULL: none) */
 } sk__vc1_work;
 
 /* Delta of eq. (1) for face f. */

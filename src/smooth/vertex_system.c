@@ -10,6 +10,7 @@
  * a cycle J loses one rank: det prod A_m = 1 holds by eq. (5)); if that does not converge, the
  * same iteration is run with LAPACKE_dgglse (QR-based equality-constrained least squares). */
 #include "smooth/smooth_internal.h"
+#include "core/internal.h"
 #include "core/vec.h"
 
 #include <lapacke.h>
@@ -529,4 +530,75 @@ void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle)
     }
     *min_angle = lo;
     *max_angle = hi;
+}
+
+/* The memo: a ring of the last MEMO_SLOTS solves (a vertex's variants, tried one after the
+ * other, are what repeats). in: pstar (2 n), du, dd, nu (n each), compared bit for bit. */
+#define MEMO_SLOTS 16
+
+typedef struct memo_entry {
+    int n, closed, fixed_first, fixed_last, ret, iterations, used_fallback;
+    double in[5 * SK_VSYS_MAX];
+    double p[2 * SK_VSYS_MAX], w[SK_VSYS_MAX], residual;
+} memo_entry;
+
+struct sk__vsys_memo {
+    memo_entry e[MEMO_SLOTS];
+    unsigned used, next;
+};
+
+sk__vsys_memo *sk__vsys_memo_create(void)
+{
+    return sk__calloc_array(1, sizeof(sk__vsys_memo));
+}
+
+void sk__vsys_memo_destroy(sk__vsys_memo *memo)
+{
+    sk__free(memo);
+}
+
+static void memo_key(const sk__vsys *s, double *in)
+{
+    size_t n = (size_t)s->n_edges;
+    memcpy(in, s->pstar, 2 * n * sizeof(double));
+    memcpy(in + 2 * n, s->du, n * sizeof(double));
+    memcpy(in + 3 * n, s->dd, n * sizeof(double));
+    memcpy(in + 4 * n, s->nu, n * sizeof(double));
+}
+
+int sk__vsys_solve_memo(sk__vsys *s, sk__vsys_memo *memo)
+{
+    if (!memo || s->n_edges <= 0 || s->n_edges > SK_VSYS_MAX)
+        return sk__vsys_solve(s);
+    size_t n = (size_t)s->n_edges;
+    double in[5 * SK_VSYS_MAX];
+    memo_key(s, in);
+    for (unsigned i = 0; i < memo->used; ++i) {
+        const memo_entry *e = &memo->e[i];
+        if (e->n != s->n_edges || e->closed != s->closed || e->fixed_first != s->fixed_first ||
+            e->fixed_last != s->fixed_last || memcmp(e->in, in, 5 * n * sizeof(double)) != 0)
+            continue;
+        memcpy(s->p, e->p, 2 * n * sizeof(double));
+        memcpy(s->w, e->w, n * sizeof(double));
+        s->residual = e->residual;
+        s->iterations = e->iterations;
+        s->used_fallback = e->used_fallback;
+        return e->ret;
+    }
+    int ret = sk__vsys_solve(s);
+    memo_entry *e = &memo->e[memo->next];
+    memo->next = (memo->next + 1) % MEMO_SLOTS;
+    memo->used += memo->used < MEMO_SLOTS;
+    e->n = s->n_edges;
+    e->closed = s->closed;
+    e->fixed_first = s->fixed_first;
+    e->fixed_last = s->fixed_last;
+    memcpy(e->in, in, 5 * n * sizeof(double));
+    memcpy(e->p, s->p, 2 * n * sizeof(double));
+    memcpy(e->w, s->w, n * sizeof(double));
+    e->residual = s->residual;
+    e->iterations = s->iterations;
+    e->used_fallback = s->used_fallback;
+    e->ret = ret;
+    return ret;
 }

@@ -92,7 +92,7 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
     memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
     if (blend > 0.0)
         blend_targets(orig, sys->pstar, n, closed, W->alpha, blend, 0.0);
-    int ok = sk__vsys_solve(sys);
+    int ok = sk__vsys_solve_memo(sys, W->memo);
     double lo, hi;
     sk__vsys_angles(sys, &lo, &hi);
     int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
@@ -107,7 +107,7 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
         if (b <= blend && lb == 0.0)
             continue;
         blend_targets(orig, sys->pstar, n, closed, W->alpha, b, lb);
-        ok = sk__vsys_solve(sys);
+        ok = sk__vsys_solve_memo(sys, W->memo);
         sk__vsys_angles(sys, &lo, &hi);
         bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
         sys->relaxed = 1;

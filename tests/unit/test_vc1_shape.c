@@ -759,6 +759,123 @@ static void test_table(void **state)
  * and the cow's surfaces: every patch whose control-point box overlaps that of a patch sharing no
  * corner is a candidate, and the grid leaves out most of the others (it may keep some: crowded
  * cells). */
+/* sk__patch_singular_from gives the answer of sk__patch_singular from any first sample, and a
+ * singular answer names a sample that fails again. Some of the pig's patches are folded first
+ * (a control point next to a corner pushed through the surface) so both answers occur. */
+static void test_singular_any_start(void **state)
+{
+    (void)state;
+    sk_mesh *mesh = skt_read_mesh(skt_shared_mesh("pig.off"));
+    sk_smooth *s = NULL;
+    sk_error err = {0};
+    if (sk_smooth_build(mesh, NULL, &s, &err) != SK_OK)
+        fail_msg("pig: %s", err.message);
+    sk_patch_set *set = &s->surface;
+    for (size_t p = 0; p < set->count; p += 5) {
+        double *cp = set->points + 3 * set->patches[p].first;
+        const double *nrm = sk__corner_normal(s, p, 0);
+        double len = dist(cp, cp + 3 * sk_patch_num_points(&set->patches[p]) - 3);
+        for (int k = 0; k < 3; ++k) /* point 1: next to corner 0 on its first edge */
+            cp[3 + k] -= (double)(p % 3) * len * nrm[k];
+    }
+    const uint8_t starts[] = {0, 1, 7, 30, 44, 45, 80, 81, 255};
+    size_t singular = 0, regular = 0;
+    for (size_t p = 0; p < set->count; ++p) {
+        bool want = sk__patch_singular(s, p, NULL);
+        singular += want;
+        regular += !want;
+        for (size_t i = 0; i < sizeof starts; ++i) {
+            uint8_t first = starts[i];
+            assert_int_equal(sk__patch_singular_from(s, p, NULL, &first), want);
+            if (!want) {
+                assert_int_equal(first, starts[i]); /* untouched when regular */
+                continue;
+            }
+            uint8_t again = first;
+            assert_true(sk__patch_singular_from(s, p, NULL, &again));
+            assert_int_equal(again, first); /* it failed at the first sample tried */
+        }
+    }
+    print_message("pig with folded patches: %zu singular, %zu regular\n", singular, regular);
+    assert_true(singular >= 10);
+    assert_true(regular >= 100);
+    sk_smooth_destroy(&s);
+    sk_mesh_destroy(&mesh);
+}
+
+/* vertex system k of a fixed family (valence 3, 5, 7, closed or a chain): targets near an even
+ * spread, face deltas and ratios nu of the kinds VC1 uses */
+static void vsys_case(sk__vsys *s, int k)
+{
+    static const int val[] = {3, 5, 7, 4, 6};
+    memset(s, 0, sizeof *s);
+    s->n_edges = val[k % 5];
+    s->closed = k % 4 != 3;
+    s->fixed_first = !s->closed && k % 8 == 7;
+    for (int m = 0; m < s->n_edges; ++m) {
+        double a = 6.283185307179586 * m / s->n_edges + 0.05 * sin(1.0 + k + 3.0 * m);
+        double r = 1.0 + 0.2 * cos(2.0 * k + m);
+        s->pstar[2 * m] = r * cos(a);
+        s->pstar[2 * m + 1] = r * sin(a);
+        s->du[m] = (m + k) % 3 ? 2.0 * cos(6.283185307179586 / 3.0) + 1.0 : 0.0;
+        s->dd[m] = (m + 2 * k) % 3 ? 1.0 : 0.0;
+        s->nu[m] = -1.0 - 0.1 * sin(k + 2.0 * m);
+    }
+}
+
+static void assert_same_solution(const sk__vsys *a, int ra, const sk__vsys *b, int rb)
+{
+    assert_int_equal(ra, rb);
+    assert_memory_equal(a->p, b->p, 2 * (size_t)a->n_edges * sizeof(double));
+    assert_memory_equal(a->w, b->w, (size_t)a->n_edges * sizeof(double));
+    assert_memory_equal(&a->residual, &b->residual, sizeof(double));
+    assert_int_equal(a->iterations, b->iterations);
+    assert_int_equal(a->used_fallback, b->used_fallback);
+}
+
+/* The memo of vertex-system solves returns what a plain solve returns: on a first solve, on a
+ * repeat, after a change of one input by one ulp or of nu alone (a different system), and after
+ * the ring has turned over. */
+static void test_vsys_memo(void **state)
+{
+    (void)state;
+    sk__vsys_memo *memo = sk__vsys_memo_create();
+    assert_non_null(memo);
+    int differ = 0, converged = 0;
+    for (int k = 0; k < 40; ++k) {
+        sk__vsys plain, a, b;
+        vsys_case(&plain, k);
+        a = b = plain;
+        int rp = sk__vsys_solve(&plain);
+        assert_same_solution(&plain, rp, &a, sk__vsys_solve_memo(&a, memo));
+        assert_same_solution(&plain, rp, &b, sk__vsys_solve_memo(&b, memo));
+        /* one ulp in one target, then nu alone: solved afresh, not taken from the memo */
+        sk__vsys c, d;
+        vsys_case(&c, k);
+        c.pstar[1] = nextafter(c.pstar[1], 2.0);
+        d = c;
+        int rc = sk__vsys_solve(&c);
+        assert_same_solution(&c, rc, &d, sk__vsys_solve_memo(&d, memo));
+        vsys_case(&c, k);
+        c.nu[0] *= 1.5;
+        d = c;
+        rc = sk__vsys_solve(&c);
+        assert_same_solution(&c, rc, &d, sk__vsys_solve_memo(&d, memo));
+        differ += memcmp(c.p, plain.p, 2 * (size_t)c.n_edges * sizeof(double)) != 0;
+        converged += rp == 0;
+    }
+    print_message("vsys memo: %d of 40 systems converged, nu changed the solution of %d\n",
+                  converged, differ);
+    assert_true(differ >= 15); /* the nu variants are other systems (a memo keyed without nu
+                                  would have returned the first solution for them) */
+    sk__vsys plain, a;
+    vsys_case(&plain, 0);
+    a = plain;
+    int rp = sk__vsys_solve(&plain);
+    assert_same_solution(&plain, rp, &a, sk__vsys_solve_memo(&a, memo));
+    sk__vsys_memo_destroy(memo);
+}
+
 static void test_box_candidates(void **state)
 {
     (void)state;
@@ -830,6 +947,8 @@ int main(void)
         cmocka_unit_test(test_fair_model_energy),
         cmocka_unit_test(test_table),
         cmocka_unit_test(test_box_candidates),
+        cmocka_unit_test(test_singular_any_start),
+        cmocka_unit_test(test_vsys_memo),
     };
     /* SK_SHAPE_ONLY=name runs that test alone (the diagnostics while working) */
     if (getenv("SK_SHAPE_ONLY"))

@@ -110,7 +110,78 @@ sk_status sk__csr_transpose(const sk__csr *a, sk__csr *out, sk_error *err)
     return SK_OK;
 }
 
-/* Row-by-row product (Gustavson) with a dense accumulator over the columns of b. */
+/* Row `row` of a * b (Gustavson) with the dense accumulator acc / mark over the columns of b:
+ * its columns into list, sorted (the values in acc by column); returns their count. */
+static size_t product_row(const sk__csr *a, const sk__csr *b, size_t row, double *acc,
+                          size_t *mark, uint32_t *list)
+{
+    size_t len = 0;
+    for (size_t ka = a->ptr[row]; ka < a->ptr[row + 1]; ++ka) {
+        size_t i = a->col[ka];
+        double av = a->val[ka];
+        for (size_t kb = b->ptr[i]; kb < b->ptr[i + 1]; ++kb) {
+            uint32_t q = b->col[kb];
+            if (mark[q] != row) {
+                mark[q] = row;
+                acc[q] = 0;
+                list[len++] = q;
+            }
+            acc[q] += av * b->val[kb];
+        }
+    }
+    /* sort the columns of the row (short lists: insertion sort) */
+    for (size_t s = 1; s < len; ++s) {
+        uint32_t key = list[s];
+        size_t t = s;
+        for (; t > 0 && list[t - 1] > key; --t)
+            list[t] = list[t - 1];
+        list[t] = key;
+    }
+    return len;
+}
+
+/* The rows of a product taken by one block: its entries, in row order. */
+typedef struct product_block {
+    uint32_t *col;
+    double *val;
+    size_t len, cap;
+} product_block;
+
+/* Rows [r0, r1) of a * b appended to blk, their lengths into rowlen[row]; false: out of memory. */
+static bool product_rows(const sk__csr *a, const sk__csr *b, size_t r0, size_t r1, double *acc,
+                         size_t *mark, uint32_t *list, product_block *blk, size_t *rowlen)
+{
+    for (size_t row = r0; row < r1; ++row) {
+        size_t len = product_row(a, b, row, acc, mark, list);
+        if (blk->len + len > blk->cap) {
+            size_t ncap = 2 * blk->cap + len + 1024;
+            uint32_t *c2 = sk__realloc_array(blk->col, ncap, sizeof *c2);
+            if (c2)
+                blk->col = c2;
+            double *v2 = c2 ? sk__realloc_array(blk->val, ncap, sizeof *v2) : NULL;
+            if (v2)
+                blk->val = v2;
+            if (!c2 || !v2)
+                return false;
+            blk->cap = ncap;
+        }
+        for (size_t s = 0; s < len; ++s) {
+            blk->col[blk->len + s] = list[s];
+            blk->val[blk->len + s] = acc[list[s]];
+        }
+        blk->len += len;
+        rowlen[row] = len;
+    }
+    return true;
+}
+
+/* Blocks of rows of a product computed in parallel (a fixed count: the result does not depend
+ * on the threads), from this many rows on. */
+#define SK_PRODUCT_BLOCKS 16
+#define SK_PRODUCT_PARALLEL_ROWS 20000
+
+/* Row-by-row product (Gustavson): blocks of rows in parallel, each into its own buffer, then
+ * joined in row order. */
 sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_error *err)
 {
     size_t nr = a->rows, nc = b->cols;
@@ -118,74 +189,60 @@ sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_e
     if (a->cols != b->rows)
         return sk__fail(err, SK_ERR_ARG, "matrix product of %zu x %zu and %zu x %zu", a->rows,
                         a->cols, b->rows, b->cols);
-    sk_status st = SK_OK;
-    double *acc = sk__calloc_array(nc ? nc : 1, sizeof *acc);
-    size_t *mark = sk__malloc_array(nc ? nc : 1, sizeof *mark);
-    uint32_t *list = sk__malloc_array(nc ? nc : 1, sizeof *list);
-    size_t cap = 8 * (nr + 1);
+    size_t nb = nr >= SK_PRODUCT_PARALLEL_ROWS ? SK_PRODUCT_BLOCKS : 1;
+    product_block blk[SK_PRODUCT_BLOCKS];
+    memset(blk, 0, sizeof blk);
     out->rows = nr;
     out->cols = nc;
     out->ptr = sk__calloc_array(nr + 1, sizeof *out->ptr);
-    out->col = sk__malloc_array(cap, sizeof *out->col);
-    out->val = sk__malloc_array(cap, sizeof *out->val);
-    if (!acc || !mark || !list || !out->ptr || !out->col || !out->val) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix product", nr, nc);
-        goto done;
+    int fail = !out->ptr;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel reduction(| : fail) if (nb > 1)
+#endif
+    {
+        double *acc = sk__malloc_array(nc ? nc : 1, sizeof *acc);
+        size_t *mark = sk__malloc_array(nc ? nc : 1, sizeof *mark);
+        uint32_t *list = sk__malloc_array(nc ? nc : 1, sizeof *list);
+        int bad = !acc || !mark || !list;
+        for (size_t q = 0; !bad && q < nc; ++q)
+            mark[q] = SIZE_MAX;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 1)
+#endif
+        for (long k = 0; k < (long)nb; ++k)
+            if (!bad && out->ptr)
+                bad = !product_rows(a, b, (size_t)k * nr / nb, (size_t)(k + 1) * nr / nb, acc,
+                                    mark, list, &blk[k], out->ptr + 1);
+        fail |= bad;
+        sk__free(acc);
+        sk__free(mark);
+        sk__free(list);
     }
-    for (size_t q = 0; q < nc; ++q)
-        mark[q] = SIZE_MAX;
     size_t nnz = 0;
-    for (size_t row = 0; row < nr; ++row) {
-        size_t len = 0;
-        for (size_t ka = a->ptr[row]; ka < a->ptr[row + 1]; ++ka) {
-            size_t i = a->col[ka];
-            double av = a->val[ka];
-            for (size_t kb = b->ptr[i]; kb < b->ptr[i + 1]; ++kb) {
-                uint32_t q = b->col[kb];
-                if (mark[q] != row) {
-                    mark[q] = row;
-                    acc[q] = 0;
-                    list[len++] = q;
-                }
-                acc[q] += av * b->val[kb];
-            }
-        }
-        /* sort the columns of the row (short lists: insertion sort) */
-        for (size_t s = 1; s < len; ++s) {
-            uint32_t key = list[s];
-            size_t t = s;
-            for (; t > 0 && list[t - 1] > key; --t)
-                list[t] = list[t - 1];
-            list[t] = key;
-        }
-        if (nnz + len > cap) {
-            size_t ncap = 2 * cap + len;
-            uint32_t *c2 = sk__realloc_array(out->col, ncap, sizeof *c2);
-            if (c2)
-                out->col = c2;
-            double *v2 = sk__realloc_array(out->val, ncap, sizeof *v2);
-            if (v2)
-                out->val = v2;
-            if (!c2 || !v2) {
-                st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix product",
-                              nr, nc);
-                goto done;
-            }
-            cap = ncap;
-        }
-        for (size_t s = 0; s < len; ++s) {
-            out->col[nnz] = list[s];
-            out->val[nnz++] = acc[list[s]];
-        }
-        out->ptr[row + 1] = nnz;
+    for (size_t k = 0; k < nb; ++k)
+        nnz += blk[k].len;
+    if (!fail) {
+        out->col = sk__malloc_array(nnz ? nnz : 1, sizeof *out->col);
+        out->val = sk__malloc_array(nnz ? nnz : 1, sizeof *out->val);
+        fail = !out->col || !out->val;
     }
-done:
-    sk__free(acc);
-    sk__free(mark);
-    sk__free(list);
-    if (st)
+    for (size_t k = 0, at = 0; !fail && k < nb; at += blk[k++].len) {
+        if (blk[k].len) {
+            memcpy(out->col + at, blk[k].col, blk[k].len * sizeof *out->col);
+            memcpy(out->val + at, blk[k].val, blk[k].len * sizeof *out->val);
+        }
+    }
+    for (size_t k = 0; k < nb; ++k) {
+        sk__free(blk[k].col);
+        sk__free(blk[k].val);
+    }
+    if (fail) {
         sk__csr_free(out);
-    return st;
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix product", nr, nc);
+    }
+    for (size_t row = 0; row < nr; ++row)
+        out->ptr[row + 1] += out->ptr[row];
+    return SK_OK;
 }
 
 sk_status sk__csr_galerkin(const sk__csr *r, const sk__csr *a, const sk__csr *p, sk__csr *out,

@@ -253,6 +253,58 @@ static void test_solve_matches_cholmod(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* The sparse product on rows enough for its parallel passes (30000): every row's columns
+ * strictly increasing, (A B) x = A (B x) for a varied x, and the nonzeros of the product those of
+ * the product of the patterns (a row of A times the rows of B it picks). */
+static void test_product_matches_matvec(void **state)
+{
+    (void)state;
+    size_t n = 30000, m = 7000;
+    sk__csr a = {0}, b = {0}, ab = {0};
+    assert_int_equal(sk__csr_alloc(&a, n, m, 3 * n, NULL), SK_OK);
+    assert_int_equal(sk__csr_alloc(&b, m, n, 4 * m, NULL), SK_OK);
+    for (size_t i = 0; i < n; ++i) /* three columns per row, increasing: i mod m spread out */
+        for (size_t k = 0; k < 3; ++k) {
+            a.col[3 * i + k] = (uint32_t)((i % (m / 3)) + k * (m / 3));
+            a.val[3 * i + k] = 1.0 + 0.25 * (double)k - 1e-5 * (double)i;
+            a.ptr[i + 1] = 3 * i + 3;
+        }
+    for (size_t j = 0; j < m; ++j)
+        for (size_t k = 0; k < 4; ++k) {
+            b.col[4 * j + k] = (uint32_t)((7 * j + k * 5001) % (n / 4) + k * (n / 4));
+            b.val[4 * j + k] = (k % 2 ? -1.0 : 2.0) + 1e-4 * (double)j;
+            b.ptr[j + 1] = 4 * j + 4;
+        }
+    assert_int_equal(sk__csr_product(&a, &b, &ab, NULL), SK_OK);
+    assert_int_equal(ab.rows, n);
+    assert_int_equal(ab.cols, n);
+    size_t nnz = 0;
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t k = ab.ptr[i] + 1; k < ab.ptr[i + 1]; ++k)
+            assert_true(ab.col[k - 1] < ab.col[k]);
+        nnz += ab.ptr[i + 1] - ab.ptr[i];
+    }
+    assert_int_equal(nnz, ab.ptr[n]);
+    assert_true(nnz > 3 * n && nnz <= 12 * n);
+    double *x = malloc(n * sizeof *x), *bx = malloc(m * sizeof *bx), *y0 = malloc(n * sizeof *y0),
+           *y1 = malloc(n * sizeof *y1);
+    for (size_t i = 0; i < n; ++i)
+        x[i] = sin(0.001 * (double)i) + 0.5;
+    sk__csr_multiply(&b, x, bx);
+    sk__csr_multiply(&a, bx, y0);
+    sk__csr_multiply(&ab, x, y1);
+    for (size_t i = 0; i < n; ++i)
+        if (!(fabs(y0[i] - y1[i]) <= 1e-12 * (1 + fabs(y0[i]))))
+            fail_msg("row %zu: (AB)x = %.15g, A(Bx) = %.15g", i, y1[i], y0[i]);
+    free(x);
+    free(bx);
+    free(y0);
+    free(y1);
+    sk__csr_free(&a);
+    sk__csr_free(&b);
+    sk__csr_free(&ab);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -260,6 +312,7 @@ int main(void)
         cmocka_unit_test(test_galerkin_zero_row_sums),
         cmocka_unit_test(test_blocks_like_scalar),
         cmocka_unit_test(test_solve_matches_cholmod),
+        cmocka_unit_test(test_product_matches_matvec),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

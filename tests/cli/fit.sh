@@ -41,12 +41,13 @@ k=$(echo "$p1" | cut -d, -f2,3)
 [ "$k" = "$((nu - 1)),$((nv - 1))" ] || fail "IGES K1,K2 $k, grid $nu x $nv"
 [ "$(grep -c 'D      [0-9]*$' "$tmp/p.igs")" = 2 ] || fail "IGES has not one entity"
 
-# corners given: the ones found, given back, are used and give the same surface
-"$bin" fit "$m/patch-01.off" -o "$tmp/c.step" --json > "$tmp/auto.json" 2> /dev/null
+# corners given: the ones found, given back, are used and give the same surface (at 1e-2: at the
+# default 1e-3 patch-01 refines up to the cap, twice the vertices, over three maps)
+"$bin" fit "$m/patch-01.off" -o "$tmp/c.step" --tolerance-rel 1e-2 --json > "$tmp/auto.json" 2> /dev/null
 rc=$?
 [ $rc = 0 ] || [ $rc = 4 ] || fail "patch-01 exit $rc"
 corners=$(tr -d ' \n' < "$tmp/auto.json" | sed 's/.*"corners":\[\([0-9,]*\)\].*/\1/')
-"$bin" fit "$m/patch-01.off" -o "$tmp/c2.step" --corners "$corners" --json > "$tmp/given.json" 2> /dev/null
+"$bin" fit "$m/patch-01.off" -o "$tmp/c2.step" --tolerance-rel 1e-2 --corners "$corners" --json > "$tmp/given.json" 2> /dev/null
 [ "$(tr -d ' \n' < "$tmp/given.json" | sed 's/.*"corners":\[\([0-9,]*\)\].*/\1/')" = "$corners" ] \
   || fail "--corners $corners not used"
 [ "$(val control_points "$tmp/given.json")" = "$(val control_points "$tmp/auto.json")" ] \

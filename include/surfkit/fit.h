@@ -28,7 +28,7 @@ typedef struct sk_fit_opts {
     int degree;              /* 0 = 3 (bicubic) */
     double smoothing;        /* weight of the thin-plate energy relative to the data term
                                 (scale free: both are normalized by their traces); 0 = each
-                                round tries 1e-6, 1e-3 and 1e-2 and keeps the closest fit */
+                                round tries 1e-6 and 1e-3 and keeps the closer fit */
     unsigned initial_spans;  /* knot spans per direction to start from; 0 = 4 */
     unsigned max_rounds;     /* refinement rounds; 0 = 40 */
     double refine_share;     /* share of the knot spans above the tolerance split per round and

@@ -172,7 +172,7 @@ typedef struct fit_args {
 static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
 {
     unsigned units = 0, method = 0;
-    int degree = 3;
+    int degree = 3, max_cp = 0;
     const cli_opt opts[] = {
         OPT_OUTPUT(x->out, "OUT",
                    ".step/.stp: STEP AP214, one B_SPLINE_SURFACE_WITH_KNOTS as the face of an\n"
@@ -186,7 +186,13 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
         OPT_DOUBLE("--refine-share", a->fo.refine_share, 0, 1, CLI_LO_OPEN, "S",
                    "share of the knot spans above the tolerance split per round and direction,\n"
                    "the worst first (default 0.1; 1 bisects all of them)"),
+        OPT_DOUBLE("--smoothing", a->fo.smoothing, 0, 0, CLI_LO_OPEN, "W",
+                   "weight of the thin-plate term (default: each round tries 1e-6 and 1e-3\n"
+                   "and keeps the closer fit)"),
         OPT_INT("--degree", degree, 2, 5, "D", "degree in both directions (default 3, bicubic)"),
+        OPT_INT("--max-control-points", max_cp, 16, 1048576, "N",
+                "stop refining before the grid passes N control points (default: twice\n"
+                "the disk's vertex count)"),
         OPT_STRING("--corners", a->corners, "I,J,K,L",
                    "the boundary vertices mapped to (0,0), (1,0), (1,1), (0,1), in\n"
                    "counter-clockwise order around the surface (0-based vertex ids)"),
@@ -214,6 +220,7 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
         return rc;
     x->in = cli_input(&args, 0);
     a->fo.degree = degree;
+    a->fo.max_control_points = (size_t)max_cp;
     a->fo.method = method ? SK_PARAM_MIPS : SK_PARAM_FLOATER;
     if (cli_given(&args, "--units"))
         a->eo.units = unit_names[units];

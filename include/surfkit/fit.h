@@ -32,7 +32,7 @@ typedef struct sk_fit_opts {
     unsigned initial_spans;  /* knot spans per direction to start from; 0 = 4 */
     unsigned max_rounds;     /* refinement rounds; 0 = 40 */
     double refine_share;     /* share of the knot spans above the tolerance split per round and
-                                direction, the worst first (at least one): 0 = 1/4; 1 = all of
+                                direction, the worst first (at least one): 0 = 1/10; 1 = all of
                                 them (about doubling the grid where the error is) */
     sk_param_method method;  /* the square map: 0 = Floater (shape preserving, linear);
                                 SK_PARAM_MIPS = hierarchical MIPS with the square boundary fixed
@@ -43,6 +43,11 @@ typedef struct sk_fit_opts {
                                 SK_FIT_AUTO_THETAS maps (theta 1, 0.5, and none), and the fit kept
                                 is the one with the fewest control points among those meeting the
                                 tolerance, or the closest one when none does (stats->tried) */
+    size_t max_control_points; /* the refinement stops before the grid passes this many control
+                                  points; 0 = twice the disk's vertex count (a tensor grid
+                                  adds a whole row or column per knot, so a local feature can
+                                  need more control points than the mesh has vertices:
+                                  patch-01 at 5e-3 of the diagonal, 1156 for 735) */
     bool has_corners;        /* corners: four boundary vertices, counter-clockwise around the */
     uint32_t corners[4];     /* surface, mapped to (0,0), (1,0), (1,1), (0,1) */
     sk_progress_fn progress;

@@ -41,12 +41,13 @@ k=$(echo "$p1" | cut -d, -f2,3)
 [ "$k" = "$((nu - 1)),$((nv - 1))" ] || fail "IGES K1,K2 $k, grid $nu x $nv"
 [ "$(grep -c 'D      [0-9]*$' "$tmp/p.igs")" = 2 ] || fail "IGES has not one entity"
 
-# corners given: the ones found, given back, are used and give the same surface
-"$bin" fit "$m/patch-01.off" -o "$tmp/c.step" --json > "$tmp/auto.json" 2> /dev/null
+# corners given: the ones found, given back, are used and give the same surface (at 1e-2: at the
+# default 1e-3 patch-01 refines up to the cap, twice the vertices, over three maps)
+"$bin" fit "$m/patch-01.off" -o "$tmp/c.step" --tolerance-rel 1e-2 --json > "$tmp/auto.json" 2> /dev/null
 rc=$?
 [ $rc = 0 ] || [ $rc = 4 ] || fail "patch-01 exit $rc"
 corners=$(tr -d ' \n' < "$tmp/auto.json" | sed 's/.*"corners":\[\([0-9,]*\)\].*/\1/')
-"$bin" fit "$m/patch-01.off" -o "$tmp/c2.step" --corners "$corners" --json > "$tmp/given.json" 2> /dev/null
+"$bin" fit "$m/patch-01.off" -o "$tmp/c2.step" --tolerance-rel 1e-2 --corners "$corners" --json > "$tmp/given.json" 2> /dev/null
 [ "$(tr -d ' \n' < "$tmp/given.json" | sed 's/.*"corners":\[\([0-9,]*\)\].*/\1/')" = "$corners" ] \
   || fail "--corners $corners not used"
 [ "$(val control_points "$tmp/given.json")" = "$(val control_points "$tmp/auto.json")" ] \
@@ -103,6 +104,16 @@ done
 [ -s "$tmp/n.step" ] || fail "unmet tolerance wrote no file"
 grep -q "not met" "$tmp/n.err" || fail "no 'not met' message: $(cat "$tmp/n.err")"
 
+# --max-control-points caps the grid: the paraboloid within 1e-3 needs more than 49, so the
+# capped fit exits 4 with at most 49; --smoothing fixes the thin-plate weight (one fit per round)
+"$bin" fit "$m/paraboloid-patch.off" -o "$tmp/cap.step" --max-control-points 49 --json \
+  > "$tmp/cap.json" 2> /dev/null
+[ $? = 4 ] || fail "--max-control-points 49 does not exit 4"
+[ "$(val control_points "$tmp/cap.json")" -le 49 ] || fail "cap 49: $(val control_points "$tmp/cap.json") control points"
+"$bin" fit "$m/paraboloid-patch.off" -o "$tmp/w.step" --smoothing 1e-4 --area-theta 1 --json \
+  > "$tmp/w.json" || fail "--smoothing 1e-4"
+[ "$(val met "$tmp/w.json")" = true ] || fail "--smoothing 1e-4: not met"
+
 for bad in sphere lion; do
   "$bin" fit "$m/$bad.off" -o "$tmp/b.step" 2> "$tmp/b.err"
   [ $? = 1 ] || fail "$bad: not exit 1"
@@ -114,7 +125,8 @@ done
 
 for args in "" "$m/nefertiti.off" "$m/nefertiti.off -o x.txt" "$m/nefertiti.off -o x.step --degree 9" \
             "$m/nefertiti.off -o x.step --corners 1,2,3" "$m/nefertiti.off -o x.step --tolerance -1" \
-            "$m/nefertiti.off -o x.step --tolerance 1 --tolerance-rel 0.1" "$m/nefertiti.off -o x.step --bogus"; do
+            "$m/nefertiti.off -o x.step --tolerance 1 --tolerance-rel 0.1" "$m/nefertiti.off -o x.step --bogus" \
+            "$m/nefertiti.off -o x.step --smoothing 0" "$m/nefertiti.off -o x.step --max-control-points 3"; do
   # shellcheck disable=SC2086
   (cd "$tmp" && "$bin" fit $args > /dev/null 2>&1)
   [ $? = 2 ] || fail "usage error not exit 2: fit $args"

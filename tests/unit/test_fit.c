@@ -224,6 +224,54 @@ static void auto_map(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* The control-point cap (max_control_points): one map, paraboloid-patch at 1e-3 of the
+ * diagonal; with the cap one below the count the refinement reaches, it stops before that grid,
+ * within the cap and not within T; with the cap at the count, the same fit. patch-01 at 5e-3
+ * (one map, theta 1, share 1/4) needs more control points than it has vertices: the default
+ * cap (twice the vertices) lets it meet T, a cap at its vertex count does not. */
+static void control_point_cap(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("paraboloid-patch.off"));
+    sk_fit_opts o = {.tolerance_rel = 1e-3, .area_theta = -1};
+    sk_bspline_surface *s = NULL;
+    sk_fit_stats free_fs, fs;
+    assert_int_equal(sk_fit_bspline(m, &o, &s, &free_fs, NULL), SK_OK);
+    sk_bspline_destroy(&s);
+    assert_true(free_fs.met);
+    o.max_control_points = free_fs.control_points - 1;
+    assert_int_equal(sk_fit_bspline(m, &o, &s, &fs, NULL), SK_OK);
+    print_message("paraboloid: %zu control points free, %zu under the cap %zu (met %d)\n",
+                  free_fs.control_points, fs.control_points, o.max_control_points, fs.met);
+    assert_true(fs.control_points <= o.max_control_points);
+    assert_false(fs.met);
+    sk_bspline_destroy(&s);
+    o.max_control_points = free_fs.control_points;
+    assert_int_equal(sk_fit_bspline(m, &o, &s, &fs, NULL), SK_OK);
+    assert_true(fs.met);
+    assert_int_equal(fs.control_points, free_fs.control_points);
+    sk_bspline_destroy(&s);
+    sk_mesh_destroy(&m);
+
+    m = skt_read_mesh(skt_shared_mesh("patch-01.off"));
+    sk_fit_opts p = {.tolerance_rel = 5e-3, .area_theta = 1, .refine_share = 0.25};
+    assert_int_equal(sk_fit_bspline(m, &p, &s, &fs, NULL), SK_OK);
+    double chord = 0, h = independent_deviation(s, m, fs.tolerance, &chord);
+    sk_bspline_destroy(&s);
+    print_message("patch-01: %zu control points for %zu vertices, met %d, Hausdorff %.4g (T %.4g, "
+                  "chord %.2g)\n", fs.control_points, m->num_vertices, fs.met, h, fs.tolerance, chord);
+    assert_true(fs.met);
+    assert_true(fs.control_points > m->num_vertices);
+    assert_true(fs.control_points <= 2 * m->num_vertices);
+    assert_true(h <= fs.tolerance + chord);
+    p.max_control_points = m->num_vertices;
+    assert_int_equal(sk_fit_bspline(m, &p, &s, &fs, NULL), SK_OK);
+    sk_bspline_destroy(&s);
+    assert_false(fs.met);
+    assert_true(fs.control_points <= m->num_vertices);
+    sk_mesh_destroy(&m);
+}
+
 static void bad_input(void **state)
 {
     (void)state;
@@ -250,6 +298,7 @@ int main(void)
         cmocka_unit_test(refinement_share),
         cmocka_unit_test(unmet_keeps_nearest),
         cmocka_unit_test(auto_map),
+        cmocka_unit_test(control_point_cap),
         cmocka_unit_test(bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -454,16 +454,9 @@ done:
 sk_status sk__pack_atlas(const sk_mesh *m, sk__atlas_layout *a, bool may_cut, double res,
                          double pad, double *scale, size_t *cuts, sk_error *err)
 {
-    layout cur = {0};
+    layout cur = {a->nc, a->n, a->off, a->chart, a->corner_uv, a->face_chart, a->uv, NULL, 0};
     size_t nf = m->num_faces, nh = m->num_halfedges;
     *cuts = 0;
-    cur.nc = a->nc;
-    cur.n = a->n;
-    cur.off = a->off;
-    cur.chart = a->chart;
-    cur.uv = a->uv;
-    cur.corner_uv = a->corner_uv;
-    cur.face_chart = a->face_chart;
     bool cut = may_cut && a->nc >= 2 && a->nc <= SPLIT_MAX_CHARTS && nf <= SPLIT_MAX_FACES;
     if (!cut) { /* in place */
         cur.packed = a->uv;

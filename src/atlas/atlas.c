@@ -1035,7 +1035,7 @@ static sk_status pack(const sk_mesh *m, builder *b, bool may_cut, double res, do
                       sk_error *err)
 {
     sk__atlas_layout l = {b->acc.charts, b->acc.n, b->acc.off, b->acc.chart, b->acc.uv,
-                          b->a->corner_uv, b->a->face_chart};
+                          b->a->corner_uv, b->a->face_chart, b->max_conf, b->max_stretch};
     sk_status st = sk__pack_atlas(m, &l, may_cut, res, pad, &b->s.scale, &b->s.pack_cuts, err);
     b->acc.off = l.off; /* the same arrays, or new ones (old ones freed) */
     b->acc.chart = l.chart;

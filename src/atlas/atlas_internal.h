@@ -144,6 +144,9 @@ typedef struct sk__atlas_layout {
     double *uv;            /* 2n: the charts at one scale, in any position */
     uint32_t *corner_uv;   /* per half-edge (sk_atlas.corner_uv) */
     uint32_t *face_chart;  /* per face */
+    /* the charts' bounds (sk_atlas_opts.max_distortion, max_stretch; <= 0: none): a cut is
+     * kept only when both pieces are within them */
+    double max_conf, max_stretch;
 } sk__atlas_layout;
 
 /* Packs the charts of a into [0,1]^2 (sk__pack_charts, outlines from the corners). With may_cut

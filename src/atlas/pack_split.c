@@ -3,9 +3,11 @@
  * cannot share), so each chart's layout is cut, in its own plane, by straight lines (6
  * directions, at the 1/8 .. 7/8 quantiles of its triangles along each) into two edge-connected
  * disks; the cut that saves the most smallest-box area, within a seam budget, is packed, and kept
- * when the packing's scale grows enough. The layout of every triangle stays as it was (a piece of
- * a flip-free, overlap-free layout is one), so MIPS and area distortion do not change; only the
- * seams grow by the cut. Up to SPLIT_ROUNDS cuts, one packing each. */
+ * when the packing's scale grows enough. Each piece keeps its triangles' layout up to a uniform
+ * scale that gives it its own 3D area (as every chart has before packing), so MIPS does not
+ * change; a cut whose piece is above the atlas's bounds (sigma1/sigma2 or area-log deviation,
+ * measured on the piece as on a chart) is not tried. Only the seams grow by the cut. Up to
+ * SPLIT_ROUNDS cuts, one packing each. */
 #include "atlas/atlas_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -157,6 +159,8 @@ typedef struct cutter {
     uint32_t stamp;
     double *pts, *hull;      /* 6 per face of a chart (and 6 more) */
     double *box;             /* per chart: its smallest box's area */
+    double *a3, *cr, *ls;    /* per face: 3D area, sigma1/sigma2, log(uv area / 3D area) */
+    double max_conf, max_stretch; /* the pieces' bounds (<= 0: none) */
     double seam;             /* the seam length (3D) the cuts may add in all */
     /* the best cut so far */
     size_t ncut;             /* the best cuts so far (most box area saved first) */
@@ -232,6 +236,33 @@ static bool piece_ok(cutter *k, const uint32_t *faces, size_t nf, uint8_t s, dou
     return true;
 }
 
+/* Piece s of the chart (faces[0..nf)) within the atlas's bounds, measured as the atlas measures
+ * a chart (chart_param.c): 3D-area weighted mean sigma1/sigma2 (pieces of 2 faces or more) and
+ * 3D-area weighted |log area scale - the piece's mean| (pieces of 8 faces or more)? */
+static bool piece_within(const cutter *k, const uint32_t *faces, size_t nf, uint8_t s)
+{
+    double a = 0, conf = 0, mean = 0, dev = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t f = faces[i];
+        if (k->side[f] != s)
+            continue;
+        n++;
+        a += k->a3[f];
+        conf += k->a3[f] * k->cr[f];
+        mean += k->a3[f] * k->ls[f];
+    }
+    if (n >= 2 && k->max_conf > 0 && conf / a > k->max_conf)
+        return false;
+    if (n < 8 || k->max_stretch <= 0)
+        return true;
+    mean /= a;
+    for (size_t i = 0; i < nf; ++i)
+        if (k->side[faces[i]] == s)
+            dev += k->a3[faces[i]] * fabs(k->ls[faces[i]] - mean);
+    return dev / a <= log(k->max_stretch);
+}
+
 static int cmp_key(const void *x, const void *y)
 {
     const double *a = x, *b = y;
@@ -291,7 +322,8 @@ static void cut_chart(cutter *k, uint32_t c)
             }
             double floor = k->ncut < SPLIT_TRIES ? 0 : k->gain[SPLIT_TRIES - 1];
             if (added > k->seam || !piece_ok(k, faces, nf, 0, &b0) ||
-                !piece_ok(k, faces, nf, 1, &b1) || !(k->box[c] - b0 - b1 > floor))
+                !piece_ok(k, faces, nf, 1, &b1) || !(k->box[c] - b0 - b1 > floor) ||
+                !piece_within(k, faces, nf, 0) || !piece_within(k, faces, nf, 1))
                 continue;
             keep_cut(k, c, faces, nf, k->box[c] - b0 - b1, added);
         }
@@ -342,6 +374,9 @@ static void cutter_free(cutter *k)
     sk__free(k->pts);
     sk__free(k->hull);
     sk__free(k->box);
+    sk__free(k->a3);
+    sk__free(k->cr);
+    sk__free(k->ls);
     sk__free(k->cut_side);
 }
 
@@ -361,15 +396,62 @@ static sk_status cutter_init(cutter *k, const sk_mesh *m, size_t n_uv, sk_error 
     k->hull = sk__malloc_array(12 * nf + 12 + 4 * n_uv, sizeof(double));
     k->box = sk__malloc_array(nc, sizeof(double));
     k->cut_side = sk__malloc_array(SPLIT_TRIES * nf, 1);
+    k->a3 = sk__malloc_array(nf, sizeof(double));
+    k->cr = sk__malloc_array(nf, sizeof(double));
+    k->ls = sk__malloc_array(nf, sizeof(double));
     if (!k->faces || !k->start || !k->key || !k->side || !k->queue || !k->ustamp || !k->pts ||
-        !k->hull || !k->box || !k->cut_side) {
+        !k->hull || !k->box || !k->cut_side || !k->a3 || !k->cr || !k->ls) {
         cutter_free(k);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     }
     return SK_OK;
 }
 
-/* The layout of cur with cut i of k: side 1 becomes a new chart; packed on the coarse grid. */
+/* The faces' 3D area, sigma1/sigma2 and log area scale in layout l. A piece's layout is its
+ * parent's up to a uniform scale, so the ratio stays and the log scale moves by a constant over
+ * the piece: measured once on the uncut layout, they measure every piece. */
+static void measure_faces(cutter *k, const layout *l)
+{
+    const sk_mesh *m = k->m;
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        uint32_t h = m->f_halfedge[f], v[3];
+        const double *q[3];
+        for (int j = 0; j < 3; ++j, h = m->h_next[h]) {
+            v[j] = sk_from(m, h);
+            q[j] = l->uv + 2 * (size_t)l->corner_uv[h];
+        }
+        double auv, mips;
+        sk__tri_distortion(m->positions + 3 * (size_t)v[0], m->positions + 3 * (size_t)v[1],
+                           m->positions + 3 * (size_t)v[2], q[0], q[1], q[2], &k->a3[f], &auv,
+                           &mips, &k->cr[f]);
+        k->ls[f] = log(fabs(auv) / k->a3[f]);
+    }
+}
+
+/* Chart c of l scaled (uniformly) so that its uv area equals its 3D area. */
+static void fit_area(const cutter *k, layout *l, uint32_t c)
+{
+    const sk_mesh *m = k->m;
+    double a3 = 0, auv = 0;
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        if (l->face_chart[f] != c)
+            continue;
+        uint32_t h = m->f_halfedge[f];
+        const double *q[3];
+        for (int j = 0; j < 3; ++j, h = m->h_next[h])
+            q[j] = l->uv + 2 * (size_t)l->corner_uv[h];
+        double d1[2] = {q[1][0] - q[0][0], q[1][1] - q[0][1]};
+        double d2[2] = {q[2][0] - q[0][0], q[2][1] - q[0][1]};
+        a3 += k->a3[f];
+        auv += 0.5 * fabs(sk__cross2(d1, d2));
+    }
+    double s = auv > 0 ? sqrt(a3 / auv) : 1.0;
+    for (size_t i = 2 * (size_t)l->off[c]; i < 2 * (size_t)l->off[c + 1]; ++i)
+        l->uv[i] *= s;
+}
+
+/* The layout of cur with cut i of k: side 1 becomes a new chart, each piece scaled to its 3D
+ * area; packed on the coarse grid. */
 static sk_status cut_layout(const sk_mesh *m, const cutter *k, size_t i, const layout *cur,
                             uint32_t *fc, double res, double pad, layout *t, sk_error *err)
 {
@@ -380,13 +462,17 @@ static sk_status cut_layout(const sk_mesh *m, const cutter *k, size_t i, const l
         if (k->cut_side[i * m->num_faces + j])
             fc[faces[j]] = (uint32_t)cur->nc;
     sk_status st = relabel(m, cur, fc, cur->nc + 1, t, err);
-    return st ? st : pack_layout(m, t, res, pad, err);
+    if (st)
+        return st;
+    fit_area(k, t, k->chart[i]);
+    fit_area(k, t, (uint32_t)cur->nc);
+    return pack_layout(m, t, res, pad, err);
 }
 
 /* Cuts (see the top of the file) from cur, packed at full resolution: cur becomes the layout
  * kept, packed. */
-static sk_status try_cuts(const sk_mesh *m, layout *cur, double res, double pad, size_t *cuts,
-                          sk_error *err)
+static sk_status try_cuts(const sk_mesh *m, layout *cur, const double bound[2], double res,
+                          double pad, size_t *cuts, sk_error *err)
 {
     cutter k;
     layout t = {0}, best = {0}, orig = *cur;
@@ -398,6 +484,9 @@ static sk_status try_cuts(const sk_mesh *m, layout *cur, double res, double pad,
         sk__free(fc);
         return st;
     }
+    k.max_conf = bound[0];
+    k.max_stretch = bound[1];
+    measure_faces(&k, cur);
     for (size_t e = 0; e < sk_num_edges(m); ++e) { /* the budget: a share of the seams given */
         uint32_t h = (uint32_t)(2 * e);
         if (m->h_face[h] != SK_INVALID && m->h_face[h ^ 1u] != SK_INVALID &&
@@ -470,7 +559,8 @@ sk_status sk__pack_atlas(const sk_mesh *m, sk__atlas_layout *a, bool may_cut, do
     if (!st)
         st = pack_layout(m, &cur, res, pad, err);
     if (!st)
-        st = try_cuts(m, &cur, res, pad, cuts, err);
+        st = try_cuts(m, &cur, (const double[2]){a->max_conf, a->max_stretch}, res, pad, cuts,
+                      err);
     if (st) {
         layout_free(&cur);
         return st;

@@ -431,8 +431,9 @@ static void test_pack_gutter_and_scale(void **state)
 
 /* Cuts for the packing: on the icosahedron (3 charts, one bent like a V) and eight (7 charts)
  * a chart is cut in two where that packs tighter: utilization up by at least 1%, the seams by at
- * most 10%, every triangle's layout the same up to the common scale (MIPS and area-log equal),
- * every chart a disk, the gutter kept; no_pack_cuts and max_charts cut nothing. */
+ * most 10%, every triangle's layout the same up to a scale per piece (each piece gets its own 3D
+ * area: MIPS equal, area-log within 1%), every chart a disk, the gutter kept; no_pack_cuts and
+ * max_charts cut nothing. */
 static void test_pack_cuts(void **state)
 {
     (void)state;
@@ -457,7 +458,10 @@ static void test_pack_cuts(void **state)
         assert_true(on.seam_length_rel > off.seam_length_rel);
         assert_true(on.seam_length_rel <= 1.1 * off.seam_length_rel + 1e-9);
         assert_true(fabs(on.mips_mean - off.mips_mean) < 1e-9);
-        assert_true(fabs(on.area_log_mean - off.area_log_mean) < 1e-9);
+        /* each piece is scaled to its own 3D area: the area-log mean moves, by 1% at most */
+        print_message("%s: area-log %.6f, none %.6f\n", names[i], on.area_log_mean,
+                      off.area_log_mean);
+        assert_true(on.area_log_mean <= 1.01 * off.area_log_mean + 1e-9);
         assert_int_equal(on.flipped + on.overlaps, 0);
         check_charts_are_disks(m, a, names[i]);
         double gap = chart_gap(m, a, 1024, 3.0);

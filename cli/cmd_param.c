@@ -217,6 +217,8 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                 "atlas: neighbouring charts of at most N triangles together merged\n"
                 "while the bounds hold (default 2000)"),
         OPT_FLAG("--no-merge", a->ao.no_merge, "atlas: no merging of neighbouring charts"),
+        OPT_FLAG("--no-pack-cuts", a->ao.no_pack_cuts,
+                 "atlas: never cut one of 2..8 charts in two for a tighter packing"),
         OPT_FLAG("--mips-charts", a->ao.mips_only,
                  "atlas: hierarchical MIPS on every chart (default: a chart keeps its\n"
                  "LSCM layout when that is flip-free, overlap-free and within the bounds)"),
@@ -263,7 +265,7 @@ static int parse_args(int argc, char **argv, param_args *a)
                                              "--crease-angle", "--resolution", "--padding",
                                              "--split-seams",
                                              "--mips-charts", "--charts", "--merge-faces",
-                                             "--no-merge"};
+                                             "--no-merge", "--no-pack-cuts"};
     for (size_t k = 0; k < sizeof atlas_only / sizeof atlas_only[0]; ++k)
         a->atlas |= cli_given(&args, atlas_only[k]);
     static const char *const disk_only[] = {"--flat", "--hierarchical", "--boundary",

@@ -53,6 +53,11 @@ typedef struct sk_atlas_opts {
      * 0 = the default (2000). no_merge: none. */
     unsigned merge_faces;
     bool no_merge;
+    /* With 2..8 charts (and at most 20000 triangles, no max_charts), a chart whose outline packs
+     * badly (a bend, a deep notch) is cut in two along a straight line of its layout when that
+     * packs at a higher utilization (by 1% or more; at most 2 cuts, each adding at most 10% to
+     * the seams; the triangles' layouts unchanged). no_pack_cuts: never. */
+    bool no_pack_cuts;
     /* Area term: every accepted chart layout is refined by MIPS with the area factor
      * (sk_mips_opts.area_theta), kept when it stays flip-free and overlap-free and lowers the
      * chart's area distortion. 0 = the default (0.5); negative = off (plain MIPS / LSCM). */
@@ -99,6 +104,7 @@ typedef struct sk_atlas_stats {
     size_t area_refinements; /* charts the area term refined (kept or not), final or split later */
     size_t crease_regions;   /* first charts: the crease regions (the components when no crease
                                 cuts them) */
+    size_t pack_cuts;        /* charts cut in two for a tighter packing (no_pack_cuts) */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;
 } sk_atlas_stats;
 

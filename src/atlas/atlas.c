@@ -1030,27 +1030,18 @@ static sk_status make_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
     return st;
 }
 
-/* The charts' outlines (uv edges of faces whose other side is a boundary or another uv pair),
- * then the packing. */
-static sk_status pack(const sk_mesh *m, builder *b, double res, double pad, sk_error *err)
+/* The packing (sk__pack_atlas: it may cut charts in two, replacing the accepted arrays). */
+static sk_status pack(const sk_mesh *m, builder *b, bool may_cut, double res, double pad,
+                      sk_error *err)
 {
-    const uint32_t *cu = b->a->corner_uv;
-    size_t ne = 0;
-    uint32_t *edges = sk__malloc_array(2 * m->num_halfedges + 2, sizeof(uint32_t));
-    if (!edges)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    for (size_t h = 0; h < m->num_halfedges; ++h) {
-        uint32_t o = (uint32_t)h ^ 1u, n = m->h_next[h];
-        if (m->h_face[h] == SK_INVALID)
-            continue;
-        if (m->h_face[o] == SK_INVALID || cu[h] != cu[m->h_next[o]] || cu[n] != cu[o]) {
-            edges[2 * ne] = cu[h];
-            edges[2 * ne++ + 1] = cu[n];
-        }
-    }
-    sk_status st = sk__pack_charts(b->acc.charts, b->acc.off, b->acc.chart, b->acc.uv, ne, edges,
-                                   res, pad, &b->s.scale, err);
-    sk__free(edges);
+    sk__atlas_layout l = {b->acc.charts, b->acc.n, b->acc.off, b->acc.chart, b->acc.uv,
+                          b->a->corner_uv, b->a->face_chart, b->max_conf, b->max_stretch};
+    sk_status st = sk__pack_atlas(m, &l, may_cut, res, pad, &b->s.scale, &b->s.pack_cuts, err);
+    b->acc.off = l.off; /* the same arrays, or new ones (old ones freed) */
+    b->acc.chart = l.chart;
+    b->acc.uv = l.uv;
+    b->acc.charts = l.nc;
+    b->acc.n = b->acc.cap = l.n;
     return st;
 }
 
@@ -1083,7 +1074,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     for (size_t c = 0; c < b.acc.charts; ++c)
         s->lscm_charts += b.acc.lscm[c];
     double tk = sk_seconds();
-    if ((st = pack(m, &b, res, pad, err)))
+    if ((st = pack(m, &b, !o.no_pack_cuts && !o.max_charts, res, pad, err)))
         goto done;
     s->pack_seconds = sk_seconds() - tk;
     sk_atlas *a = b.a;

@@ -130,6 +130,32 @@ sk_status sk__pack_charts(size_t num_charts, const uint32_t *off, const uint32_t
                           double *uv, size_t ne, const uint32_t *edges, double res, double pad,
                           double *scale, sk_error *err);
 
+/* The area of the smallest bounding box (over the convex hull's edge directions) of the n points
+ * pts (sorted in place); hull: 2n + 2 doubles of room. 0 below 3 points. */
+double sk__min_box_area(double *pts, size_t n, double *hull);
+
+/* ---- pack_split.c ---- */
+
+/* The atlas's charts as sk__pack_atlas reads and rewrites them. */
+typedef struct sk__atlas_layout {
+    size_t nc, n;          /* charts, uv points */
+    uint32_t *off;         /* nc + 1: chart c owns the uv points [off[c], off[c+1]) */
+    uint32_t *chart;       /* n: the chart of each uv point */
+    double *uv;            /* 2n: the charts at one scale, in any position */
+    uint32_t *corner_uv;   /* per half-edge (sk_atlas.corner_uv) */
+    uint32_t *face_chart;  /* per face */
+    /* the charts' bounds (sk_atlas_opts.max_distortion, max_stretch; <= 0: none): a cut is
+     * kept only when both pieces are within them */
+    double max_conf, max_stretch;
+} sk__atlas_layout;
+
+/* Packs the charts of a into [0,1]^2 (sk__pack_charts, outlines from the corners). With may_cut
+ * and 2..8 charts, also tries cutting charts in two where that packs at a larger scale (see
+ * pack_split.c): then off, chart and uv are replaced (new allocations, the old freed), nc and n
+ * grow and corner_uv, face_chart are rewritten; *cuts receives the cuts kept. */
+sk_status sk__pack_atlas(const sk_mesh *m, sk__atlas_layout *a, bool may_cut, double res,
+                         double pad, double *scale, size_t *cuts, sk_error *err);
+
 /* ---- raster_pack.c ---- */
 
 typedef struct sk__raster_in {

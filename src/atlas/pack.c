@@ -56,13 +56,13 @@ static size_t convex_hull(double *pts, size_t n, double *hull)
     return k - 1;
 }
 
-/* Rotates and translates the points of one chart so that its bounding box is the smallest over
- * the hull's edge directions, with width >= height and the corner at the origin. */
-static void orient_chart(double *uv, size_t n, double *scratch, double *hull, double *w, double *h)
+/* The smallest-area bounding box over the directions of the hull's nh edges: returns its area,
+ * *bc, *bs the cosine and sine of the direction that lies flat. */
+static double min_box(const double *hull, size_t nh, double *bc, double *bs)
 {
-    memcpy(scratch, uv, 2 * n * sizeof(double));
-    size_t nh = convex_hull(scratch, n, hull);
-    double best = INFINITY, bc = 1, bs = 0;
+    double best = INFINITY;
+    *bc = 1;
+    *bs = 0;
     for (size_t i = 0; i < nh; ++i) {
         const double *a = hull + 2 * i, *b = hull + 2 * ((i + 1) % nh);
         double dx = b[0] - a[0], dy = b[1] - a[1], l = hypot(dx, dy);
@@ -81,10 +81,27 @@ static void orient_chart(double *uv, size_t n, double *scratch, double *hull, do
         double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
         if (area < best) {
             best = area;
-            bc = c;
-            bs = s;
+            *bc = c;
+            *bs = s;
         }
     }
+    return nh > 0 ? best : 0;
+}
+
+double sk__min_box_area(double *pts, size_t n, double *hull)
+{
+    double c, s;
+    return n < 3 ? 0 : min_box(hull, convex_hull(pts, n, hull), &c, &s);
+}
+
+/* Rotates and translates the points of one chart so that its bounding box is the smallest over
+ * the hull's edge directions, with width >= height and the corner at the origin. */
+static void orient_chart(double *uv, size_t n, double *scratch, double *hull, double *w, double *h)
+{
+    memcpy(scratch, uv, 2 * n * sizeof(double));
+    size_t nh = convex_hull(scratch, n, hull);
+    double bc, bs;
+    min_box(hull, nh, &bc, &bs);
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t j = 0; j < n; ++j) {
         double *p = uv + 2 * j;

@@ -207,8 +207,11 @@ sk_status sk__param_solve_route(const sk_mesh *m, sk_param_method method, const 
     if (ro.solver != SK_LINEAR_AMG)
         return sk__param_solve_direct(m, a, symmetric, idx, dim, nrhs, rhs, x, &ro, stats, err);
     st = sk__param_solve_amg(a, symmetric, dim, nrhs, rhs, x, &ro, stats, err);
-    if (st == SK_ERR_NUMERIC && o->solver == SK_LINEAR_AUTO) /* not converged: the sure way */
+    if (st == SK_ERR_NUMERIC && o->solver == SK_LINEAR_AUTO) { /* not converged: the sure way */
         st = sk__param_solve_direct(m, a, symmetric, idx, dim, nrhs, rhs, x, &ro, stats, err);
+        if (st == SK_OK)
+            sk__ok(err); /* the AMG's message is not the caller's: the solve succeeded */
+    }
     return st;
 }
 

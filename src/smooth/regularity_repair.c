@@ -90,8 +90,9 @@ static const double wide_scales[] = {0.3, 0.45, 0.6, 0.85, 1.15, 1.5, 2.0, 2.6, 
  * winner. A vertex tried without gain is skipped later while none of the patches around it and
  * its neighbours changed since (the same try would give the same result): `tried` holds the tick
  * of that try, `changed` per patch the tick of the last gain that moved it (the wide round's
- * variants are not the table's: it neither skips nor caches). Crease vertices
- * (whose sectors take fixed ends from their neighbours' state) are solved afresh each time. */
+ * variants are not the table's: it neither skips nor caches). Crease vertices are
+ * cached too: their sectors' fixed ends are their crease edges' wire frame targets, fixed data
+ * (cow: they were solved afresh each time, half of the repair's CPU). */
 typedef struct repair_ctx {
     sk_smooth *s;
     sk__vc1_work *W;
@@ -104,11 +105,9 @@ typedef struct repair_ctx {
 } repair_ctx;
 
 /* cache entry of variant t at vertex v (n edges): [0] code (-1 not solved yet), [1 .. n] w1,
- * then 3 n coordinates of P; NULL when v is not cached (crease vertex, out of memory) */
+ * then 3 n coordinates of P; NULL when v is not cached (out of memory) */
 static double *cache_entry(repair_ctx *R, uint32_t v, int n, int t)
 {
-    if (R->W->crease_v && R->W->crease_v[v])
-        return NULL;
     size_t per = 1 + 4 * (size_t)n;
     if (!R->slot[v]) {
         size_t need = R->cache_used + N_VARIANTS * per;
@@ -426,7 +425,6 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     R.tried = sk__calloc_array(nv + 1, sizeof *R.tried);
     R.slot = sk__calloc_array(nv + 1, sizeof *R.slot);
     R.changed = sk__calloc_array(np + 1, sizeof *R.changed);
-    W->memo = sk__vsys_memo_create(); /* optional: without it every solve runs */
     if (!cand || !R.sing || !R.mark || !R.first || !R.faces || !R.tried || !R.slot || !R.changed) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
         goto done;
@@ -444,6 +442,8 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     }
     s->stats.singular_before_repair = nsing;
     R.nsing = nsing;
+    if (nsing) /* only the repair's solves repeat (optional: without it every solve runs) */
+        W->memo = sk__vsys_memo_create();
     for (size_t p = 0; p < np && nsing; ++p)
         if (sing[p])
             for (unsigned i = 0; i < sk_patch_num_corners(&s->surface.patches[p]); ++i)

@@ -20,6 +20,21 @@ static bool sample_fails(const sk_smooth *s, size_t p, unsigned i, unsigned j, c
     return !(len > 1e-10 * scale) || sk__dot3(c, ref) <= 0.0;
 }
 
+/* the grid point (i, j) of sample k in the order of sample_fails; false past the last sample */
+static bool sample_at(bool tri, unsigned k, unsigned *i, unsigned *j)
+{
+    unsigned row = SING_GRID + 1; /* samples in row i: G + 1, or G + 1 - i on a triangle */
+    for (*i = 0; *i <= SING_GRID; ++*i) {
+        if (k < row) {
+            *j = k;
+            return true;
+        }
+        k -= row;
+        row -= tri;
+    }
+    return false;
+}
+
 bool sk__patch_singular(const sk_smooth *s, size_t p, bool *cone_regular)
 {
     uint8_t first = 0;
@@ -47,19 +62,9 @@ bool sk__patch_singular_from(const sk_smooth *s, size_t p, bool *cone_regular, u
     if (certified)
         return false;
     bool tri = pa->kind == SK_PATCH_TRIANGLE;
-    unsigned k0 = *first, k = 0;
-    for (unsigned i = 0; i <= G; ++i)
-        for (unsigned j = 0; j <= G; ++j) {
-            if (tri && i + j > G)
-                continue;
-            if (k++ == k0) {
-                if (sample_fails(s, p, i, j, ref, scale))
-                    return true;
-                i = G + 1;
-                break;
-            }
-        }
-    k = 0;
+    unsigned k0 = *first, i0, j0, k = 0;
+    if (sample_at(tri, k0, &i0, &j0) && sample_fails(s, p, i0, j0, ref, scale))
+        return true;
     for (unsigned i = 0; i <= G; ++i)
         for (unsigned j = 0; j <= G; ++j) {
             if (tri && i + j > G)

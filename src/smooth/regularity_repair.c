@@ -78,11 +78,22 @@ static size_t rebuild_local(sk_smooth *s, sk__vc1_work *W, uint8_t *first, const
 #define LOCAL_FACES 4096
 
 /* the wider grid of the last round, tried only around the patches still singular after the
- * first two: blends 0, 1/4, 1/2, 3/4, 1 times length scales from 0.3 to 3.2 */
+ * first two: blends 0, 1/4, 1/2, 3/4, 1 times length scales from 0.3 to 3.2 (the table's
+ * blends are among these: see variant_at) */
 static const double wide_blends[] = {0.0, 0.25, 0.5, 0.75, 1.0};
+#define N_BLENDS (sizeof wide_blends / sizeof wide_blends[0])
 static const double wide_scales[] = {0.3, 0.45, 0.6, 0.85, 1.15, 1.5, 2.0, 2.6, 3.2};
 #define N_WIDE_S (sizeof wide_scales / sizeof wide_scales[0])
-#define N_WIDE (sizeof wide_blends / sizeof wide_blends[0] * N_WIDE_S)
+#define N_WIDE (N_BLENDS * N_WIDE_S)
+
+/* entry of blend b in wide_blends (-1: none) */
+static int blend_index(double b)
+{
+    for (size_t i = 0; i < N_BLENDS; ++i)
+        if (wide_blends[i] == b)
+            return (int)i;
+    return -1;
+}
 
 /* The repair's state. A vertex's variant solutions depend only on fixed data (its targets, ratios
  * and normal), so they are kept once solved (`cache`, per vertex a slot of N_VARIANTS entries of
@@ -90,8 +101,9 @@ static const double wide_scales[] = {0.3, 0.45, 0.6, 0.85, 1.15, 1.5, 2.0, 2.6, 
  * winner. A vertex tried without gain is skipped later while none of the patches around it and
  * its neighbours changed since (the same try would give the same result): `tried` holds the tick
  * of that try, `changed` per patch the tick of the last gain that moved it (the wide round's
- * variants are not the table's: it neither skips nor caches). Crease vertices
- * (whose sectors take fixed ends from their neighbours' state) are solved afresh each time. */
+ * variants are not the table's: it neither skips nor caches). Crease vertices are
+ * cached too: their sectors' fixed ends are their crease edges' wire frame targets, fixed data
+ * (cow: they were solved afresh each time, half of the repair's CPU). */
 typedef struct repair_ctx {
     sk_smooth *s;
     sk__vc1_work *W;
@@ -104,11 +116,9 @@ typedef struct repair_ctx {
 } repair_ctx;
 
 /* cache entry of variant t at vertex v (n edges): [0] code (-1 not solved yet), [1 .. n] w1,
- * then 3 n coordinates of P; NULL when v is not cached (crease vertex, out of memory) */
+ * then 3 n coordinates of P; NULL when v is not cached (out of memory) */
 static double *cache_entry(repair_ctx *R, uint32_t v, int n, int t)
 {
-    if (R->W->crease_v && R->W->crease_v[v])
-        return NULL;
     size_t per = 1 + 4 * (size_t)n;
     if (!R->slot[v]) {
         size_t need = R->cache_used + N_VARIANTS * per;
@@ -130,11 +140,13 @@ static double *cache_entry(repair_ctx *R, uint32_t v, int n, int t)
     return R->cache + (R->slot[v] - 1) + (size_t)t * per;
 }
 
-/* vertex v's solution of variant t into W (from the cache when solved before); returns its code */
-static int variant_solution(repair_ctx *R, uint32_t v, const uint32_t *E, int n, int t)
+/* vertex v's solution of blend b and length scale ls into W, kept in (or taken from) its cache
+ * entry slot (-1: none); returns its code */
+static int solve_cached(repair_ctx *R, uint32_t v, const uint32_t *E, int n, int slot, double b,
+                        double ls)
 {
     sk__vc1_work *W = R->W;
-    double *c = cache_entry(R, v, n, t);
+    double *c = slot >= 0 ? cache_entry(R, v, n, slot) : NULL;
     if (c && c[0] >= 0.0) {
         for (int k = 0; k < n; ++k) {
             W->w1[E[k]] = c[1 + k];
@@ -143,7 +155,7 @@ static int variant_solution(repair_ctx *R, uint32_t v, const uint32_t *E, int n,
         return (int)c[0];
     }
     sk__vsys sys;
-    int code = sk__vc1_solve_vertex(W, v, &sys, repair_variants[t][0], repair_variants[t][1]);
+    int code = sk__vc1_solve_vertex(W, v, &sys, b, ls);
     if (c) {
         c[0] = code;
         for (int k = 0; k < n; ++k) {
@@ -152,6 +164,34 @@ static int variant_solution(repair_ctx *R, uint32_t v, const uint32_t *E, int n,
         }
     }
     return code;
+}
+
+/* The variant (blend b, length scale ls) of v's system into W; returns its code. At a vertex
+ * without creases it is ls times the solution of blend b: (8) is homogeneous in the p (targets
+ * scaled by ls scale the least-squares solution by ls, w unchanged) and neither the solver (it
+ * works in units of the mean target length) nor the angle bounds see the scale, so one solve per
+ * blend (cached in entry blend_index(b)) serves every scale. A crease vertex's fixed ends do not
+ * scale: solved per variant, cached in entry table_t (-1: none). */
+static int variant_at(repair_ctx *R, uint32_t v, const uint32_t *E, int n, double b, double ls,
+                      int table_t)
+{
+    sk__vc1_work *W = R->W;
+    if (W->crease_v && W->crease_v[v])
+        return solve_cached(R, v, E, n, table_t, b, ls);
+    int code = solve_cached(R, v, E, n, blend_index(b), b, 1.0);
+    const double *V = W->m->positions + 3 * (size_t)v;
+    for (int k = 0; k < n && ls != 1.0; ++k) {
+        double *P = W->P + 3 * (size_t)E[k];
+        for (int x = 0; x < 3; ++x)
+            P[x] = V[x] + ls * (P[x] - V[x]);
+    }
+    return code;
+}
+
+/* variant t of the table */
+static int variant_solution(repair_ctx *R, uint32_t v, const uint32_t *E, int n, int t)
+{
+    return variant_at(R, v, E, n, repair_variants[t][0], repair_variants[t][1], t);
 }
 
 /* the solution (tangents and weights) of v's edges E, saved or restored */
@@ -177,9 +217,8 @@ static int try_variant(repair_ctx *R, uint32_t v, const uint32_t *E, int n, int 
 {
     if (!wide)
         return variant_solution(R, v, E, n, t);
-    sk__vsys sys;
-    return sk__vc1_solve_vertex(R->W, v, &sys, wide_blends[(size_t)t / N_WIDE_S],
-                                wide_scales[(size_t)t % N_WIDE_S]);
+    return variant_at(R, v, E, n, wide_blends[(size_t)t / N_WIDE_S],
+                      wide_scales[(size_t)t % N_WIDE_S], -1);
 }
 
 /* the patches faces[0, nf) rebuilt after a gain: their flags and change ticks */
@@ -426,7 +465,6 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     R.tried = sk__calloc_array(nv + 1, sizeof *R.tried);
     R.slot = sk__calloc_array(nv + 1, sizeof *R.slot);
     R.changed = sk__calloc_array(np + 1, sizeof *R.changed);
-    W->memo = sk__vsys_memo_create(); /* optional: without it every solve runs */
     if (!cand || !R.sing || !R.mark || !R.first || !R.faces || !R.tried || !R.slot || !R.changed) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
         goto done;
@@ -444,6 +482,8 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     }
     s->stats.singular_before_repair = nsing;
     R.nsing = nsing;
+    if (nsing) /* only the repair's solves repeat (optional: without it every solve runs) */
+        W->memo = sk__vsys_memo_create();
     for (size_t p = 0; p < np && nsing; ++p)
         if (sing[p])
             for (unsigned i = 0; i < sk_patch_num_corners(&s->surface.patches[p]); ++i)

@@ -876,6 +876,56 @@ static void test_vsys_memo(void **state)
     sk__vsys_memo_destroy(memo);
 }
 
+/* the largest residual of (8) at p, w (constraint m uses p_{m-1}, p_m, p_{m+1}) */
+static double vsys_residual(const sk__vsys *s, const double *p, const double *w)
+{
+    int n = s->n_edges, first = s->closed ? 0 : 1, last = s->closed ? n : n - 1;
+    double worst = 0.0;
+    for (int m = first; m < last; ++m) {
+        int a = (m + n - 1) % n, b = (m + 1) % n;
+        for (int k = 0; k < 2; ++k)
+            worst = fmax(worst, fabs(s->du[m] * p[2 * b + k] - s->nu[m] * s->dd[m] * p[2 * a + k] -
+                                     w[m] * p[2 * m + k]));
+    }
+    return worst;
+}
+
+/* The premise of the regularity repair's length-scale variants (regularity_repair.c,
+ * variant_at: a variant of scale ls is ls times the solution of its blend): (8) is homogeneous
+ * in the p, so ls p with the same w meets it to rounding, and the solver gives the scaled
+ * targets the same code. (It need not give them ls p: the least-squares problem is not convex,
+ * and from the rounded scaled targets its path may end at another solution.) */
+static void test_vsys_scale(void **state)
+{
+    (void)state;
+    static const double scales[] = {0.3, 0.75, 1.3, 3.2};
+    int close = 0, exact = 0;
+    for (int k = 0; k < 40; ++k)
+        for (size_t t = 0; t < sizeof scales / sizeof scales[0]; ++t) {
+            sk__vsys plain, scaled;
+            vsys_case(&plain, k);
+            scaled = plain;
+            for (int j = 0; j < 2 * plain.n_edges; ++j)
+                scaled.pstar[j] *= scales[t];
+            int rp = sk__vsys_solve(&plain), rs = sk__vsys_solve(&scaled);
+            assert_int_equal(rp, rs);
+            if (rp != 0)
+                continue;
+            double p[2 * SK_VSYS_MAX], dp = 0.0;
+            for (int j = 0; j < 2 * plain.n_edges; ++j) {
+                p[j] = scales[t] * plain.p[j];
+                dp = fmax(dp, fabs(scaled.p[j] - p[j]) / scales[t]);
+            }
+            assert_true(vsys_residual(&plain, plain.p, plain.w) <= 1e-12);
+            assert_true(vsys_residual(&plain, p, plain.w) <= 1e-12 * scales[t]);
+            ++exact;
+            close += dp < 1e-6;
+        }
+    print_message("vsys scale: %d scaled solutions meet (8), %d of them within 1e-6 of the "
+                  "scaled targets' own solve\n", exact, close);
+    assert_true(exact >= 80);
+}
+
 static void test_box_candidates(void **state)
 {
     (void)state;
@@ -949,6 +999,7 @@ int main(void)
         cmocka_unit_test(test_box_candidates),
         cmocka_unit_test(test_singular_any_start),
         cmocka_unit_test(test_vsys_memo),
+        cmocka_unit_test(test_vsys_scale),
     };
     /* SK_SHAPE_ONLY=name runs that test alone (the diagnostics while working) */
     if (getenv("SK_SHAPE_ONLY"))

@@ -155,6 +155,23 @@ static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *fac
     return SK_OK;
 }
 
+double sk__uv_seam_length(const sk_mesh *m, const uint32_t *corner_uv, size_t *edges)
+{
+    double seam = 0;
+    size_t n = 0;
+    for (size_t e = 0; e < sk_num_edges(m); ++e) {
+        uint32_t h = (uint32_t)(2 * e);
+        if (m->h_face[h] == SK_INVALID || m->h_face[h ^ 1u] == SK_INVALID ||
+            !sk__uv_seam(m, corner_uv, h))
+            continue;
+        n++;
+        seam += sk_mesh_edge_length(m, (uint32_t)e);
+    }
+    if (edges)
+        *edges = n;
+    return seam;
+}
+
 static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s, sk_error *err)
 {
     size_t nf = m->num_faces;
@@ -200,20 +217,7 @@ static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s,
     s->conformal_mean = conf / a3;
     s->area_log_mean = lsum / (double)nf;
     s->utilization = auv;
-    /* seams: interior mesh edges whose two sides have different uv vertices at either end */
-    double seam = 0;
-    s->seam_edges = 0;
-    for (size_t e = 0; e < sk_num_edges(m); ++e) {
-        uint32_t h = (uint32_t)(2 * e), o = h ^ 1u;
-        if (m->h_face[h] == SK_INVALID || m->h_face[o] == SK_INVALID)
-            continue;
-        if (a->corner_uv[h] != a->corner_uv[m->h_next[o]] ||
-            a->corner_uv[m->h_next[h]] != a->corner_uv[o]) {
-            s->seam_edges++;
-            seam += sk_mesh_edge_length(m, (uint32_t)e);
-        }
-    }
-    s->seam_length_rel = seam / sqrt(a3);
+    s->seam_length_rel = sk__uv_seam_length(m, a->corner_uv, &s->seam_edges) / sqrt(a3);
     sk__free(areas);
     sk_status st = sk_uv_overlaps(nf, tri, &s->overlaps, NULL, err);
     sk__free(tri);

@@ -76,6 +76,20 @@ sk_status sk__crease_regions(const sk_mesh *m, double angle_deg, double min_frac
                              const uint32_t *comp, size_t ncomp, uint32_t *region,
                              size_t *nregions, sk_error *err);
 
+/* ---- atlas.c ---- */
+
+/* Is the edge of half-edge h (a face on both sides) a seam of the layout corner_uv (per
+ * half-edge: the uv point of its corner), i.e. are its ends different uv points on either side? */
+static inline bool sk__uv_seam(const sk_mesh *m, const uint32_t *corner_uv, uint32_t h)
+{
+    uint32_t o = h ^ 1u;
+    return corner_uv[h] != corner_uv[m->h_next[o]] || corner_uv[m->h_next[h]] != corner_uv[o];
+}
+
+/* The 3D length of the seams of corner_uv (interior mesh edges that are sk__uv_seam); *edges
+ * (optional) receives their number. */
+double sk__uv_seam_length(const sk_mesh *m, const uint32_t *corner_uv, size_t *edges);
+
 /* ---- chart_param.c ---- */
 
 typedef struct sk__chart_quality {

@@ -33,6 +33,9 @@
 /* placements tried per packing (each at one scale) */
 #define RASTER_TRIALS 10
 #define VARIANT_TRIALS 5
+/* grids of this many texels or more search the variants on a grid of half as many first and
+ * pack the winner only at full resolution */
+#define COARSE_MIN_RES 512
 
 typedef struct bitmap {
     uint32_t w, h, words; /* texels per row, rows, words per row */
@@ -93,6 +96,7 @@ typedef struct raster {
     uint64_t work;        /* positions tested so far (the variants' budget) */
     int orients;          /* orientations tried */
     double rot[2 * ORIENTS]; /* cos, sin of each orientation's turn */
+    bool fixed;           /* each chart only in the orientation and turn of k->pl */
     bool nomem;
 } raster;
 
@@ -592,7 +596,7 @@ static bool place_all(raster *k, double f)
         uint32_t c = order[i];
         cand b = {UINT32_MAX, UINT32_MAX, UINT32_MAX};
         int first = 4 * k->pl[c].orient + k->pl[c].turn, best = -1;
-        for (int n = -1; n < 4 * k->orients; ++n) {
+        for (int n = -1; n < (k->fixed ? 0 : 4 * k->orients); ++n) {
             int o = n < 0 ? first : n;
             if (n == first)
                 continue;
@@ -779,46 +783,103 @@ static const struct variant {
 #define BASE_VARIANTS 2
 #define VARIANT_BUDGET 1
 
+/* Sets k up for variant var (most: the orientations raster_init allows). */
+static void use_variant(raster *k, const struct variant *var, int most)
+{
+    k->orients = var->all ? most : 2;
+    k->rule = var->rule;
+    k->key = var->key;
+    memset(k->pl, 0, k->in->nc * sizeof(place));
+}
+
+/* The variants in turn, each from the best scale so far (the first from s0 down): the greedy
+ * placement may do worse with more choice, so the largest scale (returned, 0 when none fits)
+ * wins; its variant in *won, its packing written to uv (when not NULL). */
+static double all_variants(raster *k, double s0, double s1, double *uv, size_t *won,
+                           place *keep)
+{
+    int most = k->orients;
+    double best = 0;
+    size_t nv = sizeof variants / sizeof variants[0];
+    uint64_t budget = 0;
+    *won = 0;
+    for (size_t v = 0; v <= nv && !k->nomem; ++v) {
+        bool last = v == nv; /* the winner once more, finer (when it had fewer trials) */
+        const struct variant *var = variants + (last ? *won : v);
+        if ((v > 0 && var->all && most == 2) || (last && *won < BASE_VARIANTS))
+            continue;
+        if (v == BASE_VARIANTS)
+            budget = VARIANT_BUDGET * k->work + k->work;
+        if (v >= BASE_VARIANTS && !last && k->work > budget)
+            continue;
+        use_variant(k, var, most);
+        bool extra = v >= BASE_VARIANTS && !last;
+        double from = v == 0 ? s0 : last ? best * FINAL_GAIN : extra ? best * VARIANT_GAIN : best;
+        double lo = scale_search(k, from, s1, v == 0, extra ? VARIANT_TRIALS : RASTER_TRIALS);
+        if (lo > best) {
+            memcpy(k->pl, k->best, k->in->nc * sizeof(place));
+            if (uv)
+                write_uv(k, lo * (double)k->in->res, uv);
+            if (keep)
+                memcpy(keep, k->pl, k->in->nc * sizeof(place));
+            best = lo;
+            *won = last ? *won : v;
+        }
+        if (best == 0)
+            break;
+    }
+    k->orients = most;
+    return k->nomem ? 0 : best;
+}
+
+/* The variants searched on a grid of half the texels (the gutter rounded up, so a packing there
+ * leaves at least the gutter here): the winner's scale (0: none), variant (*won) and each
+ * chart's orientation and turn in it (pl). */
+static sk_status coarse_variants(const sk__raster_in *in, double s0, double s1, double *scale,
+                                 size_t *won, place *pl, sk_error *err)
+{
+    sk__raster_in half = *in;
+    half.res = in->res / 2;
+    half.pad = (in->pad + 1) / 2;
+    half.margin = (half.pad + 1) / 2;
+    raster k;
+    memset(&k, 0, sizeof k);
+    sk_status st = raster_init(&k, &half, err);
+    *scale = st ? 0 : all_variants(&k, s0, s1, NULL, won, pl);
+    if (!st && k.nomem)
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    raster_free(&k);
+    return st;
+}
+
 sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double *uv,
                           double *scale, bool *ok, sk_error *err)
 {
     raster k;
     memset(&k, 0, sizeof k);
     *ok = false;
-    sk_status st = raster_init(&k, in, err);
+    double best = 0, from = 0;
+    size_t won = 0;
+    sk_status st = SK_OK;
+    st = raster_init(&k, in, err);
+    if (!st && in->res >= COARSE_MIN_RES)
+        st = coarse_variants(in, s0, s1, &from, &won, k.best, err);
     if (st)
         goto done;
-    /* the variants in turn, each from the best scale so far (the first from s0 down): the
-     * greedy placement may do worse with more choice, so the largest scale wins */
-    int most = k.orients;
-    double best = 0;
-    size_t won = 0, nv = sizeof variants / sizeof variants[0];
-    uint64_t budget = 0;
-    for (size_t v = 0; v <= nv && !k.nomem; ++v) {
-        bool last = v == nv; /* the winner once more, finer (when it had fewer trials) */
-        const struct variant *var = variants + (last ? won : v);
-        if ((v > 0 && var->all && most == 2) || (last && won < BASE_VARIANTS))
-            continue;
-        if (v == BASE_VARIANTS)
-            budget = VARIANT_BUDGET * k.work + k.work;
-        if (v >= BASE_VARIANTS && !last && k.work > budget)
-            continue;
-        k.orients = var->all ? most : 2;
-        k.rule = var->rule;
-        k.key = var->key;
-        memset(k.pl, 0, in->nc * sizeof(place));
-        bool extra = v >= BASE_VARIANTS && !last;
-        double from = v == 0 ? s0 : last ? best * FINAL_GAIN : extra ? best * VARIANT_GAIN : best;
-        double lo = scale_search(&k, from, s1, v == 0, extra ? VARIANT_TRIALS : RASTER_TRIALS);
-        if (lo > best) {
+    if (from > 0) { /* the coarse winner here, from its scale (down while it does not fit), each
+                     * chart in its coarse orientation */
+        use_variant(&k, variants + won, k.orients);
+        memcpy(k.pl, k.best, in->nc * sizeof(place));
+        k.fixed = true;
+        best = scale_search(&k, from, s1, true, RASTER_TRIALS);
+        k.fixed = false;
+        if (best > 0) {
             memcpy(k.pl, k.best, in->nc * sizeof(place));
-            write_uv(&k, lo * (double)in->res, uv);
-            best = lo;
-            won = last ? won : v;
+            write_uv(&k, best * (double)in->res, uv);
         }
-        if (best == 0)
-            break;
     }
+    if (best == 0 && !k.nomem) /* no coarse packing, or it did not carry over */
+        best = all_variants(&k, s0, s1, uv, &won, NULL);
     if (k.nomem) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;

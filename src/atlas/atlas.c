@@ -95,6 +95,16 @@ static sk_status is_disk(const sk_mesh *c, bool *disk, bool *sphere, sk_error *e
     return SK_OK;
 }
 
+/* A disk with holes (one piece, genus 0, two or more boundary loops)? */
+static sk_status has_holes(const sk_mesh *c, bool *holes, sk_error *err)
+{
+    sk_topology top;
+    sk_status st = sk_mesh_topology(c, &top, NULL, err);
+    *holes = !st && top.components == 1 && top.boundary_loops >= 2 &&
+             top.euler_characteristic == 2 - (long long)top.boundary_loops;
+    return st;
+}
+
 /* Growable arrays of the accepted charts. */
 typedef struct accepted {
     size_t n, cap;     /* uv vertices */
@@ -895,6 +905,9 @@ static sk_status look_at_range(builder *b, range r, sk_error *err)
     sk_status st = sk__chart_extract(m, cf, n, stamp, &b->w, &chart, &vert_h, err);
     if (!st)
         st = is_disk(chart, &disk, &sphere, err);
+    bool holes = false;
+    if (!st && !disk && !sphere)
+        st = has_holes(chart, &holes, err);
     if (!st && disk) {
         pending *p = b->wave + b->nb++;
         memset(p, 0, sizeof *p);
@@ -911,6 +924,13 @@ static sk_status look_at_range(builder *b, range r, sk_error *err)
     b->s.splits_topology++;
     if (sphere)
         return bisect_range(b, r, stamp, err);
+    size_t ncut = 0; /* holes: cut to the outer boundary, then looked at again (a disk) */
+    if (holes && (st = sk__chart_cut_holes(m, cf, n, stamp, &b->w, &ncut, err)))
+        return st;
+    if (ncut > 0) {
+        b->stack[b->top++] = r;
+        return SK_OK;
+    }
     /* holes or handles: one disk grown as far as it stays a disk; the rest is cut along where
      * the growth front met itself */
     size_t n0 = 0;

@@ -33,9 +33,6 @@
 /* placements tried per packing (each at one scale) */
 #define RASTER_TRIALS 10
 #define VARIANT_TRIALS 5
-/* grids of this many texels or more search the variants on a grid of half as many first and
- * pack the winner only at full resolution */
-#define COARSE_MIN_RES 512
 
 typedef struct bitmap {
     uint32_t w, h, words; /* texels per row, rows, words per row */
@@ -82,8 +79,9 @@ typedef struct raster {
     span *runs;           /* of D's rows */
     uint32_t anchor, anchor_row; /* D's longest run (index in runs) and its row */
     size_t runs_cap;
-    crossing *cross;
+    crossing *cross, *sorted; /* the outline's row crossings, as found and by (row, x) */
     size_t cross_cap;
+    uint32_t *row_start;  /* per C row + 1: its crossings' start in sorted */
     uint32_t *order;      /* KEYS orders of the charts, largest first */
     int key;              /* the order in use */
     double *lo;           /* 2 orientations x 2 (min x, min y) per chart */
@@ -96,7 +94,6 @@ typedef struct raster {
     uint64_t work;        /* positions tested so far (the variants' budget) */
     int orients;          /* orientations tried */
     double rot[2 * ORIENTS]; /* cos, sin of each orientation's turn */
-    bool fixed;           /* each chart only in the orientation and turn of k->pl */
     bool nomem;
 } raster;
 
@@ -227,6 +224,39 @@ static int cmp_cross(const void *x, const void *y)
     return (a->x > b->x) - (a->x < b->x);
 }
 
+/* k->cross[0..nx) by (row, x) into k->sorted: counted into rows (h of them), each row by x
+ * (insertion for the usual few crossings; equal keys are equal values, so the order is the one
+ * qsort gave). qsort of all crossings was a sixth of the packer's time on small meshes. */
+static void sort_crossings(raster *k, size_t nx, uint32_t h)
+{
+    uint32_t *rs = k->row_start;
+    memset(rs, 0, ((size_t)h + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < nx; ++i)
+        rs[k->cross[i].row + 1]++;
+    for (uint32_t j = 0; j < h; ++j)
+        rs[j + 1] += rs[j];
+    for (size_t i = 0; i < nx; ++i) /* rs[row] runs ahead: the row's next slot */
+        k->sorted[rs[k->cross[i].row]++] = k->cross[i];
+    for (uint32_t j = h; j > 0; --j)
+        rs[j] = rs[j - 1];
+    rs[0] = 0;
+    for (uint32_t j = 0; j < h; ++j) {
+        crossing *r = k->sorted + rs[j];
+        size_t n = rs[j + 1] - rs[j];
+        if (n > 32) {
+            qsort(r, n, sizeof *r, cmp_cross);
+            continue;
+        }
+        for (size_t i = 1; i < n; ++i) {
+            crossing x = r[i];
+            size_t at = i;
+            for (; at > 0 && r[at - 1].x > x.x; --at)
+                r[at] = r[at - 1];
+            r[at] = x;
+        }
+    }
+}
+
 /* C of chart c (orientation o, turn t) at texel factor f. */
 static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
 {
@@ -246,10 +276,16 @@ static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
         double jlo = ceil(y0 - 0.5), jhi = ceil(y1 - 0.5);
         for (double j = fmax(jlo, 0); j < jhi && j < bm->h; ++j) {
             if (nx == k->cross_cap) {
-                crossing *nc = grow(k->cross, &k->cross_cap, sizeof *nc);
-                if (!(k->nomem = !nc))
+                size_t cap = k->cross_cap;
+                crossing *nc = grow(k->cross, &cap, sizeof *nc);
+                if (nc)
                     k->cross = nc;
-                else
+                crossing *ns = nc ? sk__realloc_array(k->sorted, cap, sizeof *ns) : NULL;
+                if (ns) {
+                    k->sorted = ns;
+                    k->cross_cap = cap;
+                }
+                if ((k->nomem = !ns))
                     return;
             }
             double yc = j + 0.5;
@@ -257,15 +293,16 @@ static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
             k->cross[nx++].x = a[0] + (yc - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
         }
     }
-    qsort(k->cross, nx, sizeof *k->cross, cmp_cross);
+    sort_crossings(k, nx, bm->h);
+    const crossing *x = k->sorted;
     for (size_t i = 0; i + 1 < nx; i += 2) {
-        if (k->cross[i].row != k->cross[i + 1].row) { /* odd count: rounding; resync */
+        if (x[i].row != x[i + 1].row) { /* odd count: rounding; resync */
             i--;
             continue;
         }
-        double x0 = ceil(k->cross[i].x - 0.5), x1 = floor(k->cross[i + 1].x - 0.5);
+        double x0 = ceil(x[i].x - 0.5), x1 = floor(x[i + 1].x - 0.5);
         if (x1 >= x0 && x1 >= 0 && x0 < bm->w)
-            set_range(bm->bits + (size_t)k->cross[i].row * bm->words, clampi(x0, bm->w),
+            set_range(bm->bits + (size_t)x[i].row * bm->words, clampi(x0, bm->w),
                       clampi(x1, bm->w));
     }
 }
@@ -596,7 +633,7 @@ static bool place_all(raster *k, double f)
         uint32_t c = order[i];
         cand b = {UINT32_MAX, UINT32_MAX, UINT32_MAX};
         int first = 4 * k->pl[c].orient + k->pl[c].turn, best = -1;
-        for (int n = -1; n < (k->fixed ? 0 : 4 * k->orients); ++n) {
+        for (int n = -1; n < 4 * k->orients; ++n) {
             int o = n < 0 ? first : n;
             if (n == first)
                 continue;
@@ -646,6 +683,7 @@ static sk_status raster_init(raster *k, const sk__raster_in *in, sk_error *err)
     k->tmp.bits = sk__malloc_array(bm, sizeof(uint64_t));
     k->wide = sk__malloc_array(side / 64 + 2, sizeof(uint64_t));
     k->info = sk__malloc_array(side, sizeof(row_info));
+    k->row_start = sk__malloc_array(side + 1, sizeof(uint32_t));
     k->order = sk__malloc_array(KEYS * (nc ? nc : 1), sizeof(uint32_t));
     k->orients = nc <= FEW_CHARTS ? ORIENTS : 2;
     for (int o = 0; o < ORIENTS; ++o) {
@@ -658,7 +696,7 @@ static sk_status raster_init(raster *k, const sk__raster_in *in, sk_error *err)
     k->pl = sk__calloc_array(nc ? nc : 1, sizeof(place));
     k->best = sk__malloc_array(nc ? nc : 1, sizeof(place));
     double *keys = sk__malloc_array(2 * (nc ? nc : 1), sizeof(double));
-    if (!k->occ || !k->maxfree || !k->c.bits || !k->d.bits || !k->tmp.bits || !k->wide || !k->info ||
+    if (!k->occ || !k->maxfree || !k->c.bits || !k->d.bits || !k->tmp.bits || !k->wide || !k->info || !k->row_start ||
         !k->order || !k->lo || !k->ext || !k->pl || !k->best || !keys) {
         sk__free(keys);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -706,6 +744,8 @@ static void raster_free(raster *k)
     sk__free(k->info);
     sk__free(k->runs);
     sk__free(k->cross);
+    sk__free(k->sorted);
+    sk__free(k->row_start);
     sk__free(k->order);
     sk__free(k->lo);
     sk__free(k->ext);
@@ -783,103 +823,46 @@ static const struct variant {
 #define BASE_VARIANTS 2
 #define VARIANT_BUDGET 1
 
-/* Sets k up for variant var (most: the orientations raster_init allows). */
-static void use_variant(raster *k, const struct variant *var, int most)
-{
-    k->orients = var->all ? most : 2;
-    k->rule = var->rule;
-    k->key = var->key;
-    memset(k->pl, 0, k->in->nc * sizeof(place));
-}
-
-/* The variants in turn, each from the best scale so far (the first from s0 down): the greedy
- * placement may do worse with more choice, so the largest scale (returned, 0 when none fits)
- * wins; its variant in *won, its packing written to uv (when not NULL). */
-static double all_variants(raster *k, double s0, double s1, double *uv, size_t *won,
-                           place *keep)
-{
-    int most = k->orients;
-    double best = 0;
-    size_t nv = sizeof variants / sizeof variants[0];
-    uint64_t budget = 0;
-    *won = 0;
-    for (size_t v = 0; v <= nv && !k->nomem; ++v) {
-        bool last = v == nv; /* the winner once more, finer (when it had fewer trials) */
-        const struct variant *var = variants + (last ? *won : v);
-        if ((v > 0 && var->all && most == 2) || (last && *won < BASE_VARIANTS))
-            continue;
-        if (v == BASE_VARIANTS)
-            budget = VARIANT_BUDGET * k->work + k->work;
-        if (v >= BASE_VARIANTS && !last && k->work > budget)
-            continue;
-        use_variant(k, var, most);
-        bool extra = v >= BASE_VARIANTS && !last;
-        double from = v == 0 ? s0 : last ? best * FINAL_GAIN : extra ? best * VARIANT_GAIN : best;
-        double lo = scale_search(k, from, s1, v == 0, extra ? VARIANT_TRIALS : RASTER_TRIALS);
-        if (lo > best) {
-            memcpy(k->pl, k->best, k->in->nc * sizeof(place));
-            if (uv)
-                write_uv(k, lo * (double)k->in->res, uv);
-            if (keep)
-                memcpy(keep, k->pl, k->in->nc * sizeof(place));
-            best = lo;
-            *won = last ? *won : v;
-        }
-        if (best == 0)
-            break;
-    }
-    k->orients = most;
-    return k->nomem ? 0 : best;
-}
-
-/* The variants searched on a grid of half the texels (the gutter rounded up, so a packing there
- * leaves at least the gutter here): the winner's scale (0: none), variant (*won) and each
- * chart's orientation and turn in it (pl). */
-static sk_status coarse_variants(const sk__raster_in *in, double s0, double s1, double *scale,
-                                 size_t *won, place *pl, sk_error *err)
-{
-    sk__raster_in half = *in;
-    half.res = in->res / 2;
-    half.pad = (in->pad + 1) / 2;
-    half.margin = (half.pad + 1) / 2;
-    raster k;
-    memset(&k, 0, sizeof k);
-    sk_status st = raster_init(&k, &half, err);
-    *scale = st ? 0 : all_variants(&k, s0, s1, NULL, won, pl);
-    if (!st && k.nomem)
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    raster_free(&k);
-    return st;
-}
-
 sk_status sk__raster_pack(const sk__raster_in *in, double s0, double s1, double *uv,
                           double *scale, bool *ok, sk_error *err)
 {
     raster k;
     memset(&k, 0, sizeof k);
     *ok = false;
-    double best = 0, from = 0;
-    size_t won = 0;
-    sk_status st = SK_OK;
-    st = raster_init(&k, in, err);
-    if (!st && in->res >= COARSE_MIN_RES)
-        st = coarse_variants(in, s0, s1, &from, &won, k.best, err);
+    sk_status st = raster_init(&k, in, err);
     if (st)
         goto done;
-    if (from > 0) { /* the coarse winner here, from its scale (down while it does not fit), each
-                     * chart in its coarse orientation */
-        use_variant(&k, variants + won, k.orients);
-        memcpy(k.pl, k.best, in->nc * sizeof(place));
-        k.fixed = true;
-        best = scale_search(&k, from, s1, true, RASTER_TRIALS);
-        k.fixed = false;
-        if (best > 0) {
+    /* the variants in turn, each from the best scale so far (the first from s0 down): the
+     * greedy placement may do worse with more choice, so the largest scale wins */
+    int most = k.orients;
+    double best = 0;
+    size_t won = 0, nv = sizeof variants / sizeof variants[0];
+    uint64_t budget = 0;
+    for (size_t v = 0; v <= nv && !k.nomem; ++v) {
+        bool last = v == nv; /* the winner once more, finer (when it had fewer trials) */
+        const struct variant *var = variants + (last ? won : v);
+        if ((v > 0 && var->all && most == 2) || (last && won < BASE_VARIANTS))
+            continue;
+        if (v == BASE_VARIANTS)
+            budget = VARIANT_BUDGET * k.work + k.work;
+        if (v >= BASE_VARIANTS && !last && k.work > budget)
+            continue;
+        k.orients = var->all ? most : 2;
+        k.rule = var->rule;
+        k.key = var->key;
+        memset(k.pl, 0, in->nc * sizeof(place));
+        bool extra = v >= BASE_VARIANTS && !last;
+        double from = v == 0 ? s0 : last ? best * FINAL_GAIN : extra ? best * VARIANT_GAIN : best;
+        double lo = scale_search(&k, from, s1, v == 0, extra ? VARIANT_TRIALS : RASTER_TRIALS);
+        if (lo > best) {
             memcpy(k.pl, k.best, in->nc * sizeof(place));
-            write_uv(&k, best * (double)in->res, uv);
+            write_uv(&k, lo * (double)in->res, uv);
+            best = lo;
+            won = last ? won : v;
         }
+        if (best == 0)
+            break;
     }
-    if (best == 0 && !k.nomem) /* no coarse packing, or it did not carry over */
-        best = all_variants(&k, s0, s1, uv, &won, NULL);
     if (k.nomem) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;

@@ -396,13 +396,17 @@ static bool row_hits(const raster *k, uint32_t j, uint32_t x, uint32_t y, uint32
     const row_info *ri = k->info + j;
     const uint64_t *g = k->occ + (size_t)(y + j) * k->gw;
     const uint64_t *r = k->d.bits + (size_t)j * k->d.words;
-    uint32_t g0 = x >> 6, sh = x & 63;
-    uint64_t any = 0; /* the word test first; the runs only for the skip */
+    if (ri->first == ri->end)
+        return false;
+    /* the word test first, over the words the row's runs span; the runs only for the skip */
+    uint32_t g0 = x >> 6, sh = x & 63, w0 = k->runs[ri->first].a >> 6;
+    uint32_t w1 = (k->runs[ri->end - 1].b >> 6) + 1;
+    uint64_t any = 0;
     if (sh)
-        for (uint32_t w = 0; w < k->d.words; ++w)
+        for (uint32_t w = w0; w < w1; ++w)
             any |= (g[g0 + w] & (r[w] << sh)) | (g[g0 + w + 1] & (r[w] >> (64 - sh)));
     else
-        for (uint32_t w = 0; w < k->d.words; ++w)
+        for (uint32_t w = w0; w < w1; ++w)
             any |= g[g0 + w] & r[w];
     if (!any)
         return false;

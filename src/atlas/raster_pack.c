@@ -337,6 +337,15 @@ static void dilate(raster *k, uint32_t p)
         uint64_t *row = t->bits + (size_t)j * t->words, *wide = k->wide;
         memset(wide, 0, t->words * sizeof(uint64_t));
         memcpy(wide, c->bits + (size_t)j * c->words, c->words * sizeof(uint64_t));
+        if (2 * p < 64) { /* every shift within a word and its predecessor */
+            for (uint32_t i = 0; i < t->words; ++i) {
+                uint64_t cur = wide[i], prev = i ? wide[i - 1] : 0, v = cur;
+                for (uint32_t s = 1; s <= 2 * p; ++s)
+                    v |= cur << s | prev >> (64 - s);
+                row[i] = v;
+            }
+            continue;
+        }
         for (int s = 0; s <= 2 * (int)p; ++s)
             or_shifted(row, wide, t->words, s);
     }

@@ -95,6 +95,16 @@ static sk_status is_disk(const sk_mesh *c, bool *disk, bool *sphere, sk_error *e
     return SK_OK;
 }
 
+/* A disk with holes (one piece, genus 0, two or more boundary loops)? */
+static sk_status has_holes(const sk_mesh *c, bool *holes, sk_error *err)
+{
+    sk_topology top;
+    sk_status st = sk_mesh_topology(c, &top, NULL, err);
+    *holes = !st && top.components == 1 && top.boundary_loops >= 2 &&
+             top.euler_characteristic == 2 - (long long)top.boundary_loops;
+    return st;
+}
+
 /* Growable arrays of the accepted charts. */
 typedef struct accepted {
     size_t n, cap;     /* uv vertices */
@@ -155,6 +165,23 @@ static sk_status accept_chart(accepted *a, const sk_mesh *m, const uint32_t *fac
     return SK_OK;
 }
 
+double sk__uv_seam_length(const sk_mesh *m, const uint32_t *corner_uv, size_t *edges)
+{
+    double seam = 0;
+    size_t n = 0;
+    for (size_t e = 0; e < sk_num_edges(m); ++e) {
+        uint32_t h = (uint32_t)(2 * e);
+        if (m->h_face[h] == SK_INVALID || m->h_face[h ^ 1u] == SK_INVALID ||
+            !sk__uv_seam(m, corner_uv, h))
+            continue;
+        n++;
+        seam += sk_mesh_edge_length(m, (uint32_t)e);
+    }
+    if (edges)
+        *edges = n;
+    return seam;
+}
+
 static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s, sk_error *err)
 {
     size_t nf = m->num_faces;
@@ -200,20 +227,7 @@ static sk_status measure_atlas(const sk_mesh *m, sk_atlas *a, sk_atlas_stats *s,
     s->conformal_mean = conf / a3;
     s->area_log_mean = lsum / (double)nf;
     s->utilization = auv;
-    /* seams: interior mesh edges whose two sides have different uv vertices at either end */
-    double seam = 0;
-    s->seam_edges = 0;
-    for (size_t e = 0; e < sk_num_edges(m); ++e) {
-        uint32_t h = (uint32_t)(2 * e), o = h ^ 1u;
-        if (m->h_face[h] == SK_INVALID || m->h_face[o] == SK_INVALID)
-            continue;
-        if (a->corner_uv[h] != a->corner_uv[m->h_next[o]] ||
-            a->corner_uv[m->h_next[h]] != a->corner_uv[o]) {
-            s->seam_edges++;
-            seam += sk_mesh_edge_length(m, (uint32_t)e);
-        }
-    }
-    s->seam_length_rel = seam / sqrt(a3);
+    s->seam_length_rel = sk__uv_seam_length(m, a->corner_uv, &s->seam_edges) / sqrt(a3);
     sk__free(areas);
     sk_status st = sk_uv_overlaps(nf, tri, &s->overlaps, NULL, err);
     sk__free(tri);
@@ -891,6 +905,9 @@ static sk_status look_at_range(builder *b, range r, sk_error *err)
     sk_status st = sk__chart_extract(m, cf, n, stamp, &b->w, &chart, &vert_h, err);
     if (!st)
         st = is_disk(chart, &disk, &sphere, err);
+    bool holes = false;
+    if (!st && !disk && !sphere)
+        st = has_holes(chart, &holes, err);
     if (!st && disk) {
         pending *p = b->wave + b->nb++;
         memset(p, 0, sizeof *p);
@@ -907,6 +924,13 @@ static sk_status look_at_range(builder *b, range r, sk_error *err)
     b->s.splits_topology++;
     if (sphere)
         return bisect_range(b, r, stamp, err);
+    size_t ncut = 0; /* holes: cut to the outer boundary, then looked at again (a disk) */
+    if (holes && (st = sk__chart_cut_holes(m, cf, n, stamp, &b->w, &ncut, err)))
+        return st;
+    if (ncut > 0) {
+        b->stack[b->top++] = r;
+        return SK_OK;
+    }
     /* holes or handles: one disk grown as far as it stays a disk; the rest is cut along where
      * the growth front met itself */
     size_t n0 = 0;

@@ -21,6 +21,8 @@ typedef struct sk__chart_work {
     double *centroid;    /* 3 per face */
     double *fnormal;     /* 4 per face: the normal times the area, the area (coherence) */
     uint32_t *vcount;    /* per vertex: faces of the growing disk around it (zero between uses) */
+    uint8_t *cut;        /* per mesh edge: cut inside a chart (sk__chart_cut_holes); a chart's
+                          * faces are not joined across it */
 } sk__chart_work;
 
 sk_status sk__chart_work_init(sk__chart_work *w, const sk_mesh *m, sk_error *err);
@@ -50,6 +52,15 @@ sk_status sk__chart_bisect(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_
 sk_status sk__chart_grow_disk(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
                               sk__chart_work *w, size_t *n0, sk_error *err);
 
+/* Cuts the chart faces[0..nf) (labelled stamp, one piece, genus 0 with two or more boundary
+ * loops: a disk with holes) into a disk: each hole joined by the shortest path along the chart's
+ * edges to the longest boundary loop or to a path already cut, in w->cut. *ncut receives the
+ * edges cut: 0 (nothing done) when the chart already holds cut edges, has more than
+ * SK__ATLAS_MAX_HOLES holes, or no path was found. */
+sk_status sk__chart_cut_holes(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
+                              sk__chart_work *w, size_t *ncut, sk_error *err);
+#define SK__ATLAS_MAX_HOLES 64
+
 /* Reorders faces[0..nf) (labelled stamp) by edge-connected component; sizes (nf entries of room)
  * receives the component sizes in order; returns their number. */
 size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
@@ -75,6 +86,20 @@ size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32
 sk_status sk__crease_regions(const sk_mesh *m, double angle_deg, double min_frac,
                              const uint32_t *comp, size_t ncomp, uint32_t *region,
                              size_t *nregions, sk_error *err);
+
+/* ---- atlas.c ---- */
+
+/* Is the edge of half-edge h (a face on both sides) a seam of the layout corner_uv (per
+ * half-edge: the uv point of its corner), i.e. are its ends different uv points on either side? */
+static inline bool sk__uv_seam(const sk_mesh *m, const uint32_t *corner_uv, uint32_t h)
+{
+    uint32_t o = h ^ 1u;
+    return corner_uv[h] != corner_uv[m->h_next[o]] || corner_uv[m->h_next[h]] != corner_uv[o];
+}
+
+/* The 3D length of the seams of corner_uv (interior mesh edges that are sk__uv_seam); *edges
+ * (optional) receives their number. */
+double sk__uv_seam_length(const sk_mesh *m, const uint32_t *corner_uv, size_t *edges);
 
 /* ---- chart_param.c ---- */
 

@@ -25,7 +25,8 @@ sk_status sk__chart_work_init(sk__chart_work *w, const sk_mesh *m, sk_error *err
     w->centroid = sk__malloc_array(3 * nf, sizeof(double));
     w->fnormal = sk__malloc_array(4 * nf, sizeof(double));
     w->vcount = sk__calloc_array(m->num_vertices ? m->num_vertices : 1, sizeof(uint32_t));
-    if (!w->vcount || !w->label || !w->parent || !w->local || !w->flocal || !w->dist || !w->heap ||
+    w->cut = sk__calloc_array(nh / 2 + 1, 1);
+    if (!w->vcount || !w->cut || !w->label || !w->parent || !w->local || !w->flocal || !w->dist || !w->heap ||
         !w->heap_pos || !w->side || !w->tmp || !w->centroid || !w->fnormal) {
         sk__chart_work_free(w);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -58,6 +59,7 @@ void sk__chart_work_free(sk__chart_work *w)
     sk__free(w->centroid);
     sk__free(w->fnormal);
     sk__free(w->vcount);
+    sk__free(w->cut);
     memset(w, 0, sizeof *w);
 }
 
@@ -126,7 +128,7 @@ sk_status sk__chart_extract(const sk_mesh *m, const uint32_t *faces, size_t nf, 
         uint32_t h = m->f_halfedge[faces[i]];
         for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
             uint32_t o = h ^ 1u, g = m->h_face[o];
-            if (g == SK_INVALID || w->label[g] != stamp || o < h)
+            if (g == SK_INVALID || w->label[g] != stamp || o < h || w->cut[h >> 1])
                 continue;
             /* edge a -> b in this face, b -> a in g: corner a here ~ corner a in g, same for b */
             uf_union(w, h, m->h_next[o]);
@@ -433,7 +435,8 @@ size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32
             uint32_t f = w->tmp[head++], h = m->f_halfedge[f];
             for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
                 uint32_t g = m->h_face[h ^ 1u];
-                if (g == SK_INVALID || w->label[g] != stamp || w->side[w->flocal[g]])
+                if (g == SK_INVALID || w->label[g] != stamp || w->side[w->flocal[g]] ||
+                    w->cut[h >> 1])
                     continue;
                 w->side[w->flocal[g]] = 1;
                 w->tmp[tail++] = g;
@@ -443,4 +446,234 @@ size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32
     }
     memcpy(faces, w->tmp, nf * sizeof(uint32_t));
     return nc;
+}
+
+/* ---- cut graph of a disk with holes ---- */
+
+/* Is the edge of h (its face in the chart labelled stamp) inside the chart: a chart face on the
+ * other side too, and not cut? */
+static bool inner_edge(const sk_mesh *m, const sk__chart_work *w, uint32_t h, uint32_t stamp)
+{
+    uint32_t g = m->h_face[h ^ 1u];
+    return g != SK_INVALID && w->label[g] == stamp && !w->cut[h >> 1];
+}
+
+/* Scratch of the cut graph: the chart's vertices (local ids), their inner edges (CSR of
+ * outgoing half-edges), boundary loops and a Dijkstra (binary heap, lazy deletion). */
+typedef struct cut_graph {
+    size_t nv, nloops;
+    uint32_t *vloc;         /* per mesh vertex: local id or SK_INVALID */
+    uint32_t *adj_off, *adj; /* per local vertex: outgoing inner half-edges */
+    uint32_t *loop;         /* per local vertex: its boundary loop or SK_INVALID */
+    uint8_t *source;        /* per local vertex: on the outer loop, an attached loop or a cut */
+    uint8_t *attached;      /* per loop */
+    uint32_t *hloop;        /* per mesh half-edge of the chart's boundary: its loop */
+    double *dist;           /* per local vertex */
+    uint32_t *prev;         /* per local vertex: the half-edge it was reached by */
+    double *heap_d;         /* heap of (distance, local vertex) */
+    uint32_t *heap_v;
+    size_t heap_n, heap_cap;
+} cut_graph;
+
+static void cut_graph_free(cut_graph *g)
+{
+    sk__free(g->vloc);
+    sk__free(g->adj_off);
+    sk__free(g->adj);
+    sk__free(g->loop);
+    sk__free(g->source);
+    sk__free(g->attached);
+    sk__free(g->hloop);
+    sk__free(g->dist);
+    sk__free(g->prev);
+    sk__free(g->heap_d);
+    sk__free(g->heap_v);
+}
+
+static void heap_push(cut_graph *g, double d, uint32_t v)
+{
+    size_t i = g->heap_n++;
+    while (i > 0 && g->heap_d[(i - 1) / 2] > d) {
+        g->heap_d[i] = g->heap_d[(i - 1) / 2];
+        g->heap_v[i] = g->heap_v[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    g->heap_d[i] = d;
+    g->heap_v[i] = v;
+}
+
+static uint32_t heap_pop(cut_graph *g, double *d)
+{
+    uint32_t top = g->heap_v[0];
+    *d = g->heap_d[0];
+    double xd = g->heap_d[--g->heap_n];
+    uint32_t xv = g->heap_v[g->heap_n];
+    size_t i = 0;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= g->heap_n)
+            break;
+        if (c + 1 < g->heap_n && g->heap_d[c + 1] < g->heap_d[c])
+            c++;
+        if (g->heap_d[c] >= xd)
+            break;
+        g->heap_d[i] = g->heap_d[c];
+        g->heap_v[i] = g->heap_v[c];
+        i = c;
+    }
+    g->heap_d[i] = xd;
+    g->heap_v[i] = xv;
+    return top;
+}
+
+/* Local vertices, inner-edge adjacency and boundary loops of the chart; false (g->nloops 0) when
+ * the chart holds a cut edge already. */
+static bool cut_graph_build(cut_graph *g, const sk_mesh *m, const uint32_t *faces, size_t nf,
+                            uint32_t stamp, const sk__chart_work *w)
+{
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t h = m->f_halfedge[faces[i]];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            uint32_t v = sk_from(m, h), o = m->h_face[h ^ 1u];
+            if (w->cut[h >> 1] && o != SK_INVALID && w->label[o] == stamp)
+                return false;
+            if (g->vloc[v] == SK_INVALID)
+                g->vloc[v] = (uint32_t)g->nv++;
+            if (inner_edge(m, w, h, stamp))
+                g->adj_off[g->vloc[v] + 1]++;
+        }
+    }
+    for (size_t v = 0; v < g->nv; ++v) {
+        g->adj_off[v + 1] += g->adj_off[v];
+        g->loop[v] = SK_INVALID;
+    }
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t h = m->f_halfedge[faces[i]];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            g->hloop[h] = SK_INVALID;
+            if (inner_edge(m, w, h, stamp))
+                g->adj[g->prev[g->vloc[sk_from(m, h)]]++ + g->adj_off[g->vloc[sk_from(m, h)]]] = h;
+        }
+    }
+    /* boundary loops: from a boundary half-edge a -> b, the next one leaves b across the chart's
+     * faces around b */
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t h0 = m->f_halfedge[faces[i]];
+        for (int k = 0; k < 3; ++k, h0 = m->h_next[h0]) {
+            if (inner_edge(m, w, h0, stamp) || g->hloop[h0] != SK_INVALID)
+                continue;
+            uint32_t h = h0;
+            do {
+                g->hloop[h] = (uint32_t)g->nloops;
+                g->loop[g->vloc[sk_from(m, h)]] = (uint32_t)g->nloops;
+                h = m->h_next[h];
+                while (inner_edge(m, w, h, stamp))
+                    h = m->h_next[h ^ 1u];
+            } while (h != h0 && g->hloop[h] == SK_INVALID);
+            g->nloops++;
+        }
+    }
+    return true;
+}
+
+/* One Dijkstra from the sources to the nearest vertex of a loop not attached yet; the path is cut
+ * and becomes a source, its loop attached. Returns the edges cut (0: none reached). */
+static size_t cut_one_path(cut_graph *g, const sk_mesh *m, sk__chart_work *w)
+{
+    g->heap_n = 0;
+    for (size_t v = 0; v < g->nv; ++v) {
+        g->prev[v] = SK_INVALID;
+        g->dist[v] = INFINITY;
+        if (g->source[v] || (g->loop[v] != SK_INVALID && g->attached[g->loop[v]])) {
+            g->dist[v] = 0;
+            heap_push(g, 0, (uint32_t)v);
+        }
+    }
+    uint32_t t = SK_INVALID;
+    while (g->heap_n > 0 && t == SK_INVALID) {
+        double d;
+        uint32_t v = heap_pop(g, &d);
+        if (d > g->dist[v])
+            continue;
+        if (g->loop[v] != SK_INVALID && !g->attached[g->loop[v]]) {
+            t = v;
+            break;
+        }
+        for (uint32_t i = g->adj_off[v]; i < g->adj_off[v + 1]; ++i) {
+            uint32_t h = g->adj[i], u = g->vloc[sk_to(m, h)];
+            double nd = d + sk_mesh_edge_length(m, h >> 1);
+            if (nd < g->dist[u]) {
+                g->dist[u] = nd;
+                g->prev[u] = h;
+                heap_push(g, nd, u);
+            }
+        }
+    }
+    if (t == SK_INVALID)
+        return 0;
+    g->attached[g->loop[t]] = 1;
+    size_t n = 0;
+    for (uint32_t v = t; g->prev[v] != SK_INVALID; v = g->vloc[sk_from(m, g->prev[v])], ++n) {
+        w->cut[g->prev[v] >> 1] = 1;
+        g->source[v] = 1;
+    }
+    return n;
+}
+
+sk_status sk__chart_cut_holes(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
+                              sk__chart_work *w, size_t *ncut, sk_error *err)
+{
+    cut_graph g;
+    memset(&g, 0, sizeof g);
+    *ncut = 0;
+    size_t nv = m->num_vertices ? m->num_vertices : 1, nc = 3 * nf + 1;
+    g.vloc = sk__malloc_array(nv, sizeof(uint32_t));
+    g.adj_off = sk__calloc_array(nc + 1, sizeof(uint32_t));
+    g.adj = sk__malloc_array(nc, sizeof(uint32_t));
+    g.loop = sk__malloc_array(nc, sizeof(uint32_t));
+    g.source = sk__calloc_array(nc, 1);
+    g.attached = sk__calloc_array(nc, 1);
+    g.hloop = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
+    g.dist = sk__malloc_array(nc, sizeof(double));
+    g.prev = sk__calloc_array(nc, sizeof(uint32_t));
+    g.heap_cap = 3 * nf + nc; /* every inner half-edge pushes at most once, plus the sources */
+    g.heap_d = sk__malloc_array(g.heap_cap, sizeof(double));
+    g.heap_v = sk__malloc_array(g.heap_cap, sizeof(uint32_t));
+    sk_status st = SK_OK;
+    if (!g.vloc || !g.adj_off || !g.adj || !g.loop || !g.source || !g.attached ||
+        !g.hloop || !g.dist || !g.prev || !g.heap_d || !g.heap_v) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        g.vloc[v] = SK_INVALID;
+    if (!cut_graph_build(&g, m, faces, nf, stamp, w) || g.nloops < 2 ||
+        g.nloops > SK__ATLAS_MAX_HOLES + 1)
+        goto done;
+    /* the outer loop: the longest */
+    double *len = g.dist, best = -1;
+    uint32_t outer = 0;
+    for (size_t l = 0; l < g.nloops; ++l)
+        len[l] = 0;
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t h = m->f_halfedge[faces[i]];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            if (g.hloop[h] != SK_INVALID)
+                len[g.hloop[h]] += sk_mesh_edge_length(m, h >> 1);
+    }
+    for (uint32_t l = 0; l < g.nloops; ++l)
+        if (len[l] > best) {
+            best = len[l];
+            outer = l;
+        }
+    g.attached[outer] = 1;
+    for (size_t k = 1; k < g.nloops; ++k) {
+        size_t n = cut_one_path(&g, m, w);
+        if (n == 0)
+            break;
+        *ncut += n;
+    }
+done:
+    cut_graph_free(&g);
+    return st;
 }

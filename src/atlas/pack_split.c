@@ -53,13 +53,6 @@ static void layout_free(layout *l)
     memset(l, 0, sizeof *l);
 }
 
-/* Is the edge of h (a face on both sides) cut in l (different uv points at either end)? */
-static bool is_seam(const sk_mesh *m, const uint32_t *cu, uint32_t h)
-{
-    uint32_t o = h ^ 1u;
-    return cu[h] != cu[m->h_next[o]] || cu[m->h_next[h]] != cu[o];
-}
-
 /* The charts' outline edges (uv index pairs: edges on the boundary or on a seam), then the
  * packing of l->uv into l->packed. */
 static sk_status pack_layout(const sk_mesh *m, layout *l, double res, double pad, sk_error *err)
@@ -76,7 +69,7 @@ static sk_status pack_layout(const sk_mesh *m, layout *l, double res, double pad
     for (size_t h = 0; h < m->num_halfedges; ++h) {
         if (m->h_face[h] == SK_INVALID)
             continue;
-        if (m->h_face[h ^ 1u] == SK_INVALID || is_seam(m, cu, (uint32_t)h)) {
+        if (m->h_face[h ^ 1u] == SK_INVALID || sk__uv_seam(m, cu, (uint32_t)h)) {
             edges[2 * ne] = cu[h];
             edges[2 * ne++ + 1] = cu[m->h_next[h]];
         }
@@ -185,7 +178,7 @@ static uint32_t piece_neighbour(const cutter *k, uint32_t h, uint8_t s)
 {
     const sk_mesh *m = k->m;
     uint32_t g = m->h_face[h ^ 1u];
-    if (g == SK_INVALID || k->side[g] != s || is_seam(m, k->l->corner_uv, h))
+    if (g == SK_INVALID || k->side[g] != s || sk__uv_seam(m, k->l->corner_uv, h))
         return SK_INVALID;
     return g;
 }
@@ -220,7 +213,7 @@ static bool piece_ok(cutter *k, const uint32_t *faces, size_t nf, uint8_t s, dou
             }
             uint32_t g = m->h_face[h ^ 1u];
             bool inside = g != SK_INVALID && (k->side[g] == s || k->side[g] == s + 4) &&
-                          !is_seam(m, k->l->corner_uv, h);
+                          !sk__uv_seam(m, k->l->corner_uv, h);
             e2 += inside ? 1 : 2; /* an inner edge is seen from both sides */
             if (inside && k->side[g] == s) {
                 k->side[g] = (uint8_t)(s + 4);
@@ -487,12 +480,7 @@ static sk_status try_cuts(const sk_mesh *m, layout *cur, const double bound[2], 
     k.max_conf = bound[0];
     k.max_stretch = bound[1];
     measure_faces(&k, cur);
-    for (size_t e = 0; e < sk_num_edges(m); ++e) { /* the budget: a share of the seams given */
-        uint32_t h = (uint32_t)(2 * e);
-        if (m->h_face[h] != SK_INVALID && m->h_face[h ^ 1u] != SK_INVALID &&
-            is_seam(m, cur->corner_uv, h))
-            k.seam += SPLIT_SEAM * sk_mesh_edge_length(m, (uint32_t)e);
-    }
+    k.seam = SPLIT_SEAM * sk__uv_seam_length(m, cur->corner_uv, NULL); /* the budget */
     /* cur: the layout cut so far, packed coarsely (orig keeps the full packing of the uncut) */
     memset(cur, 0, sizeof *cur);
     if ((st = relabel(m, &orig, orig.face_chart, orig.nc, cur, err)) ||

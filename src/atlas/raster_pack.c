@@ -79,8 +79,9 @@ typedef struct raster {
     span *runs;           /* of D's rows */
     uint32_t anchor, anchor_row; /* D's longest run (index in runs) and its row */
     size_t runs_cap;
-    crossing *cross;
+    crossing *cross, *sorted; /* the outline's row crossings, as found and by (row, x) */
     size_t cross_cap;
+    uint32_t *row_start;  /* per C row + 1: its crossings' start in sorted */
     uint32_t *order;      /* KEYS orders of the charts, largest first */
     int key;              /* the order in use */
     double *lo;           /* 2 orientations x 2 (min x, min y) per chart */
@@ -223,6 +224,39 @@ static int cmp_cross(const void *x, const void *y)
     return (a->x > b->x) - (a->x < b->x);
 }
 
+/* k->cross[0..nx) by (row, x) into k->sorted: counted into rows (h of them), each row by x
+ * (insertion for the usual few crossings; equal keys are equal values, so the order is the one
+ * qsort gave). qsort of all crossings was a sixth of the packer's time on small meshes. */
+static void sort_crossings(raster *k, size_t nx, uint32_t h)
+{
+    uint32_t *rs = k->row_start;
+    memset(rs, 0, ((size_t)h + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < nx; ++i)
+        rs[k->cross[i].row + 1]++;
+    for (uint32_t j = 0; j < h; ++j)
+        rs[j + 1] += rs[j];
+    for (size_t i = 0; i < nx; ++i) /* rs[row] runs ahead: the row's next slot */
+        k->sorted[rs[k->cross[i].row]++] = k->cross[i];
+    for (uint32_t j = h; j > 0; --j)
+        rs[j] = rs[j - 1];
+    rs[0] = 0;
+    for (uint32_t j = 0; j < h; ++j) {
+        crossing *r = k->sorted + rs[j];
+        size_t n = rs[j + 1] - rs[j];
+        if (n > 32) {
+            qsort(r, n, sizeof *r, cmp_cross);
+            continue;
+        }
+        for (size_t i = 1; i < n; ++i) {
+            crossing x = r[i];
+            size_t at = i;
+            for (; at > 0 && r[at - 1].x > x.x; --at)
+                r[at] = r[at - 1];
+            r[at] = x;
+        }
+    }
+}
+
 /* C of chart c (orientation o, turn t) at texel factor f. */
 static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
 {
@@ -242,10 +276,16 @@ static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
         double jlo = ceil(y0 - 0.5), jhi = ceil(y1 - 0.5);
         for (double j = fmax(jlo, 0); j < jhi && j < bm->h; ++j) {
             if (nx == k->cross_cap) {
-                crossing *nc = grow(k->cross, &k->cross_cap, sizeof *nc);
-                if (!(k->nomem = !nc))
+                size_t cap = k->cross_cap;
+                crossing *nc = grow(k->cross, &cap, sizeof *nc);
+                if (nc)
                     k->cross = nc;
-                else
+                crossing *ns = nc ? sk__realloc_array(k->sorted, cap, sizeof *ns) : NULL;
+                if (ns) {
+                    k->sorted = ns;
+                    k->cross_cap = cap;
+                }
+                if ((k->nomem = !ns))
                     return;
             }
             double yc = j + 0.5;
@@ -253,15 +293,16 @@ static void raster_chart(raster *k, uint32_t c, int o, int t, double f)
             k->cross[nx++].x = a[0] + (yc - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
         }
     }
-    qsort(k->cross, nx, sizeof *k->cross, cmp_cross);
+    sort_crossings(k, nx, bm->h);
+    const crossing *x = k->sorted;
     for (size_t i = 0; i + 1 < nx; i += 2) {
-        if (k->cross[i].row != k->cross[i + 1].row) { /* odd count: rounding; resync */
+        if (x[i].row != x[i + 1].row) { /* odd count: rounding; resync */
             i--;
             continue;
         }
-        double x0 = ceil(k->cross[i].x - 0.5), x1 = floor(k->cross[i + 1].x - 0.5);
+        double x0 = ceil(x[i].x - 0.5), x1 = floor(x[i + 1].x - 0.5);
         if (x1 >= x0 && x1 >= 0 && x0 < bm->w)
-            set_range(bm->bits + (size_t)k->cross[i].row * bm->words, clampi(x0, bm->w),
+            set_range(bm->bits + (size_t)x[i].row * bm->words, clampi(x0, bm->w),
                       clampi(x1, bm->w));
     }
 }
@@ -296,6 +337,15 @@ static void dilate(raster *k, uint32_t p)
         uint64_t *row = t->bits + (size_t)j * t->words, *wide = k->wide;
         memset(wide, 0, t->words * sizeof(uint64_t));
         memcpy(wide, c->bits + (size_t)j * c->words, c->words * sizeof(uint64_t));
+        if (2 * p < 64) { /* every shift within a word and its predecessor */
+            for (uint32_t i = 0; i < t->words; ++i) {
+                uint64_t cur = wide[i], prev = i ? wide[i - 1] : 0, v = cur;
+                for (uint32_t s = 1; s <= 2 * p; ++s)
+                    v |= cur << s | prev >> (64 - s);
+                row[i] = v;
+            }
+            continue;
+        }
         for (int s = 0; s <= 2 * (int)p; ++s)
             or_shifted(row, wide, t->words, s);
     }
@@ -355,13 +405,17 @@ static bool row_hits(const raster *k, uint32_t j, uint32_t x, uint32_t y, uint32
     const row_info *ri = k->info + j;
     const uint64_t *g = k->occ + (size_t)(y + j) * k->gw;
     const uint64_t *r = k->d.bits + (size_t)j * k->d.words;
-    uint32_t g0 = x >> 6, sh = x & 63;
-    uint64_t any = 0; /* the word test first; the runs only for the skip */
+    if (ri->first == ri->end)
+        return false;
+    /* the word test first, over the words the row's runs span; the runs only for the skip */
+    uint32_t g0 = x >> 6, sh = x & 63, w0 = k->runs[ri->first].a >> 6;
+    uint32_t w1 = (k->runs[ri->end - 1].b >> 6) + 1;
+    uint64_t any = 0;
     if (sh)
-        for (uint32_t w = 0; w < k->d.words; ++w)
+        for (uint32_t w = w0; w < w1; ++w)
             any |= (g[g0 + w] & (r[w] << sh)) | (g[g0 + w + 1] & (r[w] >> (64 - sh)));
     else
-        for (uint32_t w = 0; w < k->d.words; ++w)
+        for (uint32_t w = w0; w < w1; ++w)
             any |= g[g0 + w] & r[w];
     if (!any)
         return false;
@@ -642,6 +696,7 @@ static sk_status raster_init(raster *k, const sk__raster_in *in, sk_error *err)
     k->tmp.bits = sk__malloc_array(bm, sizeof(uint64_t));
     k->wide = sk__malloc_array(side / 64 + 2, sizeof(uint64_t));
     k->info = sk__malloc_array(side, sizeof(row_info));
+    k->row_start = sk__malloc_array(side + 1, sizeof(uint32_t));
     k->order = sk__malloc_array(KEYS * (nc ? nc : 1), sizeof(uint32_t));
     k->orients = nc <= FEW_CHARTS ? ORIENTS : 2;
     for (int o = 0; o < ORIENTS; ++o) {
@@ -654,7 +709,7 @@ static sk_status raster_init(raster *k, const sk__raster_in *in, sk_error *err)
     k->pl = sk__calloc_array(nc ? nc : 1, sizeof(place));
     k->best = sk__malloc_array(nc ? nc : 1, sizeof(place));
     double *keys = sk__malloc_array(2 * (nc ? nc : 1), sizeof(double));
-    if (!k->occ || !k->maxfree || !k->c.bits || !k->d.bits || !k->tmp.bits || !k->wide || !k->info ||
+    if (!k->occ || !k->maxfree || !k->c.bits || !k->d.bits || !k->tmp.bits || !k->wide || !k->info || !k->row_start ||
         !k->order || !k->lo || !k->ext || !k->pl || !k->best || !keys) {
         sk__free(keys);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -702,6 +757,8 @@ static void raster_free(raster *k)
     sk__free(k->info);
     sk__free(k->runs);
     sk__free(k->cross);
+    sk__free(k->sorted);
+    sk__free(k->row_start);
     sk__free(k->order);
     sk__free(k->lo);
     sk__free(k->ext);

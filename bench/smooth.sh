@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Smooth surfaces on the shared meshes, VC1 with the least-squares free points (vc1-lsq, before),
-# VC1 with the fair free points (vc1, the default) and the PN-triangle baseline: singular patches,
+# VC1 with the fair free points (vc1, the default), the same with --parity-flips (vc1-parity) and
+# the PN-triangle baseline: singular patches,
 # singular patches before the regularity repair, shape
 # (max_overshoot with its patch, patches over 0.5, fairness worst / mean), deleted edges against
 # the lower bound (#even interior vertices / 2, counted here from the input file and by the
@@ -25,9 +26,11 @@ for name in $meshes; do
   in=../shared/data/meshes/$name.off
   # vc1-lsq: the free points by least squares to the wire frame alone (before the fair points)
   # vc1-before: the default VC1 of SK_BENCH_BEFORE (an earlier build), beside this build's vc1
-  for scheme in vc1-lsq ${SK_BENCH_BEFORE:+vc1-before} vc1 pn; do
+  # vc1-parity: the default VC1 with --parity-flips (fewer even vertices, fewer deletions)
+  for scheme in vc1-lsq ${SK_BENCH_BEFORE:+vc1-before} vc1 vc1-parity pn; do
     out="$scratch/$name-$scheme.json" note="" args="--scheme ${scheme%-*}" bin="$build/surfkit"
     [ "$scheme" = vc1-lsq ] && args="$args --free-points lsq"
+    [ "$scheme" = vc1-parity ] && args="$args --parity-flips"
     [ "$scheme" = vc1-before ] && bin=$SK_BENCH_BEFORE
     # exit 1: an odd closed component (no edge deletion exists): split an edge as the CLI offers
     if ! "$bin" smooth "$in" $args --json --allow-fail -q > "$out" 2> "$out.err"; then

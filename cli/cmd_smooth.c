@@ -84,6 +84,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "deleted_edges_lower_bound", s->stats.deletion.lower_bound);
     json_kuint(&j, "split_edges", s->stats.split_edges);
     json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
+    json_kuint(&j, "parity_flipped_edges", s->stats.parity_flipped_edges);
     json_kuint(&j, "folded_normals", s->stats.folded_normals);
     json_knum(&j, "max_gap", r->max_gap);
     json_knum(&j, "mean_gap", r->mean_gap);
@@ -308,6 +309,9 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_FLAG("--keep-triangulation", a->so.keep_triangulation,
                  "vc1: keep the input's edges (default: flip edges to remove slivers and\n"
                  "near-folds where the new edge bends under 10 degrees; same vertices)"),
+        OPT_FLAG("--parity-flips", a->so.parity_flips,
+                 "vc1: also flip edges that make even vertices odd where the shape and the\n"
+                 "normal agreement are kept: fewer deleted edges (parity_flipped_edges)"),
         OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
                    "vc1: free tangent control points by least squares to the wire frame\n"
                    "moved to lower the patches' bending energy (fair, default), or the\n"

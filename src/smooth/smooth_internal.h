@@ -156,6 +156,15 @@ sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *f
 sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
                                          size_t *flipped, sk_error *err);
 
+/* The parity pass after sk__improve_triangulation_keep (edge_flips.c, opts.parity_flips): flips
+ * that make even interior vertices odd (four or three of the four vertices of the flip), where
+ * the new edge is no crease, no new face agrees worse with its corner normals than the better
+ * old one and the smallest angle keeps 0.8 of what it was; crease and boundary vertices
+ * and the keep edges are left alone. The edge deletion then needs fewer deletions. *flipped
+ * counts the flips. */
+sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *keep,
+                           size_t *flipped, sk_error *err);
+
 /* Estimated normals at folded stars (fold_normals.c): where a face around v is more than 90
  * degrees off normals[v], the normal becomes the direction with the largest smallest cosine to
  * the faces around v when that sees every face within 84 degrees and gains; vertices with

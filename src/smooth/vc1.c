@@ -543,6 +543,10 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         if ((st = sk__improve_triangulation_keep(work, normals, keep,
                                                  &s->stats.flipped_edges, err)) != SK_OK)
             goto fail;
+        if (opts.parity_flips &&
+            (st = sk__parity_flips(work, normals, keep, &s->stats.parity_flipped_edges, err)))
+            goto fail;
+        s->stats.flipped_edges += s->stats.parity_flipped_edges;
         base = work;
         clock_since(t0, &s->stats.seconds_flips, &s->stats.cpu_flips);
     }

@@ -61,6 +61,11 @@ python3 -c "import json; r=json.load(open('$tmp/b.json')); assert r['split_edges
 [ $rc -le 4 ] || fail "cow --keep-triangulation exit $rc"
 python3 -c "import json; f=json.load(open('$tmp/cf.json')); k=json.load(open('$tmp/ck.json')); assert f['flipped_edges'] > 0 and k['flipped_edges'] == 0 and f['max_normal_jump_deg'] < 1e-7, (f['flipped_edges'], k['flipped_edges'])" ||
   fail "flipped_edges"
+# --parity-flips: knot1 with flips that make even vertices odd, fewer deleted edges, still G1
+"$bin" smooth "$m/knot1.off" --json -q > "$tmp/e0.json" || fail "knot1 exit $?"
+"$bin" smooth "$m/knot1.off" --json -q --parity-flips > "$tmp/ep.json" || fail "knot1 --parity-flips exit $?"
+python3 -c "import json; a=json.load(open('$tmp/e0.json')); b=json.load(open('$tmp/ep.json')); assert a['parity_flipped_edges'] == 0 < b['parity_flipped_edges'] and b['even_vertices'] < a['even_vertices'] and b['deleted_edges'] < a['deleted_edges'] and b['singular_patches'] == 0 and b['max_normal_jump_deg'] < 1e-7, (a['deleted_edges'], b['deleted_edges'])" ||
+  fail "parity_flipped_edges"
 # every figure is the same on one thread (the parallel stages are deterministic, the mean target
 # deviation is summed in vertex order); CPU seconds per stage beside the wall seconds
 OMP_NUM_THREADS=1 "$bin" smooth "$m/cow.off" --json -q --allow-fail > "$tmp/cf1.json"; rc=$?

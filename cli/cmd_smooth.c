@@ -334,6 +334,9 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_INT("--refine-levels", a->to.refine_levels, 1, 64, "K",
                 "with a tolerance: the local refinement starts K levels below the coarsest\n"
                 "level that meets it (default 6)"),
+        OPT_INT("--stall-rounds", a->to.stall_rounds, 1, 1000, "K",
+                "with a tolerance: the refinement stops after K rounds in a row that lower\n"
+                "neither the offending vertices nor the max deviation (default 4)"),
         OPT_FLAG("--full-checks", a->to.full_checks,
                  "with a tolerance: every refinement round measures all distances again\n"
                  "(default: only what the patches' displacement since the last round\n"
@@ -375,6 +378,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         return cli_usage("smooth", "--tolerance builds vc1 surfaces (not --scheme pn)");
     if (cli_given(&args, "--refine-levels") && !a->tolerance)
         return cli_usage("smooth", "--refine-levels needs --tolerance or --tolerance-rel");
+    if (cli_given(&args, "--stall-rounds") && !a->tolerance)
+        return cli_usage("smooth", "--stall-rounds needs --tolerance or --tolerance-rel");
     if (a->to.full_checks && !a->tolerance)
         return cli_usage("smooth", "--full-checks needs --tolerance or --tolerance-rel");
     if (a->to.full_search && !a->tolerance)
@@ -564,6 +569,7 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_kuint(&j, "base_level", t->base_level);
     json_kuint(&j, "refinement_rounds", t->rounds);
     json_kuint(&j, "failed_rounds", t->failed_rounds);
+    json_kuint(&j, "stalled_refinements", t->stalled);
     json_kuint(&j, "parity_splits", t->parity_splits);
     json_kuint(&j, "checked_patches", t->checked_patches);
     json_kuint(&j, "reused_patches", t->reused_patches);
@@ -583,6 +589,8 @@ static void write_tol_report(FILE *fp, const void *ctx)
             json_knum(&j, "max_deviation", e->max_deviation);
             json_kuint(&j, "singular_patches", e->singular);
             json_kbool(&j, "met", e->met);
+            if (e->refined)
+                json_kuint(&j, "offending_vertices", e->offending);
         }
         json_obj_close(&j);
     }

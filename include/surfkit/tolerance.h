@@ -46,6 +46,12 @@ typedef struct sk_tolerance_opts {
                                 missing collapses around the offending vertices and the
                                 corners of singular patches; a round within T with singular
                                 patches goes on while their number falls */
+    unsigned stall_rounds;   /* the refinement stops (stats.stalled) after this many rounds in
+                                a row without progress: neither fewer offending vertices nor a
+                                smaller max deviation than every earlier round (0 = 4; on
+                                fandisk at 3e-3 of the diagonal, where no level meets T, the
+                                rounds then stop at 14 instead of 32; the converging runs
+                                measured went at most 3 rounds without progress) */
     bool no_estimate;        /* search the levels by bisection alone (the old search), without
                                 starting from the level estimate (the coarsest level whose own
                                 triangles are within T) */
@@ -87,6 +93,8 @@ typedef struct sk_tolerance_try {
                                 found before it stopped (beyond T) */
     size_t singular;         /* singular patches (sk_smooth_patch_shapes; the refinement splits
                                 around them too) */
+    size_t offending;        /* a refinement round: the input vertices it flagged (beyond T, on
+                                a face beyond T, or around a singular patch); 0 for a level */
     bool met;                /* within T */
 } sk_tolerance_try;
 
@@ -110,6 +118,7 @@ typedef struct sk_tolerance_stats {
     size_t base_level;       /* the level the refinement started from */
     size_t rounds;           /* refinement rounds (surfaces built from the base level) */
     size_t failed_rounds;    /* rounds where VC1 could not be built (the region was widened) */
+    size_t stalled;          /* refinements stopped for no progress (opts.stall_rounds) */
     size_t parity_splits;    /* extra splits to give each closed component an even vertex count */
     bool refined;            /* the result is a refined mesh (else a full level) */
     size_t vertices;         /* vertices of the result (all of them input vertices) */

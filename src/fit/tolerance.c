@@ -56,7 +56,7 @@ static void keep_better(cut_result *best, cut_result *r, bool *best_refined, boo
 typedef struct tol_run {
     sk_tolerance_opts o;
     sk_tolerance_stats *stats;
-    unsigned refine_levels, max_rounds;
+    unsigned refine_levels, max_rounds, stall_rounds;
     tol_ctx c;
     cut_result best, r, at_hi;
     bool best_refined;
@@ -125,6 +125,7 @@ static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
     sk_status st = SK_OK;
     t->refine_levels = t->o.refine_levels ? t->o.refine_levels : 6;
     t->max_rounds = t->o.max_rounds ? t->o.max_rounds : 32;
+    t->stall_rounds = t->o.stall_rounds ? t->o.stall_rounds : 4;
     t->c.fine = mesh;
     t->c.nv = mesh->num_vertices;
     t->c.nf = mesh->num_faces;
@@ -406,8 +407,40 @@ static size_t split_back(tol_run *t)
     return added;
 }
 
+/* Progress of the refinement: the fewest offending vertices and the smallest max deviation of
+ * its rounds so far, and the rounds since either was last lowered */
+typedef struct round_progress {
+    size_t fewest, since;
+    double least;
+} round_progress;
+
+/* the number of flagged vertices */
+static size_t count_bad(const tol_run *t)
+{
+    size_t n = 0;
+    for (size_t v = 0; v < t->c.nv; ++v)
+        n += t->bad[v] != 0;
+    return n;
+}
+
+/* a round with `bad` offending vertices and max deviation mx: true when it is the
+ * stall_rounds-th in a row that lowers neither the fewest offending vertices nor the smallest
+ * deviation (the refinement does not converge: on fandisk at 3e-3 of the diagonal, where no
+ * level meets T, the offending set stays between 3 and 40 vertices, moving round by round) */
+static bool stalled(const tol_run *t, round_progress *pg, size_t bad, double mx)
+{
+    if (bad < pg->fewest || mx < pg->least) {
+        pg->fewest = bad < pg->fewest ? bad : pg->fewest;
+        pg->least = fmin(pg->least, mx);
+        pg->since = 0;
+        return false;
+    }
+    return ++pg->since >= t->stall_rounds;
+}
+
 /* Local refinement from a few levels below the coarsest met: split back where T is exceeded,
- * one collapse level at a time, until T holds, nothing is left to split or it stops paying. */
+ * one collapse level at a time, until T holds, nothing is left to split, it stops paying or it
+ * stalls (stall_rounds rounds in a row without progress). */
 static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
 {
     size_t base = coarsest_met > t->refine_levels ? coarsest_met - t->refine_levels : 0;
@@ -417,6 +450,7 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
     size_t failures = 0;
     sk_status st = SK_OK;
     uint8_t *fresh = t->fresh; /* vertices made alive by the last round (to widen after a failure) */
+    round_progress pg = {SIZE_MAX, 0, INFINITY};
     for (unsigned round = 0; round < t->max_rounds; ++round) {
         sk_status vs = SK_OK;
         size_t nvert = 0;
@@ -425,7 +459,10 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
                                 err)))
             return st;
         t->stats->rounds++;
+        size_t nbad = vs == SK_OK ? count_bad(t) : 0;
         sk__tol_record_try(t->stats, base, true, vs, nvert, &t->r);
+        if (t->stats->num_tried <= SK_TOLERANCE_MAX_TRIED)
+            t->stats->tried[t->stats->num_tried - 1].offending = nbad;
         if ((st = sk__progress(t->o.progress, t->o.progress_user,
                                0.5 + 0.5 * (double)(round + 1) / t->max_rounds, err)))
             return st;
@@ -455,9 +492,14 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
             bool ok = cut_ok(&t->r);
             bool worse = t->best.met && t->r.patches >= t->best.patches &&
                          (cut_ok(&t->best) || (t->r.met && t->r.singular >= t->best.singular));
+            double mx = t->r.max;
             keep_better(&t->best, &t->r, &t->best_refined, true);
             if (ok || worse)
                 break;
+            if (stalled(t, &pg, nbad, mx)) {
+                t->stats->stalled++;
+                break;
+            }
         }
         size_t added = split_back(t);
         if (added == 0)

@@ -45,6 +45,8 @@ grep -q '"stage_seconds": {' "$tmp/s.json" || fail "no stage_seconds"
 [ "$(val level_assumed "$tmp/s.json")" = false ] || fail "level assumed on the sphere"
 [ "$(val level_assumed "$tmp/f.json")" = false ] || fail "level assumed with --full-search"
 [ "$(val levels_tried "$tmp/f.json")" = "$tried" ] || fail "--full-search tried other levels"
+grep -q '"stalled_refinements": 0,' "$tmp/s.json" || fail "stalled_refinements"
+grep -q '"offending_vertices": ' "$tmp/s.json" || fail "no offending_vertices in the rounds"
 
 # the text summary
 out=$("$bin" smooth "$sphere" -o "$tmp/t.step" --tolerance-rel 1e-2) || fail "text"
@@ -62,7 +64,8 @@ grep -q "not met" "$tmp/u.err" || fail "stderr: $(cat "$tmp/u.err")"
 
 # usage errors
 for args in "--tolerance 1 --tolerance-rel 1e-3" "--tolerance-rel 1e-3 --scheme pn" \
-            "--refine-levels 2" "--full-search" "--tolerance -1" "--tolerance-rel 2"; do
+            "--refine-levels 2" "--full-search" "--stall-rounds 2" \
+            "--tolerance-rel 1e-3 --stall-rounds 0" "--tolerance -1" "--tolerance-rel 2"; do
   # shellcheck disable=SC2086
   "$bin" smooth "$sphere" -o "$tmp/x.step" $args 2> /dev/null
   rc=$?

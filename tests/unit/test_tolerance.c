@@ -2,7 +2,8 @@
  * the coarsest level within T, checked against the hierarchy's own level meshes), the sphere within 1e-2 of its diagonal with fewer patches than
  * triangles, G1 and the deviation measured again independently, an unreachable tolerance
  * (SK_WARN_TOLERANCE with a surface), the shared scans (cow, bunny00; skipped with SK_TEST_QUICK
- * for bunny00), incremental checks against full ones, bad options. */
+ * for bunny00), incremental checks against full ones, the refinement's stall rule (rounds
+ * counted, the full search's result), bad options. */
 #include "testutil.h"
 #include "surfkit/tolerance.h"
 #include "surfkit/deviation.h"
@@ -295,6 +296,80 @@ static void incremental_checks(void **state)
     incremental_same("nefertiti.off", 1e-2);
 }
 
+/* The refinement rounds of the first refinement in st->tried (those after its first level
+ * tries) until the stall rule (sk_tolerance_opts.stall_rounds) stops them: the index + 1 of
+ * the k-th round in a row that lowers neither the fewest offending vertices nor the smallest
+ * max deviation of the rounds before it (0 when no round stalls); *rounds: how many rounds
+ * that refinement made */
+static size_t stall_round(const sk_tolerance_stats *st, unsigned k, size_t *rounds)
+{
+    size_t i = 0, n = st->num_tried < SK_TOLERANCE_MAX_TRIED ? st->num_tried
+                                                             : SK_TOLERANCE_MAX_TRIED;
+    while (i < n && !st->tried[i].refined)
+        ++i;
+    size_t fewest = SIZE_MAX, since = 0, stop = 0, r = 0;
+    double least = INFINITY;
+    for (; i < n && st->tried[i].refined; ++i, ++r) {
+        const sk_tolerance_try *e = &st->tried[i];
+        if (e->status || stop)
+            continue;
+        if (e->offending < fewest || e->max_deviation < least) {
+            fewest = e->offending < fewest ? e->offending : fewest;
+            least = fmin(least, e->max_deviation);
+            since = 0;
+        } else if (++since >= k) {
+            stop = r + 1;
+        }
+    }
+    *rounds = r;
+    return stop;
+}
+
+/* The stall rule: the refinement stops at the stall_rounds-th round in a row without
+ * progress (counted again here from the rounds' figures), and the result is the full search's
+ * (the same status, patch count and deviation). On three_peaks at 1e-2 of the diagonal with
+ * one round: its third round flags more vertices and is farther than the second. Without
+ * SK_TEST_QUICK, fandisk at 3e-3, the case the rule is for: no level meets T but the estimate
+ * (19 of 22 levels) lies below the input, so the default's refinement from the estimate cannot
+ * converge; it stops after 14 rounds (32 before the rule) and the full search follows. */
+static void stall_same(const char *name, double rel, unsigned stall, sk_status want,
+                       size_t max_rounds)
+{
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh(name));
+    sk_smooth *s[2] = {NULL, NULL};
+    sk_tolerance_stats st[2];
+    for (int k = 0; k < 2; ++k) {
+        sk_tolerance_opts o = {.tolerance_rel = rel, .full_search = k == 1, .stall_rounds = stall};
+        assert_int_equal(sk_smooth_tolerance(m, &o, &s[k], NULL, &st[k], NULL), want);
+    }
+    size_t rounds = 0, stop = stall_round(&st[0], stall ? stall : 4, &rounds);
+    print_message("%s T = %g diag, stall after %u: rounds %zu (first refinement %zu, stalled "
+                  "at %zu), stalled %zu, levels built %zu (full search %zu, rounds %zu), "
+                  "%zu patches (%zu)\n", name, rel, stall, st[0].rounds, rounds, stop,
+                  st[0].stalled, st[0].levels_tried, st[1].levels_tried, st[1].rounds,
+                  st[0].patches, st[1].patches);
+    assert_true(st[0].stalled >= 1);
+    assert_true(stop > 0 && stop == rounds);
+    assert_true(rounds <= max_rounds);
+    assert_true(st[0].rounds + st[0].levels_tried <= st[1].rounds + st[1].levels_tried + max_rounds);
+    assert_int_equal(st[0].met, st[1].met);
+    assert_int_equal(st[0].patches, st[1].patches);
+    assert_true(st[0].deviation.hausdorff == st[1].deviation.hausdorff);
+    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k)
+        if (!st[0].tried[k].refined)
+            assert_int_equal(st[0].tried[k].offending, 0);
+    same_surfaces(s);
+    sk_mesh_destroy(&m);
+}
+
+static void stalled_rounds(void **state)
+{
+    (void)state;
+    stall_same("three_peaks.off", 1e-2, 1, SK_OK, 3);
+    if (!getenv("SK_TEST_QUICK"))
+        stall_same("fandisk.off", 3e-3, 0, SK_WARN_TOLERANCE, 16);
+}
+
 static void unreachable(void **state)
 {
     (void)state;
@@ -348,6 +423,7 @@ int main(void)
         cmocka_unit_test(estimate_start),
         cmocka_unit_test(assumed_level),
         cmocka_unit_test(incremental_checks),
+        cmocka_unit_test(stalled_rounds),
         cmocka_unit_test(unreachable),
         cmocka_unit_test(bad_options),
         cmocka_unit_test(scans_met),

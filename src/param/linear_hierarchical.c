@@ -364,95 +364,10 @@ static sk_status multilevel_run(const sk_sparse *a, bool symmetric, hsolve *hs, 
     return st;
 }
 
-/* The component block of the dim-interleaved square matrix a: rows and columns dim * i + c. */
-static sk_status component_block(const sk__csr *a, unsigned dim, unsigned c, sk__csr *out,
-                                 sk_error *err)
-{
-    size_t m = a->rows / dim, nnz = 0;
-    for (size_t i = 0; i < m; ++i)
-        for (size_t k = a->ptr[dim * i + c]; k < a->ptr[dim * i + c + 1]; ++k)
-            nnz += a->col[k] % dim == c;
-    sk_status st = sk__csr_alloc(out, m, m, nnz, err);
-    if (st)
-        return st;
-    size_t q = 0;
-    for (size_t i = 0; i < m; ++i) {
-        for (size_t k = a->ptr[dim * i + c]; k < a->ptr[dim * i + c + 1]; ++k)
-            if (a->col[k] % dim == c) {
-                out->col[q] = a->col[k] / dim;
-                out->val[q++] = a->val[k];
-            }
-        out->ptr[i + 1] = q;
-    }
-    return SK_OK;
-}
-
-/* LSCM (dim 2, u and v interleaved): CG on the whole conformal system preconditioned by the
- * scalar AMG of its Dirichlet block (the cotangent Laplacian of the free vertices, the same for
- * u and v: the area term couples u with v only), applied to u and v separately. */
-static sk_status solve_block(const sk_sparse *a, unsigned dim, const double *rhs, double *x,
-                             const sk_param_opts *o, sk_param_stats *stats, sk_error *err)
-{
-    double t[2] = {sk_seconds(), 0};
-    sk__csr fine = {0}, blk = {0};
-    sk__multilevel *mg = NULL;
-    sk__amg_opts ao = {0};
-    ao.coarse_max = o->coarse_vertices;
-    ao.dim = 1;
-    sk_status st = sk__csr_from_sparse(a, &fine, err);
-    if (st == SK_OK)
-        st = component_block(&fine, dim, 0, &blk, err);
-    t[1] = sk_seconds();
-    if (st == SK_OK)
-        st = sk__amg_create(&blk, &ao, true, &mg, err);
-    if (st == SK_OK)
-        sk__multilevel_set_cycle(mg, SK_AMG_CORRECTION, 1, true);
-    double t2 = sk_seconds();
-    sk__krylov_opts ko = {0};
-    ko.tolerance = o->tolerance > 0 ? o->tolerance : SK_HLINEAR_TOLERANCE;
-    ko.max_iterations = o->max_iterations ? o->max_iterations : 500;
-    if (getenv("SK_LSCM_MAXIT"))
-        ko.max_iterations = (size_t)atoi(getenv("SK_LSCM_MAXIT"));
-    sk__krylov_result kr = {0};
-    if (st == SK_OK) {
-        memset(x, 0, a->n * sizeof *x);
-        st = sk__block_pcg(&fine, mg, dim, rhs, x, &ko, &kr, err);
-    }
-    double t3 = sk_seconds();
-    if (st == SK_OK && !kr.converged)
-        st = sk__fail(err, SK_ERR_NUMERIC, "the block-preconditioned CG stopped at relative "
-                      "residual %.3g after %zu iterations (tolerance %.3g)", kr.residual,
-                      kr.iterations, ko.tolerance);
-    if (stats && mg) {
-        sk__multilevel_stats ms;
-        sk__multilevel_stats_get(mg, &ms);
-        stats->solver = o->solver;
-        stats->levels = ms.levels;
-        stats->iterations = kr.iterations;
-        stats->residual = kr.residual;
-        stats->solve.kind = SK_SOLVER_CHOLESKY;
-        stats->solve.n = a->n;
-        stats->solve.nnz = a->nnz;
-        stats->solve.factor_nnz = ms.coarse_factor_nnz;
-        stats->solve.factorizations = 1;
-        stats->solve.solves = 1;
-        stats->solve.rhs = 1;
-        stats->solve.analyse_seconds = t[1] - t[0];
-        stats->solve.factor_seconds = t2 - t[1];
-        stats->solve.solve_seconds = t3 - t2;
-    }
-    sk__multilevel_destroy(&mg);
-    sk__csr_free(&blk);
-    sk__csr_free(&fine);
-    return st;
-}
-
 sk_status sk__param_solve_amg(const sk_sparse *a, bool symmetric, unsigned dim, size_t nrhs,
                               const double *rhs, double *x, const sk_param_opts *o,
                               sk_param_stats *stats, sk_error *err)
 {
-    if (dim == 2 && symmetric && nrhs == 1 && getenv("SK_LSCM_BLOCK"))
-        return solve_block(a, dim, rhs, x, o, stats, err);
     double t[2] = {sk_seconds(), 0};
     sk__csr fine = {0};
     sk__multilevel *mg = NULL;

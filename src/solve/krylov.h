@@ -88,14 +88,4 @@ sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b,
                                const sk__krylov_opts *opts, sk__krylov_result *res,
                                sk_error *err);
 
-/* Flexible preconditioned CG on the square system a x = b of dim interleaved components
- * (unknown dim * i + c is component c of point i, a->rows = dim x mg's finest rows), from the
- * given x, preconditioned by mg's cycle applied to each component separately (the components in
- * parallel): mg holds a scalar operator close to a's component blocks, e.g. the cotangent
- * Laplacian of LSCM's Dirichlet part. Stops at ||b - a x|| <= tolerance ||b|| or
- * max_iterations (level_iterations unused). */
-sk_status sk__block_pcg(const sk__csr *a, sk__multilevel *mg, unsigned dim, const double *b,
-                        double *x, const sk__krylov_opts *opts, sk__krylov_result *res,
-                        sk_error *err);
-
 #endif

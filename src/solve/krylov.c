@@ -280,6 +280,11 @@ struct sk__multilevel {
     sk__csr *P;    /* L-1 prolongations */
     sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T */
     double **dinv; /* 1 / diagonal per level (0 for a zero diagonal: that unknown is not smoothed) */
+    size_t **upper; /* per level and row: the first entry right of the diagonal */
+    float **fval;   /* per level above the coarsest: the values over fscale in single
+                     * precision, which the cycle's sweeps and residuals read (a third less memory
+                     * traffic; the Krylov iterations keep the double values) */
+    double *fscale; /* per level: a power of two near the largest value (no float overflow) */
     sk_sparse *coarse;
     sk_solver *solver;
     double scale;   /* of the coarse correction (1 = the plain V-cycle) */
@@ -298,6 +303,10 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
             sk__csr_free(&mg->A[k]);
         if (mg->dinv)
             sk__free(mg->dinv[k]);
+        if (mg->upper)
+            sk__free(mg->upper[k]);
+        if (mg->fval)
+            sk__free(mg->fval[k]);
         if (k + 1 < mg->L) {
             if (mg->P)
                 sk__csr_free(&mg->P[k]);
@@ -309,6 +318,9 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
     sk__free(mg->P);
     sk__free(mg->R);
     sk__free(mg->dinv);
+    sk__free(mg->upper);
+    sk__free(mg->fval);
+    sk__free(mg->fscale);
     sk_solver_destroy(&mg->solver);
     sk_sparse_destroy(&mg->coarse);
     sk__free(mg);
@@ -376,6 +388,39 @@ done:
     return st;
 }
 
+/* Level k's smoother data: 1 / diagonal, the first entry right of the diagonal per row, and
+ * above the coarsest level the single-precision values over a power of two near the largest. */
+static sk_status smoother_setup(sk__multilevel *mg, size_t k, sk_error *err)
+{
+    const sk__csr *a = &mg->A[k];
+    size_t nnz = a->ptr[a->rows];
+    mg->dinv[k] = sk__calloc_array(a->rows ? a->rows : 1, sizeof(double));
+    mg->upper[k] = sk__malloc_array(a->rows ? a->rows : 1, sizeof(size_t));
+    if (k > 0)
+        mg->fval[k] = sk__malloc_array(nnz ? nnz : 1, sizeof(float));
+    if (!mg->dinv[k] || !mg->upper[k] || (k > 0 && !mg->fval[k]))
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    double big = 0;
+    for (size_t q = 0; q < nnz; ++q)
+        big = fmax(big, fabs(a->val[q]));
+    int e = 0;
+    if (isfinite(big) && big > 0)
+        frexp(big, &e);
+    double sc = mg->fscale[k] = ldexp(1, e);
+    for (size_t q = 0; k > 0 && q < nnz; ++q)
+        mg->fval[k][q] = (float)(a->val[q] / sc);
+    for (size_t i = 0; i < a->rows; ++i) {
+        size_t q = a->ptr[i];
+        for (; q < a->ptr[i + 1] && a->col[q] <= i; ++q)
+            if (a->col[q] == i && a->val[q] != 0) /* the sweeps' own (single) diagonal */
+                mg->dinv[k][i] = k == 0 ? 1.0 / a->val[q]
+                               : mg->fval[k][q] != 0 ? 1.0 / (sc * (double)mg->fval[k][q])
+                                                     : 0;
+        mg->upper[k][i] = q;
+    }
+    return SK_OK;
+}
+
 sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, size_t L,
                                 bool symmetric, sk__multilevel **out, sk_error *err)
 {
@@ -392,8 +437,12 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
         mg->P = sk__calloc_array(L, sizeof *mg->P);
         mg->R = sk__calloc_array(L, sizeof *mg->R);
         mg->dinv = sk__calloc_array(L, sizeof *mg->dinv);
+        mg->upper = sk__calloc_array(L, sizeof *mg->upper);
+        mg->fval = sk__calloc_array(L, sizeof *mg->fval);
+        mg->fscale = sk__calloc_array(L, sizeof *mg->fscale);
     }
-    if (!mg || !mg->A || !mg->P || !mg->R || !mg->dinv) {
+    if (!mg || !mg->A || !mg->P || !mg->R || !mg->dinv || !mg->upper || !mg->fval ||
+        !mg->fscale) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         if (mg) /* keep the ownership promise */
             mg->L = 0;
@@ -434,17 +483,9 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
         }
     }
     for (size_t k = 0; k < L; ++k) {
-        const sk__csr *a = &mg->A[k];
-        mg->dinv[k] = sk__calloc_array(a->rows ? a->rows : 1, sizeof(double));
-        if (!mg->dinv[k]) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        if ((st = smoother_setup(mg, k, err)))
             goto done;
-        }
-        for (size_t i = 0; i < a->rows; ++i)
-            for (size_t q = a->ptr[i]; q < a->ptr[i + 1]; ++q)
-                if (a->col[q] == i && a->val[q] != 0)
-                    mg->dinv[k][i] = 1.0 / a->val[q];
-        mg->stats.operator_nnz += a->ptr[a->rows];
+        mg->stats.operator_nnz += mg->A[k].ptr[mg->A[k].rows];
     }
     mg->stats.levels = L;
     mg->stats.unknowns[0] = mg->A[0].rows;
@@ -554,23 +595,67 @@ static double dot(size_t n, const double *a, const double *b)
     return s;
 }
 
-static void gs_forward(const sk__csr *a, const double *dinv, const double *b, double *x)
+/* y = a x with the values sc val (the cycle's single-precision copy). */
+static void cycle_multiply(const sk__csr *a, const float *val, double sc, const double *x,
+                           double *y)
 {
-    for (size_t i = 0; i < a->rows; ++i) {
-        double s = b[i];
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 4096) if (a->rows > 100000)
+#endif
+    for (long i = 0; i < (long)a->rows; ++i) {
+        double s = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
-            s -= a->val[k] * x[a->col[k]];
-        x[i] += s * dinv[i];
+            s += (double)val[k] * x[a->col[k]];
+        y[i] = sc * s;
     }
 }
 
-static void gs_backward(const sk__csr *a, const double *dinv, const double *b, double *x)
+static void gs_forward(const sk__csr *a, const float *val, double sc, const double *dinv,
+                       const double *b, double *x)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s += (double)val[k] * x[a->col[k]];
+        x[i] += (b[i] - sc * s) * dinv[i];
+    }
+}
+
+/* The first forward sweep from x = 0 (only the entries left of the diagonal are read), then
+ * t = b - a x from it: after row i's update b_i minus its row's sum through the diagonal is
+ * zero (up to rounding) unless the row is not smoothed, so only the entries right of the
+ * diagonal are read: one pass over the matrix instead of two. */
+static void gs_forward_zero_residual(const sk__csr *a, const float *val, double sc,
+                                     const double *dinv, const size_t *upper, const double *b,
+                                     double *x, double *t)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        size_t end = upper[i];
+        if (end > a->ptr[i] && a->col[end - 1] == i)
+            --end; /* the diagonal: x_i is still zero */
+        for (size_t k = a->ptr[i]; k < end; ++k)
+            s += (double)val[k] * x[a->col[k]];
+        s = b[i] - sc * s;
+        x[i] = s * dinv[i];
+        t[i] = dinv[i] == 0 ? s : 0;
+    }
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k)
+            s += (double)val[k] * x[a->col[k]];
+        t[i] -= sc * s;
+    }
+}
+
+static void gs_backward(const sk__csr *a, const float *val, double sc, const double *dinv,
+                        const double *b, double *x)
 {
     for (size_t i = a->rows; i-- > 0;) {
-        double s = b[i];
+        double s = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
-            s -= a->val[k] * x[a->col[k]];
-        x[i] += s * dinv[i];
+            s += (double)val[k] * x[a->col[k]];
+        x[i] += (b[i] - sc * s) * dinv[i];
     }
 }
 
@@ -610,14 +695,14 @@ static void kcycle(sk__multilevel *mg, size_t j, const double *r, double *x, wor
     double *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
            *u = w->kc[4][j];
     vcycle(mg, j, r, c, w);
-    sk__csr_multiply(a, c, v);
+    cycle_multiply(a, mg->fval[j], mg->fscale[j], c, v);
     double rho1 = dot(n, c, v), t1 = rho1 > 0 ? dot(n, c, r) / rho1 : 1;
     for (size_t i = 0; i < n; ++i)
         r2[i] = r[i] - t1 * v[i];
     double gam = 0, t2 = 0;
     if (rho1 > 0 && dot(n, r2, r2) > 0.0625 * dot(n, r, r)) {
         vcycle(mg, j, r2, d, w);
-        sk__csr_multiply(a, d, u);
+        cycle_multiply(a, mg->fval[j], mg->fscale[j], d, u);
         gam = dot(n, d, v);
         double rho2 = dot(n, d, u) - gam * gam / rho1;
         if (rho2 > 0) {
@@ -638,17 +723,22 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
     }
     const sk__csr *a = &mg->A[k];
     size_t n = a->rows;
-    memset(z, 0, n * sizeof *z);
-    for (int s = 0; s < SK_MG_SWEEPS; ++s)
-        gs_forward(a, mg->dinv[k], r, z);
     double *t = w->t[k];
+    /* the first sweep from zero, fused with the first residual */
+    const float *fv = mg->fval[k];
+    double sc = mg->fscale[k];
+    gs_forward_zero_residual(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t);
+    for (int s = 1; s < SK_MG_SWEEPS; ++s)
+        gs_forward(a, fv, sc, mg->dinv[k], r, z);
     /* gamma coarse corrections (a W-cycle for 2); one when the coarse level is solved exactly
      * (a second would be zero) */
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
     for (unsigned c = 0; c < cycles; ++c) {
-        sk__csr_multiply(a, z, t);
-        for (size_t i = 0; i < n; ++i)
-            t[i] = r[i] - t[i];
+        if (c > 0 || SK_MG_SWEEPS > 1) {
+            cycle_multiply(a, fv, sc, z, t);
+            for (size_t i = 0; i < n; ++i)
+                t[i] = r[i] - t[i];
+        }
         sk__csr_multiply(&mg->R[k - 1], t, w->r[k - 1]);
         if (mg->kcycle && k - 1 > 0)
             kcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
@@ -657,7 +747,7 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
         prolong_add(&mg->P[k - 1], mg->scale, w->z[k - 1], z);
     }
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
-        gs_backward(a, mg->dinv[k], r, z);
+        gs_backward(a, fv, sc, mg->dinv[k], r, z);
 }
 
 /* Preconditioned CG on level k from the given x; returns the iterations, *relres the true

@@ -253,6 +253,49 @@ static void test_solve_matches_cholmod(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* The cycle's single-precision copy of each level is taken over a power of two near its largest
+ * value: the same Laplacian times 2^900 (far above float's range) converges in about as many
+ * iterations (rounding differs) to the same solution over 2^900. */
+static void test_cycle_scaled_far_beyond_float(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("mushroom.off"));
+    size_t n = m->num_vertices;
+    double big = ldexp(1, 900);
+    double *b = malloc(n * sizeof *b), *x[2] = {malloc(n * sizeof(double)),
+                                                malloc(n * sizeof(double))};
+    for (size_t v = 0; v < n; ++v)
+        b[v] = m->positions[3 * v] - 0.3 * m->positions[3 * v + 1];
+    size_t its[2];
+    for (int k = 0; k < 2; ++k) {
+        sk__csr fine = {0};
+        mesh_laplacian(m, 1, 1e-3, &fine);
+        for (size_t q = 0; k == 1 && q < fine.ptr[fine.rows]; ++q)
+            fine.val[q] *= big;
+        sk__amg_opts ao = {.coarse_max = 200};
+        sk__multilevel *mg = NULL;
+        assert_int_equal(sk__amg_create(&fine, &ao, true, &mg, NULL), SK_OK);
+        sk__multilevel_set_cycle(mg, 1.5, 1, true);
+        sk__krylov_opts ko = {1e-12, 300, 2};
+        sk__krylov_result kr;
+        assert_int_equal(sk__multilevel_solve(mg, 1, b, x[k], &ko, &kr, NULL), SK_OK);
+        assert_true(kr.converged);
+        its[k] = kr.iterations;
+        sk__multilevel_destroy(&mg);
+    }
+    assert_true(its[0] >= 2);
+    assert_true(its[1] <= its[0] + 4 && its[0] <= its[1] + 4);
+    for (size_t i = 0; i < n; ++i) {
+        assert_true(isfinite(x[1][i]));
+        if (!(fabs(x[1][i] * big - x[0][i]) <= 1e-9 * (1 + fabs(x[0][i]))))
+            fail_msg("x[%zu] = %.17g (scaled back), unscaled %.17g", i, x[1][i] * big, x[0][i]);
+    }
+    free(b);
+    free(x[0]);
+    free(x[1]);
+    sk_mesh_destroy(&m);
+}
+
 /* The sparse product on rows enough for its parallel passes (30000): every row's columns
  * strictly increasing, (A B) x = A (B x) for a varied x, and the nonzeros of the product those of
  * the product of the patterns (a row of A times the rows of B it picks). */
@@ -312,6 +355,7 @@ int main(void)
         cmocka_unit_test(test_galerkin_zero_row_sums),
         cmocka_unit_test(test_blocks_like_scalar),
         cmocka_unit_test(test_solve_matches_cholmod),
+        cmocka_unit_test(test_cycle_scaled_far_beyond_float),
         cmocka_unit_test(test_product_matches_matvec),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

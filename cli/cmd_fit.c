@@ -28,6 +28,9 @@ static const char examples[] =
     "  surfkit fit data/nefertiti.off -o nefertiti.step --tolerance-rel 0.05\n"
     "  surfkit fit data/nefertiti.off -o nefertiti.igs --tolerance-rel 0.05 --degree 4 --json\n";
 
+/* Cells per side of the tessellation at most (sk_fit_tessellate): the deviation's cost. */
+#define TESS_SIDE 1024
+
 typedef struct fit_run {
     const char *in, *out, *method;
     sk_fit_stats fs;
@@ -36,7 +39,7 @@ typedef struct fit_run {
     int degree;
     size_t bytes;
     double chord;    /* bound on the tessellation's chord error */
-    unsigned tess_n; /* grid of the tessellation (deviation, mesh output) */
+    size_t tess_nu, tess_nv; /* cells of the tessellation (deviation, mesh output) */
     bool area_auto;
     double seconds_write, seconds_deviation, seconds;
 } fit_run;
@@ -83,7 +86,9 @@ static void write_json(FILE *fp, const void *ctx)
     json_knum(&j, "surface_to_mesh_rms", x->dev.surface_to_mesh.rms);
     json_obj_close(&j);
     json_kuint(&j, "bytes", x->bytes);
-    json_kuint(&j, "tessellation", x->tess_n);
+    json_kuint(&j, "tessellation", x->tess_nu > x->tess_nv ? x->tess_nu : x->tess_nv);
+    json_kuint(&j, "tessellation_nu", x->tess_nu);
+    json_kuint(&j, "tessellation_nv", x->tess_nv);
     json_knum(&j, "tessellation_chord_bound", x->chord);
     json_knum(&j, "seconds_param", x->fs.seconds_param);
     json_knum(&j, "seconds_fit", x->fs.seconds_fit);
@@ -153,10 +158,6 @@ static bool out_kind_of(const char *path, out_kind *k)
     return true;
 }
 
-/* Bound on the second derivatives of s in the direction (1, 1) of the parameter square, from
- * its control net: |S_uu| <= max |second difference along u| / h_u^2 (h_u the shortest knot
- * span; exact for uniform knots up to the end spans), likewise S_vv and S_uv. */
-
 static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
 
 /* argv -> options */
@@ -177,8 +178,8 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
         OPT_OUTPUT(x->out, "OUT",
                    ".step/.stp: STEP AP214, one B_SPLINE_SURFACE_WITH_KNOTS as the face of an\n"
                    "open shell; .igs/.iges: IGES 5.3, one entity 128; .obj/.ply/.off/.stl: a\n"
-                   "tessellation of the surface (chord error below 1/20 of the tolerance, 64 to\n"
-                   "512 per side)"),
+                   "tessellation of the surface (each knot span split as finely as a bound on\n"
+                   "its chord error below 1/20 of the tolerance needs, 64 to 1024 per side)"),
         OPT_DOUBLE("--tolerance", a->fo.tolerance, 0, 0, CLI_LO_OPEN, "T",
                    "largest distance between surface and mesh, model units"),
         OPT_DOUBLE("--tolerance-rel", a->fo.tolerance_rel, 0, 1, CLI_LO_OPEN, "R",
@@ -206,8 +207,8 @@ static int parse_args(int argc, char **argv, fit_run *x, fit_args *a)
         OPT_CHOICE("--units", units, "mm|cm|m|um|in|ft",
                    "CAD length unit of the coordinates (default mm)"),
         OPT_FILE("--tessellation", a->tess_path, "MESH",
-                 "also writes the tessellation (as -o does for a mesh file): vertex (i, j) of\n"
-                 "the N x N grid is the surface point at (u, v) = (i / N, j / N)"),
+                 "also writes the tessellation (as -o does for a mesh file): vertex (i, j) is\n"
+                 "the surface point at (u_i, v_j), the lines dividing each knot span evenly"),
         OPT_FILE("--report", a->report, "FILE", "the summary as JSON in FILE"),
         OPT_FLAG("--json", a->json, "print the summary as JSON instead"),
         OPT_FLAG("-q", a->quiet, "no progress bar, no summary"),
@@ -279,33 +280,26 @@ int cmd_fit(int argc, char **argv)
     }
     cli_progress_done(&bar);
     if (!st) {
-        x.nu = s->nu, x.nv = s->nv, x.degree = s->degree_u, x.tess_n = sk_bspline_tessellation_grid(s, x.fs.tolerance, &x.chord);
+        x.nu = s->nu, x.nv = s->nv, x.degree = s->degree_u;
+        sk_fit_tessellation ti = {0};
+        st = sk_fit_tessellate(s, x.fs.tolerance, TESS_SIDE, &tess, &ti, &err);
+        x.tess_nu = ti.nu, x.tess_nv = ti.nv, x.chord = ti.chord;
         double tw = sk_seconds();
         sk_export_stats es = {0};
-        if (kind == OUT_STEP) {
+        if (!st && kind == OUT_STEP)
             st = sk_export_bspline_step(x.out, s, &eo, &es, &err);
-        } else if (kind == OUT_IGES) {
+        else if (!st && kind == OUT_IGES)
             st = sk_export_bspline_iges(x.out, s, &eo, &es, &err);
-        } else {
-            st = sk_bspline_tessellate(s, x.tess_n, &tess, &err);
-            if (!st)
-                st = sk_soup_write(x.out, tess, NULL, &err);
-        }
-        if (!st && tess_path) {
-            if (!tess)
-                st = sk_bspline_tessellate(s, x.tess_n, &tess, &err);
-            if (!st)
-                st = sk_soup_write(tess_path, tess, NULL, &err);
-        }
+        else if (!st)
+            st = sk_soup_write(x.out, tess, NULL, &err);
+        if (!st && tess_path)
+            st = sk_soup_write(tess_path, tess, NULL, &err);
         x.bytes = es.bytes;
         x.seconds_write = sk_seconds() - tw;
     }
     if (!st) {
         double td = sk_seconds();
-        if (!tess)
-            st = sk_bspline_tessellate(s, x.tess_n, &tess, &err);
-        if (!st)
-            st = sk_deviation(tess, ms, NULL, &x.dev, NULL, &err);
+        st = sk_deviation(tess, ms, NULL, &x.dev, NULL, &err);
         x.seconds_deviation = sk_seconds() - td;
         if (x.dev.hausdorff > x.fs.tolerance)
             x.fs.met = false; /* what the summary shows decides, not the fit's own grid */

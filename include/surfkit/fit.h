@@ -99,6 +99,21 @@ typedef struct sk_fit_stats {
 SK_API sk_status sk_fit_bspline(const sk_mesh *disk, const sk_fit_opts *opts, sk_bspline_surface **out,
                                 sk_fit_stats *stats, sk_error *err);
 
+/* A knot-adaptive tessellation of a fitted surface (sk_fit_tessellate). */
+typedef struct sk_fit_tessellation {
+    size_t nu, nv; /* cells along u and v: (nu + 1) (nv + 1) vertices, 2 nu nv triangles */
+    double chord;  /* bound on the distance between the surface and the triangles */
+} sk_fit_tessellation;
+
+/* Triangles of s whose chord error stays below tol / 20 by a bound per knot cell (the largest
+ * second- and mixed-derivative control points over the cell): each knot span split evenly,
+ * as finely as the worst cell of its row or column needs, at least 4 per span and 64 per side,
+ * at most max_side (2..4096) per side (info->chord then gives the bound reached). Vertex
+ * (i, j) is S(u_i, v_j) with its unit normal and (u_i, v_j) as its uv, in rows of constant v.
+ * info may be NULL. */
+SK_API sk_status sk_fit_tessellate(const sk_bspline_surface *s, double tol, size_t max_side,
+                                   sk_soup **out, sk_fit_tessellation *info, sk_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,6 +1,7 @@
 /* B-spline fitting of a disk (fit.h): corners, square parametrization, least squares with a
  * thin-plate term, hierarchical knot refinement. */
 #include "surfkit/fit.h"
+#include "fit/bspline_internal.h"
 #include "surfkit/deviation.h"
 #include "surfkit/mips.h"
 #include "surfkit/param.h"
@@ -289,34 +290,46 @@ static double residuals(const sk_bspline_surface *s, const samples *x, double to
     return mx;
 }
 
-/* Surface points per direction of the check that confirms a fit within T: as dense as the
- * finest tessellation the CLI measures, since a wiggle between the coarse grid's points (near
- * a corner or where the map crowds the data) is there a distance the report shows. */
-#define DENSE_GRID 512
+/* Lines per side of the check that confirms a fit within T at most: the knot-adaptive grid of
+ * the CLI's tessellation (sk_fit_tessellate), whose chord bound is T / 20 where it is reached,
+ * so that a wiggle between the coarse grid's points (near a corner, or where the map crowds
+ * the data into small knot cells) is found where the report would show it. */
+#define DENSE_SIDE 1024
+
+/* The distance of S(u, v) to the mesh; scores the spans of (u, v) when it is beyond tol. */
+static double stray_at(const sk_bspline_surface *s, const sk_bvh *mesh, double u, double v,
+                       double tol, double *score_u, double *score_v)
+{
+    double p[3];
+    sk_bspline_eval(s, u, v, p, NULL, NULL);
+    sk_closest c;
+    sk_bvh_closest(mesh, p, &c);
+    if (c.distance > tol) {
+        score_at(s->knots_u, s->nu, s->degree_u, u, c.distance, score_u);
+        score_at(s->knots_v, s->nv, s->degree_v, v, c.distance, score_v);
+    }
+    return c.distance;
+}
 
 /* The other direction: the largest distance from a grid of surface points (4 per knot span and
- * direction, at most 512; DENSE_GRID per direction when dense) to the mesh; scores the spans of
+ * direction, at most 512; the knot-adaptive lines when dense) to the mesh; scores the spans of
  * the points farther than tol, where the surface strays from the mesh between the samples. */
-static double stray(const sk_bspline_surface *s, const sk_bvh *mesh, double tol, bool dense,
-                    double *score_u, double *score_v)
+static sk_status stray(const sk_bspline_surface *s, const sk_bvh *mesh, double tol, bool dense,
+                       double *score_u, double *score_v, double *out, sk_error *err)
 {
+    sk__fit_lines l = {0};
+    sk_status st = dense ? sk__fit_lines_make(s, tol, DENSE_SIDE, &l, err) : SK_OK;
     size_t gu = 4 * (s->nu - (size_t)s->degree_u), gv = 4 * (s->nv - (size_t)s->degree_v);
-    gu = dense || gu > DENSE_GRID ? DENSE_GRID : gu;
-    gv = dense || gv > DENSE_GRID ? DENSE_GRID : gv;
+    gu = dense ? l.nu : gu > 512 ? 512 : gu;
+    gv = dense ? l.nv : gv > 512 ? 512 : gv;
     double mx = 0;
-    for (size_t j = 0; j <= gv; ++j)
-        for (size_t i = 0; i <= gu; ++i) {
-            double u = (double)i / (double)gu, v = (double)j / (double)gv, p[3];
-            sk_bspline_eval(s, u, v, p, NULL, NULL);
-            sk_closest c;
-            sk_bvh_closest(mesh, p, &c);
-            mx = fmax(mx, c.distance);
-            if (c.distance > tol) {
-                score_at(s->knots_u, s->nu, s->degree_u, u, c.distance, score_u);
-                score_at(s->knots_v, s->nv, s->degree_v, v, c.distance, score_v);
-            }
-        }
-    return mx;
+    for (size_t j = 0; !st && j <= gv; ++j)
+        for (size_t i = 0; i <= gu; ++i)
+            mx = fmax(mx, stray_at(s, mesh, dense ? l.u[i] : (double)i / (double)gu,
+                                   dense ? l.v[j] : (double)j / (double)gv, tol, score_u, score_v));
+    sk__fit_lines_free(&l);
+    *out = mx;
+    return st;
 }
 
 static int cmp_desc(const void *a, const void *b)
@@ -386,8 +399,7 @@ static sk_status fit_weight(const sk_mesh *disk, const double *uv, const sk_bvh 
     memset(sv, 0, (s->nv + 1) * sizeof *sv);
     fs->samples = x->n;
     fs->max_error = residuals(s, x, fs->tolerance, su, sv, &fs->rms_error);
-    fs->surface_to_mesh = stray(s, bvh, fs->tolerance, false, su, sv);
-    return SK_OK;
+    return stray(s, bvh, fs->tolerance, false, su, sv, &fs->surface_to_mesh, err);
 }
 
 /* A round: s fitted with each smoothing weight tried, the one with the smallest deviation
@@ -555,7 +567,9 @@ static sk_status fit_map(const sk_mesh *disk, const double *uv, const sk_bvh *bv
         if (fs->met) { /* confirmed on the dense grid, or refined where that finds a stray */
             memset(score_u, 0, (s->nu + 1) * sizeof *score_u);
             memset(score_v, 0, (s->nv + 1) * sizeof *score_v);
-            fs->surface_to_mesh = stray(s, bvh, fs->tolerance, true, score_u, score_v);
+            if ((st = stray(s, bvh, fs->tolerance, true, score_u, score_v, &fs->surface_to_mesh,
+                            err)))
+                break;
             fs->met = fs->surface_to_mesh <= fs->tolerance;
         }
         if (fs->met || r == rounds)

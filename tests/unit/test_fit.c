@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 static void basis(void **state)
 {
@@ -289,6 +290,90 @@ static void bad_input(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* The largest distance between s and the triangles of its tessellation t at points of each
+ * triangle (its centroid and edge midpoints), the (u, v) of a point interpolated as its
+ * position is. */
+static double measured_chord(const sk_bspline_surface *s, const sk_soup *t)
+{
+    static const double bary[4][3] = {{1 / 3.0, 1 / 3.0, 1 / 3.0}, {0.5, 0.5, 0}, {0, 0.5, 0.5},
+                                      {0.5, 0, 0.5}};
+    double mx = 0;
+    for (size_t f = 0; f < t->num_faces; ++f) {
+        const uint32_t *c = t->face_indices + t->face_offsets[f];
+        for (int b = 0; b < 4; ++b) {
+            double uv[2] = {0, 0}, lin[3] = {0, 0, 0}, p[3];
+            for (int k = 0; k < 3; ++k) {
+                for (int d = 0; d < 3; ++d)
+                    lin[d] += bary[b][k] * t->positions[3 * (size_t)c[k] + (size_t)d];
+                for (int d = 0; d < 2; ++d)
+                    uv[d] += bary[b][k] * t->uvs[2 * (size_t)c[k] + (size_t)d];
+            }
+            sk_bspline_eval(s, uv[0], uv[1], p, NULL, NULL);
+            mx = fmax(mx, sqrt((p[0] - lin[0]) * (p[0] - lin[0]) + (p[1] - lin[1]) * (p[1] - lin[1]) +
+                               (p[2] - lin[2]) * (p[2] - lin[2])));
+        }
+    }
+    return mx;
+}
+
+/* sk_fit_tessellate on a surface with uneven knots and a sharp bump in one corner: the grid
+ * counts, every knot on a line, the chord bound below tol / 20 and above the chord measured at
+ * points of every triangle; the bump's spans split more finely than the flat ones; a side
+ * capped below what the bound needs says so in its chord. */
+static void adaptive_tessellation(void **state)
+{
+    (void)state;
+    sk_bspline_surface *s = NULL;
+    assert_int_equal(sk_bspline_create(3, 3, 9, 8, &s, NULL), SK_OK);
+    const double ku[] = {0, 0, 0, 0, 0.05, 0.1, 0.2, 0.5, 0.75, 1, 1, 1, 1};
+    memcpy(s->knots_u, ku, sizeof ku);
+    for (size_t j = 0; j < s->nv; ++j)
+        for (size_t i = 0; i < s->nu; ++i) {
+            double *p = s->points + 3 * (i + s->nu * j);
+            p[0] = (double)i / 8, p[1] = (double)j / 7;
+            p[2] = (i == 1 && j == 2 ? 0.3 : 0) + 0.02 * sin(3.0 * (double)(i + j));
+        }
+    const double tol = 4e-3;
+    sk_soup *t = NULL;
+    sk_fit_tessellation ti;
+    assert_int_equal(sk_fit_tessellate(s, tol, 1024, &t, &ti, NULL), SK_OK);
+    assert_int_equal(t->num_vertices, (ti.nu + 1) * (ti.nv + 1));
+    assert_int_equal(t->num_faces, 2 * ti.nu * ti.nv);
+    assert_true(ti.nu >= 64 && ti.nv >= 64 && ti.nu <= 1024 && ti.nv <= 1024);
+    for (size_t k = 0; k < sizeof ku / sizeof *ku; ++k) { /* each knot is a line of row 0 */
+        bool on = false;
+        for (size_t i = 0; i <= ti.nu; ++i)
+            on = on || t->uvs[2 * i] == ku[k];
+        assert_true(on);
+    }
+    /* the lines of the bump's span [0.05, 0.1] are closer than those of [0.75, 1] */
+    double h_bump = 1, h_flat = 1;
+    for (size_t i = 0; i < ti.nu; ++i) {
+        double a = t->uvs[2 * i], h = t->uvs[2 * i + 2] - a;
+        if (a >= 0.05 && a < 0.1)
+            h_bump = fmin(h_bump, h);
+        if (a >= 0.75)
+            h_flat = fmin(h_flat, h);
+    }
+    assert_true(h_bump < 0.5 * h_flat);
+    double measured = measured_chord(s, t);
+    print_message("adaptive tessellation %zu x %zu: chord bound %.3g, measured %.3g (tol %.3g)\n",
+                  ti.nu, ti.nv, ti.chord, measured, tol);
+    assert_true(ti.chord <= tol / 20 * (1 + 1e-12));
+    assert_true(measured > 0 && measured <= ti.chord);
+    sk_soup_destroy(&t);
+    /* capped at 40 a side: the bound rises above tol / 20 and still holds */
+    assert_int_equal(sk_fit_tessellate(s, tol, 40, &t, &ti, NULL), SK_OK);
+    assert_true(ti.nu <= 40 && ti.nv <= 40);
+    measured = measured_chord(s, t);
+    assert_true(ti.chord > tol / 20 && measured <= ti.chord);
+    sk_soup_destroy(&t);
+    sk_soup *bad = NULL;
+    assert_int_equal(sk_fit_tessellate(s, tol, 1, &bad, NULL, NULL), SK_ERR_ARG);
+    assert_null(bad);
+    sk_bspline_destroy(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -300,6 +385,7 @@ int main(void)
         cmocka_unit_test(auto_map),
         cmocka_unit_test(control_point_cap),
         cmocka_unit_test(bad_input),
+        cmocka_unit_test(adaptive_tessellation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -462,22 +462,45 @@ static int cmp_u64(const void *x, const void *y)
 /* Charts per wave at most (bounds the chart meshes held at once to about one mesh's size). */
 #define WAVE_MAX 4096
 
-/* Parametrizes the wave's charts, in parallel over charts (each solve then runs on one thread:
+/* A chart of more than this many times the triangles of all smaller charts of its wave left
+ * together is parametrized alone, with every thread in its solver's loops (the colours of the
+ * MIPS sweeps, the energies, the corner records): run on one thread beside them it would keep
+ * the other threads idle once they are done (1 wave of the 1M blobby atlas: one chart) */
+#define SOLO_RATIO 2.0
+
+/* Parametrizes the wave's charts: the dominant ones (SOLO_RATIO) one after another with the
+ * threads inside each, then the others in parallel over charts (each solve then on one thread:
  * tiny parallel regions inside every chart's solver cost more than they give). */
 static void param_wave(pending *b, size_t nb, double max_conf, double max_stretch, bool lscm_first,
                        double area_theta, uint64_t seed)
 {
     /* largest charts first, so that no large solve starts last while the other threads idle
-     * (each chart's result depends only on the chart: the atlas is the same for any order) */
+     * (each chart's result depends only on the chart, not on the order or the threads: the
+     * atlas is the same for any) */
     uint64_t order[WAVE_MAX];
-    for (size_t i = 0; i < nb; ++i)
+    size_t rest = 0, solo = 0;
+    for (size_t i = 0; i < nb; ++i) {
         order[i] = (uint64_t)(UINT32_MAX - b[i].chart->num_faces) << 32 | i;
+        rest += b[i].chart->num_faces;
+    }
     qsort(order, nb, sizeof *order, cmp_u64);
+    while (solo < nb) {
+        size_t f = b[(uint32_t)order[solo]].chart->num_faces;
+        rest -= f;
+        if (solo + 1 < nb && !((double)f > SOLO_RATIO * (double)rest))
+            break;
+        solo++;
+    }
     int blas = sk__blas_serial_begin();
+    for (size_t i = 0; i < solo; ++i) {
+        pending *p = b + (uint32_t)order[i];
+        p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, area_theta,
+                           &p->cuv, &p->q, &p->split, &p->s, &p->err);
+    }
 #if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (nb > 1)
+#pragma omp parallel for schedule(dynamic, 1) if (nb - solo > 1)
 #endif
-    for (long i = 0; i < (long)nb; ++i) {
+    for (long i = (long)solo; i < (long)nb; ++i) {
         pending *p = b + (uint32_t)order[i];
         p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, area_theta, &p->cuv,
                            &p->q, &p->split, &p->s, &p->err);

@@ -95,6 +95,9 @@ static bool move_into_kernel(const sk_mesh *m, double *uv, uint32_t v)
     return true;
 }
 
+/* Faces per block of the parallel search for failing faces. */
+#define REPAIR_BLOCK 2048
+
 /* True when face f (alive) fails the margin at one of its corners. */
 static bool face_bad(const sk_mesh *m, const double *uv, uint32_t f, uint32_t w[3])
 {
@@ -111,37 +114,54 @@ static bool face_bad(const sk_mesh *m, const double *uv, uint32_t f, uint32_t w[
  * their one rings, a few rounds; returns the number of moves, or -1 when some remain inverted. */
 long sk__mips_repair(const sk_mesh *m, double *uv)
 {
-    long moved = 0, nf = (long)m->num_faces;
+    long moved = -1, done = 0;
+    size_t nf = m->num_faces, nb = (nf + REPAIR_BLOCK - 1) / REPAIR_BLOCK;
+    uint8_t *flag = sk__malloc_array(nb ? nb : 1, 1); /* (NULL: every block scanned) */
     for (int round = 0; round < 8; ++round) {
-        /* the first failing face, found in parallel (read only; the minimum is the same for any
-         * thread count): none ends the repair, else the scan below starts there */
-        long first = LONG_MAX;
+        /* the blocks holding a face that fails the margin, found in parallel (read only). A
+         * move makes every triangle around its vertex pass and changes no other, so the faces
+         * that fail later in the scan below are among those failing now: visiting only the
+         * flagged blocks does what a scan over all faces does */
+        bool any = flag == NULL;
+        if (flag) {
 #if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static) reduction(min : first) if (nf > 50000)
+#pragma omp parallel for schedule(static) reduction(| : any) if (nf > 50000)
 #endif
-        for (long f = 0; f < nf; ++f) {
-            uint32_t w[3];
-            if (!m->f_deleted[f] && f < first && face_bad(m, uv, (uint32_t)f, w))
-                first = f;
+            for (long b = 0; b < (long)nb; ++b) {
+                size_t f0 = (size_t)b * REPAIR_BLOCK, end = f0 + REPAIR_BLOCK < nf ? f0 + REPAIR_BLOCK : nf;
+                uint8_t fb = 0;
+                for (size_t f = f0; f < end && !fb; ++f) {
+                    uint32_t w[3];
+                    fb = !m->f_deleted[f] && face_bad(m, uv, (uint32_t)f, w);
+                }
+                flag[b] = fb;
+                any = any || fb;
+            }
         }
-        if (first == LONG_MAX)
-            return moved;
         size_t bad = 0;
         /* a scan over the faces (sequential memory); only the vertices of a face that fails the
          * margin somewhere get the one-ring test and, if needed, the move */
-        for (uint32_t f = (uint32_t)first; f < m->num_faces; ++f) {
-            uint32_t w[3];
-            if (m->f_deleted[f] || !face_bad(m, uv, f, w))
+        for (size_t b = 0; b < nb && any; ++b) {
+            if (flag && !flag[b])
                 continue;
-            for (int k = 0; k < 3; ++k) {
-                if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))
+            size_t f0 = b * REPAIR_BLOCK, end = f0 + REPAIR_BLOCK < nf ? f0 + REPAIR_BLOCK : nf;
+            for (size_t f = f0; f < end; ++f) {
+                uint32_t w[3];
+                if (m->f_deleted[f] || !face_bad(m, uv, (uint32_t)f, w))
                     continue;
-                bad++;
-                moved += move_into_kernel(m, uv, w[k]);
+                for (int k = 0; k < 3; ++k) {
+                    if (ring_ok(m, uv, w[k], uv + 2 * (size_t)w[k]))
+                        continue;
+                    bad++;
+                    done += move_into_kernel(m, uv, w[k]);
+                }
             }
         }
-        if (!bad)
-            return moved;
+        if (!bad) {
+            moved = done;
+            break;
+        }
     }
-    return -1;
+    sk__free(flag);
+    return moved;
 }

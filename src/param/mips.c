@@ -87,14 +87,25 @@ static double sweep_local(const sk__mips_ctx *c, const colouring *cl, sk__rng *r
             hi = lo + (long)(max_steps - *steps);
             *budget_left = false;
         }
-        double d = 0.0;
-        bool par = !(cl->serial_last && col == SK__MIPS_MAX_COLORS - 1) && hi - lo > 32768;
+        /* in parallel over fixed blocks of the colour (its steps are independent), the
+         * decreases added in block order: the same uv and sums for any thread count */
+        size_t n = (size_t)(hi - lo), nb = sk__mips_blocks(n);
+        double part[SK__MIPS_BLOCKS];
+        bool par = !(cl->serial_last && col == SK__MIPS_MAX_COLORS - 1) && nb > 1;
 #if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static) reduction(+ : d) if (par)
+#pragma omp parallel for schedule(dynamic, 1) if (par)
 #endif
-        for (long i = lo; i < hi; ++i)
-            d += sk__mips_local_step(c, cl->order[i], uv);
+        for (long b = 0; b < (long)nb; ++b) {
+            double db = 0.0;
+            const uint32_t *ord = cl->order + lo;
+            for (size_t i = sk__mips_block_lo(n, nb, (size_t)b); i < sk__mips_block_lo(n, nb, (size_t)b + 1); ++i)
+                db += sk__mips_local_step(c, ord[i], uv);
+            part[b] = db;
+        }
         (void)par;
+        double d = 0.0;
+        for (size_t b = 0; b < nb; ++b)
+            d += part[b];
         drop += d;
         *steps += (size_t)(hi - lo);
     }

@@ -56,6 +56,53 @@ static bool ctx_triangle(sk__mips_ctx *c, const sk_mesh *m, uint32_t f, size_t t
     return true;
 }
 
+/* The corner records in face order (any vertex, also one whose triangles form several fans);
+ * fill holds nv + 1 entries. */
+static void by_faces(sk__mips_ctx *c, uint32_t *fill)
+{
+    size_t nv = c->nv, nt = c->nt;
+    memset(c->vt_start, 0, (nv + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < 3 * nt; ++i)
+        c->vt_start[c->tri[i] + 1]++;
+    for (size_t v = 0; v < nv; ++v)
+        c->vt_start[v + 1] += c->vt_start[v];
+    memcpy(fill, c->vt_start, (nv + 1) * sizeof(uint32_t));
+    for (size_t i = 0; i < 3 * nt; ++i) {
+        size_t t3 = i - i % 3, k = i % 3;
+        sk__mips_corner r = {c->tri[t3 + (k + 1) % 3], c->tri[t3 + (k + 2) % 3], c->cot[t3 + k],
+                        c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3], c->s3[t3 / 3]};
+        c->rec[fill[c->tri[i]]++] = r;
+    }
+}
+
+/* The corner records of v's alive triangles, in ring order from v_halfedge (clockwise), into
+ * out (when non-NULL); returns their number. face_t maps a face to its triangle (NULL: the
+ * same index). */
+static uint32_t ring_records(const sk__mips_ctx *c, const sk_mesh *m, const uint32_t *face_t,
+                             uint32_t v, sk__mips_corner *out)
+{
+    uint32_t h0 = m->v_halfedge[v], h = h0, n = 0;
+    if (h0 == SK_INVALID || m->v_deleted[v])
+        return 0;
+    do {
+        uint32_t f = m->h_face[h];
+        if (f != SK_INVALID && !m->f_deleted[f]) {
+            if (out) {
+                size_t t = face_t ? face_t[f] : f, k = 0;
+                const uint32_t *tv = c->tri + 3 * t;
+                while (k < 2 && tv[k] != v)
+                    ++k;
+                const double *ct = c->cot + 3 * t;
+                out[n] = (sk__mips_corner){tv[(k + 1) % 3], tv[(k + 2) % 3], ct[k],
+                                           ct[(k + 1) % 3], ct[(k + 2) % 3], c->s3[t]};
+            }
+            n++;
+        }
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return n;
+}
+
 sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
 {
     memset(c, 0, sizeof *c);
@@ -77,7 +124,8 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
     c->rec = sk__malloc_array(3 * nt, sizeof(sk__mips_corner));
     c->movable = sk__malloc_array(nv, 1);
     c->s3 = sk__malloc_array(nt ? nt : 1, sizeof(double));
-    uint32_t *fill = sk__malloc_array(nv + 1, sizeof(uint32_t));
+    /* per face its triangle when some are deleted; per vertex a fill pointer in by_faces */
+    uint32_t *fill = sk__malloc_array((nf > nv ? nf : nv) + 1, sizeof(uint32_t));
     if (!c->tri || !c->cot || !c->vt_start || !c->rec || !c->movable || !c->s3 || !fill) {
         sk__free(fill);
         sk__mips_ctx_free(c);
@@ -104,17 +152,27 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
         return sk__fail(err, SK_ERR_TOPOLOGY, "face %ld is degenerate in 3D (zero area): MIPS is "
                         "undefined there; remove it first", bad);
     }
-    for (size_t i = 0; i < 3 * nt; ++i)
-        c->vt_start[c->tri[i] + 1]++;
+    /* the corner records per vertex, in the order of its ring (from v_halfedge, clockwise):
+     * counted and filled in parallel over the vertices, each writing only its own run (the same
+     * records for any thread count) */
+    if (nt != nf)
+        for (size_t f = 0, t = 0; f < nf; ++f)
+            fill[f] = m->f_deleted[f] ? SK_INVALID : (uint32_t)t++;
+    const uint32_t *face_t = nt != nf ? fill : NULL;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 4096) if (nv > 50000)
+#endif
+    for (long v = 0; v < (long)nv; ++v)
+        c->vt_start[v + 1] = ring_records(c, m, face_t, (uint32_t)v, NULL);
     for (size_t v = 0; v < nv; ++v)
         c->vt_start[v + 1] += c->vt_start[v];
-    memcpy(fill, c->vt_start, (nv + 1) * sizeof(uint32_t));
-    for (size_t i = 0; i < 3 * nt; ++i) {
-        size_t t3 = i - i % 3, k = i % 3;
-        sk__mips_corner r = {c->tri[t3 + (k + 1) % 3], c->tri[t3 + (k + 2) % 3], c->cot[t3 + k],
-                        c->cot[t3 + (k + 1) % 3], c->cot[t3 + (k + 2) % 3], c->s3[t3 / 3]};
-        c->rec[fill[c->tri[i]]++] = r;
-    }
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 4096) if (nv > 50000)
+#endif
+    for (long v = 0; v < (long)nv; ++v)
+        ring_records(c, m, face_t, (uint32_t)v, c->rec + c->vt_start[v]);
+    if (c->vt_start[nv] != 3 * nt) /* a vertex with several fans: the records in face order */
+        by_faces(c, fill);
     sk__free(fill);
     for (size_t v = 0; v < nv; ++v)
         c->movable[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
@@ -241,17 +299,32 @@ double sk__mips_local_step(const sk__mips_ctx *c, uint32_t v, double *uv)
 
 double sk__mips_total_energy(const sk__mips_ctx *c, const double *uv, size_t *inverted)
 {
+    size_t nt = c->nt, nb = sk__mips_blocks(nt), bad[SK__MIPS_BLOCKS];
+    double part[SK__MIPS_BLOCKS];
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 1) if (nb > 8)
+#endif
+    for (long b = 0; b < (long)nb; ++b) {
+        double e = 0.0;
+        size_t nbad = 0;
+        for (size_t t = sk__mips_block_lo(nt, nb, (size_t)b); t < sk__mips_block_lo(nt, nb, (size_t)b + 1); ++t) {
+            double et = tri_energy(c, t, uv);
+            if (isfinite(et))
+                e += et;
+            else
+                nbad++;
+        }
+        part[b] = e;
+        bad[b] = nbad;
+    }
     double e = 0.0;
-    size_t bad = 0;
-    for (size_t t = 0; t < c->nt; ++t) {
-        double et = tri_energy(c, t, uv);
-        if (isfinite(et))
-            e += et;
-        else
-            bad++;
+    size_t nbad = 0;
+    for (size_t b = 0; b < nb; ++b) {
+        e += part[b];
+        nbad += bad[b];
     }
     if (inverted)
-        *inverted = bad;
+        *inverted = nbad;
     return e;
 }
 
@@ -259,26 +332,31 @@ double sk__mips_total_energy(const sk__mips_ctx *c, const double *uv, size_t *in
  * triangle is inverted or too thin). */
 double sk__mips_total_energy_strict(const sk__mips_ctx *c, const double *uv)
 {
-    long nt = (long)c->nt;
-    double e = 0.0;
-    int bad = 0;
+    size_t nt = c->nt, nb = sk__mips_blocks(nt);
+    double part[SK__MIPS_BLOCKS];
 #if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static) reduction(+ : e) reduction(| : bad) if (nt > 100000)
+#pragma omp parallel for schedule(static, 1) if (nb > 8)
 #endif
-    for (long t = 0; t < nt; ++t) {
-        const uint32_t *v = c->tri + 3 * t;
-        const double *p0 = uv + 2 * (size_t)v[0], *p1 = uv + 2 * (size_t)v[1], *p2 = uv + 2 * (size_t)v[2];
-        if (!sk__mips_corner_ok(p0, p1, p2) || !sk__mips_corner_ok(p1, p2, p0) ||
-            !sk__mips_corner_ok(p2, p0, p1)) {
-            bad |= 1;
-            continue;
+    for (long b = 0; b < (long)nb; ++b) {
+        double e = 0.0;
+        for (size_t t = sk__mips_block_lo(nt, nb, (size_t)b); t < sk__mips_block_lo(nt, nb, (size_t)b + 1); ++t) {
+            const uint32_t *v = c->tri + 3 * t;
+            const double *p0 = uv + 2 * (size_t)v[0], *p1 = uv + 2 * (size_t)v[1],
+                         *p2 = uv + 2 * (size_t)v[2];
+            if (!sk__mips_corner_ok(p0, p1, p2) || !sk__mips_corner_ok(p1, p2, p0) ||
+                !sk__mips_corner_ok(p2, p0, p1)) {
+                e = INFINITY;
+                break;
+            }
+            e += tri_energy(c, t, uv);
         }
-        e += tri_energy(c, (size_t)t, uv);
+        part[b] = e;
     }
-    return bad ? INFINITY : e;
+    double e = 0.0;
+    for (size_t b = 0; b < nb; ++b)
+        e += part[b];
+    return e;
 }
-
-
 
 /* The free-boundary energy is invariant under similarities, so nothing holds the scale of uv:
  * over many steps it drifts (to 1e9 on nefertiti). Rescales the vertices of the triangles by a

@@ -24,6 +24,22 @@ static inline bool sk__mips_corner_ok(const double x[2], const double qj[2], con
     return b > 0.0 && b * b > SK_MIPS_MIN_SINE * SK_MIPS_MIN_SINE * lj * lk;
 }
 
+/* Sums over many terms run in parallel over fixed blocks, their partial sums added in block
+ * order: the same result for any thread count (the stopping rules compare these sums, so the uv
+ * does not depend on the threads either). A range of n terms has sk__mips_blocks(n) blocks, at
+ * most SK__MIPS_BLOCKS, block b being [sk__mips_block_lo(n, nb, b), sk__mips_block_lo(n, nb, b + 1)). */
+#define SK__MIPS_BLOCKS 64
+#define SK__MIPS_BLOCK_MIN 2048 /* terms per block at least */
+static inline size_t sk__mips_blocks(size_t n)
+{
+    size_t nb = n / SK__MIPS_BLOCK_MIN;
+    return nb < 1 ? 1 : nb > SK__MIPS_BLOCKS ? SK__MIPS_BLOCKS : nb;
+}
+static inline size_t sk__mips_block_lo(size_t n, size_t nb, size_t b)
+{
+    return (size_t)((unsigned long long)n * b / nb);
+}
+
 /* What a local step at vertex i needs of one incident triangle (i, j, k), stored per vertex
  * contiguously so that a step touches one run of memory plus the neighbours' uv. */
 typedef struct sk__mips_corner {

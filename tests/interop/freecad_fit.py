@@ -1,14 +1,16 @@
 # Run by freecadcmd: opens surfkit fit's STEP or IGES with FreeCAD's default importer
 # (Import.insert, Open CASCADE underneath) and measures the surface it got, independently of
 # surfkit's own evaluation and distance code:
-#   - the surface evaluated by Open CASCADE at (i/N, j/N) against the vertices of surfkit's
-#     tessellation (vertex (i, j) of its N x N grid is surfkit's point at those parameters);
+#   - the surface evaluated by Open CASCADE at the parameters of surfkit's tessellation (an
+#     (NU + 1) x (NV + 1) grid of vertices in rows of constant v, each with its (u, v) as its
+#     OBJ texture coordinate) against the vertices surfkit evaluated there;
 #   - mesh to surface: every mesh vertex and the centroids of the 4 midpoint sub-triangles of
 #     every triangle (the samples surfkit deviation takes by default), projected onto the
 #     surface by Open CASCADE (GeomAPI_ProjectPointOnSurf behind Surface.parameter);
 #   - surface to mesh: a G x G grid of points evaluated by Open CASCADE, their distances to the
 #     mesh's triangles computed here (numpy, brute force, point-triangle distance).
-# Environment: SK_IN (the CAD file), SK_TESS (surfkit's tessellation, OBJ), SK_N (its grid),
+# Environment: SK_IN (the CAD file), SK_TESS (surfkit's tessellation, OBJ), SK_NU and SK_NV (its
+# cells along u and v),
 # SK_MESH (the fitted mesh, OFF), SK_GRID (G), SK_OUT (the JSON written), SK_MEASURE=0 for the
 # evaluation alone.
 import json
@@ -20,7 +22,8 @@ import Import
 import numpy as np
 
 path, out = os.environ["SK_IN"], os.environ["SK_OUT"]
-n, grid = int(os.environ["SK_N"]), int(os.environ.get("SK_GRID", "64"))
+tu, tv = int(os.environ["SK_NU"]), int(os.environ["SK_NV"])  # the tessellation's cells
+grid = int(os.environ.get("SK_GRID", "64"))
 
 doc = FreeCAD.newDocument("fit")
 Import.insert(path, doc.Name)
@@ -35,14 +38,16 @@ if len(faces) == 1:
     res["degrees"] = [surf.UDegree, surf.VDegree]
     res["range"] = list(faces[0].ParameterRange)
 
-    # surfkit's tessellation: (n + 1)^2 grid vertices first in the OBJ
-    ours = []
+    # surfkit's tessellation: its grid vertices and their (u, v), one vt per v in the OBJ
+    ours, uv = [], []
     with open(os.environ["SK_TESS"]) as f:
         for line in f:
             if line.startswith("v "):
                 ours.append([float(t) for t in line.split()[1:4]])
-    ours = np.array(ours)
+            elif line.startswith("vt "):
+                uv.append([float(t) for t in line.split()[1:3]])
     res["tess_vertices"] = len(ours)
+    res["tess_uvs"] = len(uv)
 
     # the mesh (OFF, triangles)
     with open(os.environ["SK_MESH"]) as f:
@@ -55,14 +60,15 @@ if len(faces) == 1:
     res["diagonal"] = diag
 
     # 1. evaluation at sample parameters (every 4th grid line in each direction, and the ends)
-    idx = sorted(set(list(range(0, n + 1, 4)) + [n]))
-    worst = 0.0
-    for j in idx:
-        for i in idx:
-            p = surf.value(i / n, j / n)
-            q = ours[j * (n + 1) + i]
-            worst = max(worst, math.dist((p.x, p.y, p.z), q))
-    res["eval_samples"] = len(idx) ** 2
+    iu = sorted(set(list(range(0, tu + 1, 4)) + [tu]))
+    iv = sorted(set(list(range(0, tv + 1, 4)) + [tv]))
+    worst = math.inf if len(ours) != (tu + 1) * (tv + 1) or len(uv) != len(ours) else 0.0
+    for j in iv if worst == 0.0 else []:
+        for i in iu:
+            k = j * (tu + 1) + i
+            p = surf.value(*uv[k])
+            worst = max(worst, math.dist((p.x, p.y, p.z), ours[k]))
+    res["eval_samples"] = len(iu) * len(iv)
     res["eval_max_rel"] = worst / diag
 
     if os.environ.get("SK_MEASURE", "1") == "0":  # evaluation only (the IGES of the same fit)

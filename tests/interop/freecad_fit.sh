@@ -19,11 +19,11 @@ for mesh in paraboloid-patch; do
     f=$tmp/$mesh.$ext
     "$bin" fit "$m/$mesh.off" -o "$f" --tessellation "$tmp/$mesh.$ext.obj" --json \
       > "$tmp/$mesh.$ext.json" 2> "$tmp/$mesh.$ext.log" || { echo "FAIL: surfkit fit $mesh -o $ext"; cat "$tmp/$mesh.$ext.log"; fails=1; continue; }
-    n=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["tessellation"])' "$tmp/$mesh.$ext.json")
+    read -r nu nv < <(python3 -c 'import json,sys; j = json.load(open(sys.argv[1])); print(j["tessellation_nu"], j["tessellation_nv"])' "$tmp/$mesh.$ext.json")
     # the deviation there is measured on the STEP (it takes minutes on a loaded machine); the IGES
     # of the same fit is checked by its evaluation, which fixes the deviation too
     measure=1; [ "$ext" = igs ] && measure=0
-    SK_IN=$f SK_TESS=$tmp/$mesh.$ext.obj SK_N=$n SK_MESH=$m/$mesh.off SK_GRID=96 SK_MEASURE=$measure \
+    SK_IN=$f SK_TESS=$tmp/$mesh.$ext.obj SK_NU=$nu SK_NV=$nv SK_MESH=$m/$mesh.off SK_GRID=96 SK_MEASURE=$measure \
       SK_OUT=$tmp/$mesh.$ext.fc.json timeout 500 freecadcmd "$src/tests/interop/freecad_fit.py" \
       > "$tmp/$mesh.$ext.fc.log" 2>&1
     python3 - "$tmp/$mesh.$ext.json" "$tmp/$mesh.$ext.fc.json" "$mesh" "$ext" <<'PY' || fails=1
@@ -45,8 +45,9 @@ if r:
         if r["poles"] != [o["nu"], o["nv"]] or r["degrees"] != [o["degree"], o["degree"]]:
             bad.append("grid %s degrees %s, we wrote %d x %d degree %d" % (
                 r["poles"], r["degrees"], o["nu"], o["nv"], o["degree"]))
-        if r["tess_vertices"] != (o["tessellation"] + 1) ** 2:
-            bad.append("tessellation has %d vertices" % r["tess_vertices"])
+        if r["tess_vertices"] != (o["tessellation_nu"] + 1) * (o["tessellation_nv"] + 1) \
+                or r["tess_uvs"] != r["tess_vertices"]:
+            bad.append("tessellation has %d vertices and %d uvs" % (r["tess_vertices"], r["tess_uvs"]))
         if not r["eval_max_rel"] <= 1e-9:
             bad.append("evaluation differs by %.3g of the diagonal" % r["eval_max_rel"])
     if r and measured:

@@ -329,9 +329,10 @@ static size_t stall_round(const sk_tolerance_stats *st, unsigned k, size_t *roun
  * progress (counted again here from the rounds' figures), and the result is the full search's
  * (the same status, patch count and deviation). On three_peaks at 1e-2 of the diagonal with
  * one round: its third round flags more vertices and is farther than the second. Without
- * SK_TEST_QUICK, fandisk at 3e-3, the case the rule is for: no level meets T but the estimate
- * (19 of 22 levels) lies below the input, so the default's refinement from the estimate cannot
- * converge; it stops after 14 rounds (32 before the rule) and the full search follows. */
+ * SK_TEST_QUICK, fandisk at 2.8e-3, the case the rule is for: no level meets T, so the
+ * default's refinement from the estimate cannot converge; it stops after 16 rounds and the full
+ * search follows (3e-3, this test's case until the surfaces changed slightly with the crease
+ * and fairing merges of 2 December, is now met at the estimate). */
 static void stall_same(const char *name, double rel, unsigned stall, sk_status want,
                        size_t max_rounds)
 {
@@ -367,7 +368,7 @@ static void stalled_rounds(void **state)
     (void)state;
     stall_same("three_peaks.off", 1e-2, 1, SK_OK, 3);
     if (!getenv("SK_TEST_QUICK"))
-        stall_same("fandisk.off", 3e-3, 0, SK_WARN_TOLERANCE, 16);
+        stall_same("fandisk.off", 2.8e-3, 0, SK_WARN_TOLERANCE, 20);
 }
 
 static void unreachable(void **state)

@@ -281,8 +281,12 @@ int cmd_fit(int argc, char **argv)
     cli_progress_done(&bar);
     if (!st) {
         x.nu = s->nu, x.nv = s->nv, x.degree = s->degree_u;
+        /* the chord error a twentieth of the deviation to measure: of T when the fit is within
+         * it, of the fit's own error when it is not (T may be far out of reach, e.g. 1e-6 of
+         * the diagonal: a 1024-a-side grid would measure a miss 10^4 times larger) */
+        double scale = x.fs.met ? x.fs.tolerance : fmax(x.fs.tolerance, x.fs.max_error);
         sk_fit_tessellation ti = {0};
-        st = sk_fit_tessellate(s, x.fs.tolerance, TESS_SIDE, &tess, &ti, &err);
+        st = sk_fit_tessellate(s, scale, TESS_SIDE, &tess, &ti, &err);
         x.tess_nu = ti.nu, x.tess_nv = ti.nv, x.chord = ti.chord;
         double tw = sk_seconds();
         sk_export_stats es = {0};

@@ -9,6 +9,7 @@
 #include "fit/tolerance_internal.h"
 #include "surfkit/bezier.h"
 #include "surfkit/deviation.h"
+#include "analysis/bvh_internal.h"
 #include "core/internal.h"
 
 #include <math.h>
@@ -521,7 +522,8 @@ static sk_status finish(tol_run *t, sk_smooth **out, uint32_t **fine_ids, sk_err
     sk_deviation_opts dop = {0};
     dop.face_samples = t->c.n;
     if ((st = sk_patch_set_tessellate(&t->best.s->surface, t->c.tess, &t->ts, err)) ||
-        (st = sk_deviation(t->ts, t->fine_soup, &dop, &t->stats->deviation, NULL, err)))
+        (st = sk__deviation_over(t->ts, t->fine_soup, t->c.mesh_bvh, &dop,
+                                     &t->stats->deviation, err)))
         return st;
     t->stats->seconds_deviation = sk_seconds() - te;
     t->stats->refined = t->best_refined;

@@ -4,6 +4,7 @@
 #include "fit/tolerance_internal.h"
 #include "surfkit/bezier.h"
 #include "analysis/bvh_internal.h"
+#include "smooth/smooth_internal.h"
 #include "core/internal.h"
 
 #include <math.h>
@@ -514,6 +515,18 @@ void sk__tol_record_try(sk_tolerance_stats *stats, size_t level, bool refined, s
     stats->num_tried++;
 }
 
+/* out[p] := whether patch p is singular, the test of sk_smooth_patch_shapes (its overshoot and
+ * fairness are not needed here) */
+static void singular_patches(const sk_smooth *s, uint8_t *out)
+{
+    ptrdiff_t np = (ptrdiff_t)s->surface.count;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+    for (ptrdiff_t p = 0; p < np; ++p)
+        out[p] = sk__patch_singular(s, (size_t)p, NULL);
+}
+
 /* Builds and measures the surface of the cut alive (parity fixed first). A VC1 failure
  * (SK_ERR_NUMERIC, SK_ERR_TOPOLOGY) is returned as *vc1_status with SK_OK; other errors (memory,
  * cancel) are returned. */
@@ -549,13 +562,13 @@ sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_
         return sk__fail(err, st, "%s", e.message);
     r->patches = r->s->surface.count;
     /* singular patches: the surface has no tangent plane there; refine around them */
-    sk_patch_shape *shape = sk__malloc_array(r->patches ? r->patches : 1, sizeof *shape);
-    if (!shape)
+    uint8_t *singular = sk__malloc_array(r->patches ? r->patches : 1, 1);
+    if (!singular)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    st = sk_smooth_patch_shapes(r->s, 8, shape, err);
+    singular_patches(r->s, singular);
     size_t built = r->s->config->num_vertices - r->s->stats.split_edges;
-    for (size_t p = 0; !st && p < r->patches; ++p) {
-        if (!shape[p].singular)
+    for (size_t p = 0; p < r->patches; ++p) {
+        if (!singular[p])
             continue;
         r->singular++;
         const sk_patch *pa = &r->s->surface.patches[p];
@@ -570,7 +583,7 @@ sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_
                 bad[c->ring[k]] = 1;
         }
     }
-    sk__free(shape);
+    sk__free(singular);
     if (!st)
         st = check(c, r->s, r->m2f, alive, b, bad, &r->max, err);
     stats->seconds_check += sk_seconds() - t1;

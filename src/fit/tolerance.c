@@ -156,8 +156,9 @@ static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
     t->stamp = sk__calloc_array(t->c.nv, sizeof *t->stamp);
     t->b.fd = sk__malloc_array(t->c.nf, sizeof *t->b.fd);
     t->b.vd = sk__malloc_array(t->c.nv, sizeof *t->b.vd);
+    t->b.fh = sk__malloc_array(t->c.nf, sizeof *t->b.fh);
     if (!t->c.normals || !tri || !t->c.f2m || !t->alive || !t->bad || !t->stack || !t->stamp ||
-        !t->b.fd || !t->b.vd)
+        !t->b.fd || !t->b.vd || !t->b.fh)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t f = 0; f < t->c.nf; ++f) {
         uint32_t h = mesh->f_halfedge[f];

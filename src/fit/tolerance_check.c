@@ -21,6 +21,7 @@ void sk__tol_check_buf_free(check_buf *b)
     sk__tol_prev_free(&b->prev);
     sk__free(b->fd);
     sk__free(b->vd);
+    sk__free(b->fh);
     sk__free(b->sd);
     sk__free(b->sf);
     memset(b, 0, sizeof *b);
@@ -129,6 +130,7 @@ static void mesh_faces(const walk *w, size_t begin, size_t end)
     uint32_t hint = SK_INVALID;
     for (size_t f = begin; f < end; ++f) {
         uint32_t *wit = w->face_patch ? w->b->fw + nn * f : NULL;
+        w->b->fh[f] = SK_INVALID;
         if (wit && witnesses_stay(w, wit, nn, &w->b->fd[f]))
             continue;
         w->b->fd[f] = 0;
@@ -146,9 +148,22 @@ static void mesh_faces(const walk *w, size_t begin, size_t end)
                 wit[k] = witness(w, d, face);
         }
         w->b->fd[f] = worst;
+        w->b->fh[f] = hint;
         if (w->stop && worst > c->tol)
             flag_set(w->stop);
     }
+}
+
+/* the triangle a walk of one of v's faces ended on in this check (else SK_INVALID): a nearer
+ * first guess than the vertex before (the input's vertex order need not follow its faces') */
+static uint32_t face_hint(const walk *w, uint32_t v)
+{
+    const sk_mesh *m = w->c->fine;
+    uint32_t h = m->v_halfedge[v];
+    if (h == SK_INVALID)
+        return SK_INVALID;
+    uint32_t f = m->h_face[h] != SK_INVALID ? m->h_face[h] : m->h_face[h ^ 1u];
+    return f != SK_INVALID ? w->b->fh[f] : SK_INVALID;
 }
 
 /* The mesh side, per fine vertex: b->vd (0 for the alive ones: the surface interpolates them) */
@@ -169,7 +184,9 @@ static void mesh_vertices(const walk *w, size_t begin, size_t end)
         w->b->vd[v] = 0;
         if (w->stop && flag_get(w->stop))
             continue;
-        uint32_t face = SK_INVALID;
+        uint32_t face = SK_INVALID, fh = face_hint(w, (uint32_t)v);
+        if (fh != SK_INVALID)
+            hint = fh;
         w->b->vd[v] = sk__bvh_distance_capped(w->bs, P + 3 * v, w->c->tol, &hint, &face);
         if (wit)
             *wit = witness(w, w->b->vd[v], face);

@@ -22,7 +22,6 @@ typedef struct samples {
     uint32_t *tri;   /* 3 vertex indices per fan triangle */
     uint32_t *face;  /* soup face of each fan triangle */
     uint32_t *vface; /* one face of each vertex, or SK_INVALID */
-    uint32_t *ftri;  /* per soup face: its first fan triangle */
     int n;
     double (*bary)[2]; /* n*n barycentric (u, v) pairs of the sub-triangle centroids */
     size_t count;
@@ -33,7 +32,6 @@ static void samples_free(samples *s)
     sk__free(s->tri);
     sk__free(s->face);
     sk__free(s->vface);
-    sk__free(s->ftri);
     sk__free(s->bary);
 }
 
@@ -49,11 +47,8 @@ static sk_status samples_init(samples *s, const sk_soup *soup, int n, sk_error *
     s->num_tris = nt;
     s->vface = sk__malloc_array(soup->num_vertices, sizeof *s->vface);
     s->bary = sk__malloc_array((size_t)n * n, sizeof *s->bary);
-    s->ftri = sk__malloc_array(soup->num_faces ? soup->num_faces : 1, sizeof *s->ftri);
-    if ((soup->num_vertices && !s->vface) || !s->bary || !s->ftri)
+    if ((soup->num_vertices && !s->vface) || !s->bary)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    for (size_t t = nt; t-- > 0;)
-        s->ftri[s->face[t]] = (uint32_t)t;
     for (size_t v = 0; v < soup->num_vertices; ++v)
         s->vface[v] = SK_INVALID;
     for (size_t f = 0; f < soup->num_faces; ++f) {
@@ -100,66 +95,40 @@ static uint32_t sample_point(const samples *s, size_t i, double p[3])
 /* Distances of all samples of s to the surface in bvh, into dist (s->count entries). The
  * samples go in blocks of WALK_BLOCK consecutive ones; each block's walks start from no
  * triangle and each walk first tries the triangle nearest to the sample before it (the samples
- * of one face are close): an exact distance from a tight bound prunes most of the tree, the
- * same distance as a walk from no bound (sk_bvh_closest). The face samples go first and leave
- * in th, per fan triangle, the triangle of bvh their last walk found: a vertex's walk starts
- * from that of a face of its (the vertex order need not follow the faces'). */
+ * of one face, and consecutive vertices, are close): an exact distance from a tight bound
+ * prunes most of the tree, the same distance as a walk from no bound (sk_bvh_closest). */
 enum { WALK_BLOCK = 1024 };
 
-static void project_block(const samples *s, const sk_bvh *bvh, double *dist, uint32_t *th,
-                          size_t begin, size_t end)
+static void project_block(const samples *s, const sk_bvh *bvh, double *dist, size_t begin,
+                          size_t end)
 {
-    const size_t nv = s->soup->num_vertices, nn = (size_t)s->n * (size_t)s->n;
     uint32_t hint = SK_INVALID;
     for (size_t i = begin; i < end; ++i) {
         double p[3];
-        uint32_t f = sample_point(s, i, p);
-        if (i < nv && f != SK_INVALID && th[s->ftri[f]] != SK_INVALID)
-            hint = th[s->ftri[f]];
+        sample_point(s, i, p);
         dist[i] = sk__bvh_distance_capped(bvh, p, 0.0, &hint, NULL);
-        if (i >= nv && (i - nv) % nn == nn - 1)
-            th[(i - nv) / nn] = hint;
     }
 }
 
-/* project_block over [begin, end) in chunks, in parallel; *done_count advanced */
-static sk_status project_range(const samples *s, const sk_bvh *bvh, double *dist, uint32_t *th,
-                               size_t begin, size_t end, size_t *done_count, double done,
-                               double share, const sk_deviation_opts *o, sk_error *err)
+static sk_status project_all(const samples *s, const sk_bvh *bvh, double *dist, double done,
+                             double share, const sk_deviation_opts *o, sk_error *err)
 {
-    for (size_t c0 = begin; c0 < end; c0 += CHUNK) {
-        size_t c1 = c0 + CHUNK < end ? c0 + CHUNK : end;
+    for (size_t c0 = 0; c0 < s->count; c0 += CHUNK) {
+        size_t c1 = c0 + CHUNK < s->count ? c0 + CHUNK : s->count;
         ptrdiff_t blocks = (ptrdiff_t)((c1 - c0 + WALK_BLOCK - 1) / WALK_BLOCK);
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
         for (ptrdiff_t k = 0; k < blocks; ++k) {
             size_t b0 = c0 + (size_t)k * WALK_BLOCK, b1 = b0 + WALK_BLOCK < c1 ? b0 + WALK_BLOCK : c1;
-            project_block(s, bvh, dist, th, b0, b1);
+            project_block(s, bvh, dist, b0, b1);
         }
-        *done_count += c1 - c0;
         sk_status st = sk__progress(o->progress, o->progress_user,
-                                    done + share * (double)*done_count / (double)s->count, err);
+                                    done + share * (double)c1 / (double)s->count, err);
         if (st)
             return st;
     }
     return SK_OK;
-}
-
-static sk_status project_all(const samples *s, const sk_bvh *bvh, double *dist, double done,
-                             double share, const sk_deviation_opts *o, sk_error *err)
-{
-    uint32_t *th = sk__malloc_array(s->num_tris ? s->num_tris : 1, sizeof *th);
-    if (!th)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    for (size_t t = 0; t < s->num_tris; ++t)
-        th[t] = SK_INVALID;
-    size_t nv = s->soup->num_vertices, n = 0;
-    sk_status st = project_range(s, bvh, dist, th, nv, s->count, &n, done, share, o, err);
-    if (!st)
-        st = project_range(s, bvh, dist, th, 0, nv, &n, done, share, o, err);
-    sk__free(th);
-    return st;
 }
 
 static void summarize(const samples *s, const double *dist, double top, sk_distance_stats *out)

@@ -184,9 +184,9 @@ static void node_box(builder *b, node *nd, size_t begin, size_t end)
     memcpy(nd->hi, bb.hi, sizeof bb.hi);
 }
 
-/* Builds the subtree of perm[begin, end) into node index ni (already allocated). Iterative over
- * an explicit stack so that no input can exhaust the C stack. */
-static void build_serial(builder *b, uint32_t ni, size_t begin, size_t end)
+/* Builds the subtree of perm[begin, end) into node index ni (already allocated), depth0 levels
+ * under the root. Iterative over an explicit stack so that no input can exhaust the C stack. */
+static void build_serial(builder *b, uint32_t ni, size_t begin, size_t end, int depth0)
 {
     struct item {
         uint32_t ni;
@@ -199,8 +199,9 @@ static void build_serial(builder *b, uint32_t ni, size_t begin, size_t end)
         node *nd = &b->nodes[it.ni];
         node_box(b, nd, it.begin, it.end);
         /* the stack holds at most one pending sibling per level: bounded by 2 * depth; ranges
-         * that would go deeper become (larger) leaves */
-        if (it.end - it.begin <= LEAF_SIZE || top >= 2 * MAX_DEPTH) {
+         * that would go deeper become (larger) leaves (build_top's levels above count as one
+         * pending sibling each, as they would on one stack) */
+        if (it.end - it.begin <= LEAF_SIZE || top + depth0 >= 2 * MAX_DEPTH) {
             nd->first = (uint32_t)it.begin;
             nd->count = (uint32_t)(it.end - it.begin);
             continue;
@@ -222,7 +223,7 @@ enum { TASK_TRIS = 16384, TASK_DEPTH = 10 };
 static void build_top(builder *b, uint32_t ni, size_t begin, size_t end, int depth)
 {
     if (end - begin <= TASK_TRIS || depth >= TASK_DEPTH) {
-        build_serial(b, ni, begin, end);
+        build_serial(b, ni, begin, end, depth);
         return;
     }
     node *nd = &b->nodes[ni];

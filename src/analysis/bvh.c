@@ -158,41 +158,98 @@ static size_t split_range(builder *b, size_t begin, size_t end)
     return mid;
 }
 
-/* Builds the subtree of perm[begin, end) into node index ni (already allocated). Iterative over
- * an explicit stack so that no input can exhaust the C stack. */
-static void build_tree(builder *b, size_t count)
+/* n nodes from the builder's array: the index of the first (the nodes of parallel subtree
+ * builds interleave; the tree is the same, only where its nodes sit differs) */
+static uint32_t take_nodes(builder *b, size_t n)
+{
+    size_t first;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp atomic capture
+#endif
+    {
+        first = b->num_nodes;
+        b->num_nodes += n;
+    }
+    return (uint32_t)first;
+}
+
+/* the box of the triangles perm[begin, end) into node nd */
+static void node_box(builder *b, node *nd, size_t begin, size_t end)
+{
+    box bb;
+    box_empty(&bb);
+    for (size_t i = begin; i < end; ++i)
+        box_merge(&bb, &b->tbox[b->perm[i]]);
+    memcpy(nd->lo, bb.lo, sizeof bb.lo);
+    memcpy(nd->hi, bb.hi, sizeof bb.hi);
+}
+
+/* Builds the subtree of perm[begin, end) into node index ni (already allocated), depth0 levels
+ * under the root. Iterative over an explicit stack so that no input can exhaust the C stack. */
+static void build_serial(builder *b, uint32_t ni, size_t begin, size_t end, int depth0)
 {
     struct item {
         uint32_t ni;
         size_t begin, end;
     } stack[2 * MAX_DEPTH + 8];
     int top = 0;
-    b->num_nodes = 1;
-    stack[top++] = (struct item){0, 0, count};
+    stack[top++] = (struct item){ni, begin, end};
     while (top > 0) {
         struct item it = stack[--top];
         node *nd = &b->nodes[it.ni];
-        box bb;
-        box_empty(&bb);
-        for (size_t i = it.begin; i < it.end; ++i)
-            box_merge(&bb, &b->tbox[b->perm[i]]);
-        memcpy(nd->lo, bb.lo, sizeof bb.lo);
-        memcpy(nd->hi, bb.hi, sizeof bb.hi);
+        node_box(b, nd, it.begin, it.end);
         /* the stack holds at most one pending sibling per level: bounded by 2 * depth; ranges
-         * that would go deeper become (larger) leaves */
-        if (it.end - it.begin <= LEAF_SIZE || top >= 2 * MAX_DEPTH) {
+         * that would go deeper become (larger) leaves (build_top's levels above count as one
+         * pending sibling each, as they would on one stack) */
+        if (it.end - it.begin <= LEAF_SIZE || top + depth0 >= 2 * MAX_DEPTH) {
             nd->first = (uint32_t)it.begin;
             nd->count = (uint32_t)(it.end - it.begin);
             continue;
         }
         size_t mid = split_range(b, it.begin, it.end);
-        uint32_t left = (uint32_t)b->num_nodes;
-        b->num_nodes += 2;
+        uint32_t left = take_nodes(b, 2);
         nd->first = left;
         nd->count = 0;
         stack[top++] = (struct item){left + 1, mid, it.end};
         stack[top++] = (struct item){left, it.begin, mid};
     }
+}
+
+/* The top of the tree: ranges of more than TASK_TRIS triangles, up to TASK_DEPTH levels, split
+ * here and their two halves built as separate OpenMP tasks (disjoint ranges of perm, nodes from
+ * take_nodes); below, build_serial. The same tree for any number of threads. */
+enum { TASK_TRIS = 16384, TASK_DEPTH = 10 };
+
+static void build_top(builder *b, uint32_t ni, size_t begin, size_t end, int depth)
+{
+    if (end - begin <= TASK_TRIS || depth >= TASK_DEPTH) {
+        build_serial(b, ni, begin, end, depth);
+        return;
+    }
+    node *nd = &b->nodes[ni];
+    node_box(b, nd, begin, end);
+    size_t mid = split_range(b, begin, end);
+    uint32_t left = take_nodes(b, 2);
+    nd->first = left;
+    nd->count = 0;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp task default(none) firstprivate(b, left, mid, end, depth)
+#endif
+    build_top(b, left + 1, mid, end, depth + 1);
+    build_top(b, left, begin, mid, depth + 1);
+#if defined(SK_HAVE_OPENMP)
+#pragma omp taskwait
+#endif
+}
+
+static void build_tree(builder *b, size_t count)
+{
+    b->num_nodes = 1;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel if (count > TASK_TRIS)
+#pragma omp single
+#endif
+    build_top(b, 0, 0, count, 0);
 }
 
 /* Fan triangles of the soup: count, and checks. */

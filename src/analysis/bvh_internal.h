@@ -20,4 +20,10 @@ int sk__bvh_overlaps(const sk_bvh *bvh, const double lo[3], const double hi[3], 
 double sk__bvh_distance_capped(const sk_bvh *bvh, const double p[3], double cap, uint32_t *hint,
                                uint32_t *face);
 
+/* sk_deviation (no vertex distances) over mesh_bvh, the caller's BVH of the soup mesh (not
+ * built again, not handed over: opts->mesh_bvh, if set, gets NULL). */
+sk_status sk__deviation_over(const sk_soup *surface, const sk_soup *mesh, const sk_bvh *mesh_bvh,
+                             const sk_deviation_opts *opts, sk_deviation_report *report,
+                             sk_error *err);
+
 #endif

@@ -9,6 +9,7 @@
 #include "fit/tolerance_internal.h"
 #include "surfkit/bezier.h"
 #include "surfkit/deviation.h"
+#include "analysis/bvh_internal.h"
 #include "core/internal.h"
 
 #include <math.h>
@@ -155,8 +156,9 @@ static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
     t->stamp = sk__calloc_array(t->c.nv, sizeof *t->stamp);
     t->b.fd = sk__malloc_array(t->c.nf, sizeof *t->b.fd);
     t->b.vd = sk__malloc_array(t->c.nv, sizeof *t->b.vd);
+    t->b.fh = sk__malloc_array(t->c.nf, sizeof *t->b.fh);
     if (!t->c.normals || !tri || !t->c.f2m || !t->alive || !t->bad || !t->stack || !t->stamp ||
-        !t->b.fd || !t->b.vd)
+        !t->b.fd || !t->b.vd || !t->b.fh)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     for (size_t f = 0; f < t->c.nf; ++f) {
         uint32_t h = mesh->f_halfedge[f];
@@ -521,7 +523,8 @@ static sk_status finish(tol_run *t, sk_smooth **out, uint32_t **fine_ids, sk_err
     sk_deviation_opts dop = {0};
     dop.face_samples = t->c.n;
     if ((st = sk_patch_set_tessellate(&t->best.s->surface, t->c.tess, &t->ts, err)) ||
-        (st = sk_deviation(t->ts, t->fine_soup, &dop, &t->stats->deviation, NULL, err)))
+        (st = sk__deviation_over(t->ts, t->fine_soup, t->c.mesh_bvh, &dop,
+                                     &t->stats->deviation, err)))
         return st;
     t->stats->seconds_deviation = sk_seconds() - te;
     t->stats->refined = t->best_refined;

@@ -4,6 +4,7 @@
 #include "fit/tolerance_internal.h"
 #include "surfkit/bezier.h"
 #include "analysis/bvh_internal.h"
+#include "smooth/smooth_internal.h"
 #include "core/internal.h"
 
 #include <math.h>
@@ -20,6 +21,7 @@ void sk__tol_check_buf_free(check_buf *b)
     sk__tol_prev_free(&b->prev);
     sk__free(b->fd);
     sk__free(b->vd);
+    sk__free(b->fh);
     sk__free(b->sd);
     sk__free(b->sf);
     memset(b, 0, sizeof *b);
@@ -128,6 +130,7 @@ static void mesh_faces(const walk *w, size_t begin, size_t end)
     uint32_t hint = SK_INVALID;
     for (size_t f = begin; f < end; ++f) {
         uint32_t *wit = w->face_patch ? w->b->fw + nn * f : NULL;
+        w->b->fh[f] = SK_INVALID;
         if (wit && witnesses_stay(w, wit, nn, &w->b->fd[f]))
             continue;
         w->b->fd[f] = 0;
@@ -145,9 +148,22 @@ static void mesh_faces(const walk *w, size_t begin, size_t end)
                 wit[k] = witness(w, d, face);
         }
         w->b->fd[f] = worst;
+        w->b->fh[f] = hint;
         if (w->stop && worst > c->tol)
             flag_set(w->stop);
     }
+}
+
+/* the triangle a walk of one of v's faces ended on in this check (else SK_INVALID): a nearer
+ * first guess than the vertex before (the input's vertex order need not follow its faces') */
+static uint32_t face_hint(const walk *w, uint32_t v)
+{
+    const sk_mesh *m = w->c->fine;
+    uint32_t h = m->v_halfedge[v];
+    if (h == SK_INVALID)
+        return SK_INVALID;
+    uint32_t f = m->h_face[h] != SK_INVALID ? m->h_face[h] : m->h_face[h ^ 1u];
+    return f != SK_INVALID ? w->b->fh[f] : SK_INVALID;
 }
 
 /* The mesh side, per fine vertex: b->vd (0 for the alive ones: the surface interpolates them) */
@@ -168,7 +184,9 @@ static void mesh_vertices(const walk *w, size_t begin, size_t end)
         w->b->vd[v] = 0;
         if (w->stop && flag_get(w->stop))
             continue;
-        uint32_t face = SK_INVALID;
+        uint32_t face = SK_INVALID, fh = face_hint(w, (uint32_t)v);
+        if (fh != SK_INVALID)
+            hint = fh;
         w->b->vd[v] = sk__bvh_distance_capped(w->bs, P + 3 * v, w->c->tol, &hint, &face);
         if (wit)
             *wit = witness(w, w->b->vd[v], face);
@@ -514,6 +532,18 @@ void sk__tol_record_try(sk_tolerance_stats *stats, size_t level, bool refined, s
     stats->num_tried++;
 }
 
+/* out[p] := whether patch p is singular, the test of sk_smooth_patch_shapes (its overshoot and
+ * fairness are not needed here) */
+static void singular_patches(const sk_smooth *s, uint8_t *out)
+{
+    ptrdiff_t np = (ptrdiff_t)s->surface.count;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+    for (ptrdiff_t p = 0; p < np; ++p)
+        out[p] = sk__patch_singular(s, (size_t)p, NULL);
+}
+
 /* Builds and measures the surface of the cut alive (parity fixed first). A VC1 failure
  * (SK_ERR_NUMERIC, SK_ERR_TOPOLOGY) is returned as *vc1_status with SK_OK; other errors (memory,
  * cancel) are returned. */
@@ -549,13 +579,13 @@ sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_
         return sk__fail(err, st, "%s", e.message);
     r->patches = r->s->surface.count;
     /* singular patches: the surface has no tangent plane there; refine around them */
-    sk_patch_shape *shape = sk__malloc_array(r->patches ? r->patches : 1, sizeof *shape);
-    if (!shape)
+    uint8_t *singular = sk__malloc_array(r->patches ? r->patches : 1, 1);
+    if (!singular)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    st = sk_smooth_patch_shapes(r->s, 8, shape, err);
+    singular_patches(r->s, singular);
     size_t built = r->s->config->num_vertices - r->s->stats.split_edges;
-    for (size_t p = 0; !st && p < r->patches; ++p) {
-        if (!shape[p].singular)
+    for (size_t p = 0; p < r->patches; ++p) {
+        if (!singular[p])
             continue;
         r->singular++;
         const sk_patch *pa = &r->s->surface.patches[p];
@@ -570,7 +600,7 @@ sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_
                 bad[c->ring[k]] = 1;
         }
     }
-    sk__free(shape);
+    sk__free(singular);
     if (!st)
         st = check(c, r->s, r->m2f, alive, b, bad, &r->max, err);
     stats->seconds_check += sk_seconds() - t1;

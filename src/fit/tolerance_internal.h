@@ -62,6 +62,8 @@ typedef struct tol_prev {
 typedef struct check_buf {
     double *fd;     /* per fine face: largest distance of its samples to the surface */
     double *vd;     /* per fine vertex (dead ones): distance to the surface */
+    uint32_t *fh;   /* per fine face: the surface triangle its last sample's walk found in this
+                       check (SK_INVALID: not walked), the first guess for its vertices' walks */
     double *sd;     /* per surface sample group: largest distance to the mesh */
     uint32_t *sf;   /* ... and the fine face nearest to the worst of them */
     size_t cap_s;

@@ -125,6 +125,28 @@ static void cholmod_ordering(cholmod_common *cc, sk_ordering o)
     }
 }
 
+/* METIS is not reentrant here: two METIS_NodeND calls at once (charts of the atlas ordered on the
+ * threads of its parallel loop) give orderings that change from run to run, hence other factors
+ * and other rounding in the solutions (bunny00's two largest LSCM charts: different uv bits on
+ * every run with 2 threads, the same with 1 or with the calls serialized; the state of METIS's
+ * random generator is process-wide). So every call that may run METIS (cholmod_metis,
+ * CHOLMOD's analysis with its own choice or METIS / NESDIS, UMFPACK's METIS-based orderings)
+ * holds the OpenMP lock named sk__metis; AMD, CAMD and given orderings run unlocked. */
+static bool may_run_metis(sk_solver_kind kind, sk_ordering o)
+{
+    switch (o) {
+    case SK_ORDERING_AUTO: return kind == SK_SOLVER_CHOLESKY; /* CHOLMOD: METIS if AMD fills badly */
+    case SK_ORDERING_METIS:
+    case SK_ORDERING_NESDIS:
+    case SK_ORDERING_BEST: return true;
+    case SK_ORDERING_DEFAULT:
+    case SK_ORDERING_AMD:
+    case SK_ORDERING_GIVEN:
+    case SK_ORDERING_GEOMETRIC: break;
+    }
+    return false;
+}
+
 static double umfpack_ordering(sk_ordering o)
 {
     switch (o) {
@@ -196,7 +218,16 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (opts && opts->simplicial)
             s->cc.supernodal = CHOLMOD_SIMPLICIAL;
         cholmod_sparse A = cholmod_view(a);
-        s->L = perm ? cholmod_analyze_p(&A, perm, NULL, 0, &s->cc) : cholmod_analyze(&A, &s->cc);
+        if (perm) {
+            s->L = cholmod_analyze_p(&A, perm, NULL, 0, &s->cc);
+        } else if (may_run_metis(kind, ord)) {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical(sk__metis)
+#endif
+            s->L = cholmod_analyze(&A, &s->cc);
+        } else {
+            s->L = cholmod_analyze(&A, &s->cc);
+        }
         if (!s->L || s->cc.status < 0) {
             st = sk__fail(err, s->cc.status == CHOLMOD_OUT_OF_MEMORY ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "CHOLMOD analysis of a %zu x %zu matrix failed: %s", a->n, a->n,
@@ -222,10 +253,20 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (perm) /* the given order is symmetric (of A + A^T): rows follow the columns */
             s->control[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
         double info[UMFPACK_INFO];
-        int r = perm ? umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
-                                            &s->symbolic, s->control, info)
-                     : umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax,
-                                           &s->symbolic, s->control, info);
+        int r;
+        if (perm) {
+            r = umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
+                                     &s->symbolic, s->control, info);
+        } else if (may_run_metis(kind, ord)) {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical(sk__metis)
+#endif
+            r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
+                                    s->control, info);
+        } else {
+            r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
+                                    s->control, info);
+        }
         if (r != UMFPACK_OK) {
             st = sk__fail(err, r == UMFPACK_ERROR_out_of_memory ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "UMFPACK analysis of a %zu x %zu matrix failed (status %d)", a->n, a->n,

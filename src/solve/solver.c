@@ -10,6 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <umfpack.h>
+#if defined(SK_HAVE_OPENMP)
+#include <omp.h>
+#endif
 
 struct sk_solver {
     sk_solver_kind kind;
@@ -386,10 +389,43 @@ static sk_status solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk
  * 9.80 s, Floater 8.06 / 8.13, Tutte 4.53 / 4.64, at load 1) and 2.5 s less CPU, the second
  * thread spinning in sched_yield between CHOLMOD's supernode calls; at load 10-20 one is faster
  * (docs/linear.md). */
+/* CHOLMOD's supernodal factorization opens OpenMP teams of CHOLMOD_OMP_NUM_THREADS threads (4,
+ * fixed when the library was built) for its scatter loops, whatever OMP_NUM_THREADS says; inside
+ * a parallel loop (the atlas's charts on two threads) they are nested and run on one thread, but
+ * outside one (every solve with OMP_NUM_THREADS=1, where the chart loop's team of one is not
+ * active) three more threads spin between supernodes: the atlas of lion-head Loop x1 took 10.4 s
+ * of CPU on one thread, 2.9 s with OMP_THREAD_LIMIT=1 and 3.4 s on two. So the factorization runs
+ * with no further active level, and restores the caller's setting; the loops' results do not
+ * depend on their threads (disjoint writes). Returns the setting to restore, -1 for none. */
+static int cholmod_teams_off(void)
+{
+#if defined(SK_HAVE_OPENMP)
+    if (omp_in_parallel())
+        return -1; /* nested: single already, and the setting is not ours to change from here */
+    int saved = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+    return saved;
+#else
+    return -1;
+#endif
+}
+
+static void cholmod_teams_restore(int saved)
+{
+#if defined(SK_HAVE_OPENMP)
+    if (saved >= 0)
+        omp_set_max_active_levels(saved);
+#else
+    (void)saved;
+#endif
+}
+
 sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err)
 {
     int blas = sk__blas_serial_begin();
+    int teams = s->kind == SK_SOLVER_CHOLESKY ? cholmod_teams_off() : -1;
     sk_status st = factorize(s, a, err);
+    cholmod_teams_restore(teams);
     sk__blas_serial_end(blas);
     return st;
 }

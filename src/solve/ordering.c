@@ -549,9 +549,17 @@ sk_status sk_sparse_point_ordering(const sk_sparse *a, unsigned dim, const doubl
     A.dtype = CHOLMOD_DOUBLE;
     A.sorted = 0;
     A.packed = 1;
-    int ok = method == SK_ORDERING_GEOMETRIC ? cholmod_camd(&A, NULL, 0, cmember, pperm, &cc)
-             : method == SK_ORDERING_METIS   ? cholmod_metis(&A, NULL, 0, 1, pperm, &cc)
+    int ok;
+    if (method == SK_ORDERING_METIS) {
+        /* one METIS call at a time in the process (see may_run_metis in solver.c) */
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical(sk__metis)
+#endif
+        ok = cholmod_metis(&A, NULL, 0, 1, pperm, &cc);
+    } else {
+        ok = method == SK_ORDERING_GEOMETRIC ? cholmod_camd(&A, NULL, 0, cmember, pperm, &cc)
                                              : cholmod_amd(&A, NULL, 0, pperm, &cc);
+    }
     if (!ok || cc.status < 0) {
         st = sk__fail(err, cc.status == CHOLMOD_OUT_OF_MEMORY ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                       "ordering of a %zu-point graph failed", np);

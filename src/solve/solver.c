@@ -10,6 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <umfpack.h>
+#if defined(SK_HAVE_OPENMP)
+#include <omp.h>
+#endif
 
 struct sk_solver {
     sk_solver_kind kind;
@@ -125,6 +128,28 @@ static void cholmod_ordering(cholmod_common *cc, sk_ordering o)
     }
 }
 
+/* METIS is not reentrant here: two METIS_NodeND calls at once (charts of the atlas ordered on the
+ * threads of its parallel loop) give orderings that change from run to run, hence other factors
+ * and other rounding in the solutions (bunny00's two largest LSCM charts: different uv bits on
+ * every run with 2 threads, the same with 1 or with the calls serialized; the state of METIS's
+ * random generator is process-wide). So every call that may run METIS (cholmod_metis,
+ * CHOLMOD's analysis with its own choice or METIS / NESDIS, UMFPACK's METIS-based orderings)
+ * holds the OpenMP lock named sk__metis; AMD, CAMD and given orderings run unlocked. */
+static bool may_run_metis(sk_solver_kind kind, sk_ordering o)
+{
+    switch (o) {
+    case SK_ORDERING_AUTO: return kind == SK_SOLVER_CHOLESKY; /* CHOLMOD: METIS if AMD fills badly */
+    case SK_ORDERING_METIS:
+    case SK_ORDERING_NESDIS:
+    case SK_ORDERING_BEST: return true;
+    case SK_ORDERING_DEFAULT:
+    case SK_ORDERING_AMD:
+    case SK_ORDERING_GIVEN:
+    case SK_ORDERING_GEOMETRIC: break;
+    }
+    return false;
+}
+
 static double umfpack_ordering(sk_ordering o)
 {
     switch (o) {
@@ -196,7 +221,16 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (opts && opts->simplicial)
             s->cc.supernodal = CHOLMOD_SIMPLICIAL;
         cholmod_sparse A = cholmod_view(a);
-        s->L = perm ? cholmod_analyze_p(&A, perm, NULL, 0, &s->cc) : cholmod_analyze(&A, &s->cc);
+        if (perm) {
+            s->L = cholmod_analyze_p(&A, perm, NULL, 0, &s->cc);
+        } else if (may_run_metis(kind, ord)) {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical(sk__metis)
+#endif
+            s->L = cholmod_analyze(&A, &s->cc);
+        } else {
+            s->L = cholmod_analyze(&A, &s->cc);
+        }
         if (!s->L || s->cc.status < 0) {
             st = sk__fail(err, s->cc.status == CHOLMOD_OUT_OF_MEMORY ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "CHOLMOD analysis of a %zu x %zu matrix failed: %s", a->n, a->n,
@@ -222,10 +256,20 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (perm) /* the given order is symmetric (of A + A^T): rows follow the columns */
             s->control[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
         double info[UMFPACK_INFO];
-        int r = perm ? umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
-                                            &s->symbolic, s->control, info)
-                     : umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax,
-                                           &s->symbolic, s->control, info);
+        int r;
+        if (perm) {
+            r = umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
+                                     &s->symbolic, s->control, info);
+        } else if (may_run_metis(kind, ord)) {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp critical(sk__metis)
+#endif
+            r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
+                                    s->control, info);
+        } else {
+            r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
+                                    s->control, info);
+        }
         if (r != UMFPACK_OK) {
             st = sk__fail(err, r == UMFPACK_ERROR_out_of_memory ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "UMFPACK analysis of a %zu x %zu matrix failed (status %d)", a->n, a->n,
@@ -345,10 +389,43 @@ static sk_status solve(sk_solver *s, size_t nrhs, const double *b, double *x, sk
  * 9.80 s, Floater 8.06 / 8.13, Tutte 4.53 / 4.64, at load 1) and 2.5 s less CPU, the second
  * thread spinning in sched_yield between CHOLMOD's supernode calls; at load 10-20 one is faster
  * (docs/linear.md). */
+/* CHOLMOD's supernodal factorization opens OpenMP teams of CHOLMOD_OMP_NUM_THREADS threads (4,
+ * fixed when the library was built) for its scatter loops, whatever OMP_NUM_THREADS says; inside
+ * a parallel loop (the atlas's charts on two threads) they are nested and run on one thread, but
+ * outside one (every solve with OMP_NUM_THREADS=1, where the chart loop's team of one is not
+ * active) three more threads spin between supernodes: the atlas of lion-head Loop x1 took 10.4 s
+ * of CPU on one thread, 2.9 s with OMP_THREAD_LIMIT=1 and 3.4 s on two. So the factorization runs
+ * with no further active level, and restores the caller's setting; the loops' results do not
+ * depend on their threads (disjoint writes). Returns the setting to restore, -1 for none. */
+static int cholmod_teams_off(void)
+{
+#if defined(SK_HAVE_OPENMP)
+    if (omp_in_parallel())
+        return -1; /* nested: single already, and the setting is not ours to change from here */
+    int saved = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+    return saved;
+#else
+    return -1;
+#endif
+}
+
+static void cholmod_teams_restore(int saved)
+{
+#if defined(SK_HAVE_OPENMP)
+    if (saved >= 0)
+        omp_set_max_active_levels(saved);
+#else
+    (void)saved;
+#endif
+}
+
 sk_status sk_solver_factorize(sk_solver *s, const sk_sparse *a, sk_error *err)
 {
     int blas = sk__blas_serial_begin();
+    int teams = s->kind == SK_SOLVER_CHOLESKY ? cholmod_teams_off() : -1;
     sk_status st = factorize(s, a, err);
+    cholmod_teams_restore(teams);
     sk__blas_serial_end(blas);
     return st;
 }

@@ -3,7 +3,8 @@
  * dissection fills far less than the natural order on a grid and less than minimum degree on a
  * curved subdivided scan, the solutions agree with the
  * solvers' own orderings, bad permutations are refused; and the linear methods give the same uv
- * and flips with every sk_param_opts.ordering on the shared disks (SK_TEST_QUICK=1: the smaller). */
+ * and flips with every sk_param_opts.ordering on the shared disks (SK_TEST_QUICK=1: the smaller);
+ * METIS orderings computed on two threads at once are the ones computed alone (issue 11). */
 #include "testutil.h"
 
 #include "surfkit/param.h"
@@ -11,6 +12,7 @@
 #include "surfkit/subdivide.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -336,6 +338,127 @@ static void test_param_orderings_agree(void **state)
     }
 }
 
+/* Orderings and solves running on two threads at once, as the atlas's charts do: every
+ * METIS-based one must be the one computed alone (METIS is not reentrant: the solve module holds
+ * a lock around it; without the lock the orderings below differed on most rounds). */
+#define CONCURRENT_ROUNDS 12
+
+/* OpenBLAS's (weak: the test links whatever BLAS the library does). The solver switches BLAS to
+ * one thread around its calls unless it runs inside an OpenMP parallel region; the plain threads
+ * here are not one, so one BLAS thread is set for the whole test instead (two threads racing to
+ * switch and restore it are not what this test is about). */
+void openblas_set_num_threads(int n) __attribute__((weak));
+int openblas_get_num_threads(void) __attribute__((weak));
+/* libgomp's: absent when the library is built without OpenMP (SK_OPENMP=OFF, the sanitizer run),
+ * whose lock is OpenMP's and which never orders on two threads itself: the test is skipped */
+int omp_get_max_threads(void) __attribute__((weak));
+
+typedef struct concurrent_job {
+    const sk_sparse *a;
+    const double *b;
+    sk_ordering method; /* for sk_sparse_point_ordering */
+    sk_solver_kind kind; /* for the solver with its METIS ordering */
+    int *perm;          /* out: CONCURRENT_ROUNDS orderings */
+    double *x;          /* out: CONCURRENT_ROUNDS solutions */
+    int failures;
+} concurrent_job;
+
+static int solve_metis(const sk_sparse *a, sk_solver_kind kind, const double *b, double *x)
+{
+    sk_solver_opts so = {SK_ORDERING_METIS, false, NULL};
+    sk_solver *s = NULL;
+    sk_status st = sk_solver_create_opts(a, kind, &so, &s, NULL);
+    if (st == SK_OK)
+        st = sk_solver_factorize(s, a, NULL);
+    if (st == SK_OK)
+        st = sk_solver_solve(s, 1, b, x, NULL);
+    sk_solver_destroy(&s);
+    return st != SK_OK;
+}
+
+static void *concurrent_run(void *arg)
+{
+    concurrent_job *j = arg;
+    size_t n = j->a->n;
+    for (int r = 0; r < CONCURRENT_ROUNDS; ++r) {
+        j->failures += sk_sparse_point_ordering(j->a, 2, NULL, j->method, j->perm + r * n, NULL) != SK_OK;
+        j->failures += solve_metis(j->a, j->kind, j->b, j->x + r * n);
+    }
+    return NULL;
+}
+
+/* the lower-stored grid matrix as a fully stored one (for the LU solver) */
+static sk_sparse *full_matrix(const sk_sparse *low)
+{
+    sk_triplets t = {0};
+    for (size_t c = 0; c < low->n; ++c)
+        for (int k = low->colptr[c]; k < low->colptr[c + 1]; ++k) {
+            uint32_t r = (uint32_t)low->rowind[k];
+            assert_int_equal(sk_triplets_add(&t, r, (uint32_t)c, low->values[k]), SK_OK);
+            if (r != c)
+                assert_int_equal(sk_triplets_add(&t, (uint32_t)c, r, low->values[k]), SK_OK);
+        }
+    sk_sparse *a = NULL;
+    assert_int_equal(sk_sparse_from_triplets(low->n, &t, SK_SPARSE_FULL, &a, NULL), SK_OK);
+    sk_triplets_free(&t);
+    return a;
+}
+
+static void test_concurrent_metis_same_as_alone(void **state)
+{
+    (void)state;
+    if (!omp_get_max_threads)
+        skip();
+    double *xyz = NULL;
+    sk_sparse *low = grid_matrix(60, 2, &xyz), *full = full_matrix(low);
+    size_t n = low->n;
+    double *b = malloc(n * sizeof *b);
+    for (size_t i = 0; i < n; ++i)
+        b[i] = sin(0.01 * (double)i) + 1;
+    int blas = openblas_get_num_threads ? openblas_get_num_threads() : 1;
+    if (openblas_set_num_threads)
+        openblas_set_num_threads(1);
+    for (int kind = 0; kind < 2; ++kind) {
+        const sk_sparse *a = kind == 0 ? low : full;
+        sk_solver_kind sk = kind == 0 ? SK_SOLVER_CHOLESKY : SK_SOLVER_LU;
+        int *ref_perm = malloc(n * sizeof *ref_perm);
+        double *ref_x = malloc(n * sizeof *ref_x);
+        assert_int_equal(sk_sparse_point_ordering(a, 2, NULL, SK_ORDERING_METIS, ref_perm, NULL),
+                         SK_OK);
+        assert_int_equal(solve_metis(a, sk, b, ref_x), 0);
+        concurrent_job job[2];
+        pthread_t th[2];
+        for (int t = 0; t < 2; ++t) {
+            job[t] = (concurrent_job){a, b, SK_ORDERING_METIS, sk,
+                                      malloc(CONCURRENT_ROUNDS * n * sizeof(int)),
+                                      malloc(CONCURRENT_ROUNDS * n * sizeof(double)), 0};
+            assert_int_equal(pthread_create(&th[t], NULL, concurrent_run, &job[t]), 0);
+        }
+        int differ = 0;
+        for (int t = 0; t < 2; ++t) {
+            assert_int_equal(pthread_join(th[t], NULL), 0);
+            assert_int_equal(job[t].failures, 0);
+            for (int r = 0; r < CONCURRENT_ROUNDS; ++r) {
+                differ += memcmp(job[t].perm + r * n, ref_perm, n * sizeof(int)) != 0;
+                differ += memcmp(job[t].x + r * n, ref_x, n * sizeof(double)) != 0;
+            }
+            free(job[t].perm);
+            free(job[t].x);
+        }
+        if (differ)
+            fail_msg("%s: %d of %d concurrent METIS orderings / solves differ from the one alone",
+                     kind == 0 ? "Cholesky" : "LU", differ, 4 * CONCURRENT_ROUNDS);
+        free(ref_perm);
+        free(ref_x);
+    }
+    if (openblas_set_num_threads)
+        openblas_set_num_threads(blas);
+    free(b);
+    free(xyz);
+    sk_sparse_destroy(&low);
+    sk_sparse_destroy(&full);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -344,6 +467,7 @@ int main(void)
         cmocka_unit_test(test_bad_orderings),
         cmocka_unit_test(test_orderings_out_of_memory),
         cmocka_unit_test(test_param_orderings_agree),
+        cmocka_unit_test(test_concurrent_metis_same_as_alone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -421,7 +421,7 @@ static int project(const sk__vsys *s, double *p, double *w, int *iters)
  * than 16 rejections would have been taken there). */
 #define NEWTON_REJECTS 16
 
-static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters)
+static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters, int *tries)
 {
     int n = s->n_edges, nc = cons_count(s);
     double mu[MAX_C];
@@ -438,6 +438,7 @@ static int iterate(sk__vsys *s, double *p, double *w, int use_lapack, int *iters
             memcpy(w0, w, sizeof w0);
             memcpy(mu0, mu, sizeof mu0);
             double r0 = residual(s, p, w, NULL);
+            ++*tries;
             dx = step_newton(s, p, w, mu);
             if (dx < 0.0 || !(residual(s, p, w, NULL) < 10.0 * r0 + 1e-14)) {
                 /* Newton diverged: back to Gauss-Newton */
@@ -486,6 +487,7 @@ int sk__vsys_solve(sk__vsys *s)
     for (int j = 0; j < 2 * n; ++j)
         t.pstar[j] = s->pstar[j] / scale;
     s->iterations = 0;
+    s->newton_tries = 0;
     s->used_fallback = 0;
     int nc = cons_count(s);
     double p[2 * SK_VSYS_MAX], w[SK_VSYS_MAX] = {0};
@@ -493,7 +495,7 @@ int sk__vsys_solve(sk__vsys *s)
     int ok = 0;
     if (nc > 0) {
         initial_w(&t, p, w);
-        ok = iterate(&t, p, w, 0, &s->iterations);
+        ok = iterate(&t, p, w, 0, &s->iterations, &s->newton_tries);
         if (ok != 0) {
             /* feasibility restoration: minimum-norm Gauss-Newton on c(p, w) = 0 alone from the last
              * iterate (targets moved onto the iterate each step); converges quadratically */
@@ -514,7 +516,7 @@ int sk__vsys_solve(sk__vsys *s)
             s->used_fallback = 1;
             memcpy(p, t.pstar, sizeof(double) * (size_t)(2 * n));
             initial_w(&t, p, w);
-            ok = iterate(&t, p, w, 1, &s->iterations);
+            ok = iterate(&t, p, w, 1, &s->iterations, &s->newton_tries);
         }
     } else {
         for (int m = 0; m < n; ++m)
@@ -549,7 +551,7 @@ void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle)
 #define MEMO_SLOTS 16
 
 typedef struct memo_entry {
-    int n, closed, fixed_first, fixed_last, ret, iterations, used_fallback;
+    int n, closed, fixed_first, fixed_last, ret, iterations, newton_tries, used_fallback;
     double in[5 * SK_VSYS_MAX];
     double p[2 * SK_VSYS_MAX], w[SK_VSYS_MAX], residual;
 } memo_entry;
@@ -594,6 +596,7 @@ int sk__vsys_solve_memo(sk__vsys *s, sk__vsys_memo *memo)
         memcpy(s->w, e->w, n * sizeof(double));
         s->residual = e->residual;
         s->iterations = e->iterations;
+        s->newton_tries = e->newton_tries;
         s->used_fallback = e->used_fallback;
         return e->ret;
     }
@@ -610,6 +613,7 @@ int sk__vsys_solve_memo(sk__vsys *s, sk__vsys_memo *memo)
     memcpy(e->w, s->w, n * sizeof(double));
     e->residual = s->residual;
     e->iterations = s->iterations;
+    e->newton_tries = s->newton_tries;
     e->used_fallback = s->used_fallback;
     e->ret = ret;
     return ret;

@@ -767,11 +767,8 @@ static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *
 #pragma omp parallel for schedule(dynamic, 256)
 #endif
     for (long p = 0; p < np; ++p) {
-        /* a patch that strays seeds the sweeps whatever its regularity, and its corners step:
-         * its test is left to the repair, which tests the patches the sweeps moved (cow: most) */
-        bad[p] = net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT;
-        sing[p] = bad[p] ? SK_SING_UNKNOWN : sk__patch_singular(s, (size_t)p, NULL);
-        bad[p] = bad[p] || sing[p];
+        sing[p] = sk__patch_singular(s, (size_t)p, NULL);
+        bad[p] = sing[p] || net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT;
         const sk_patch *pa = &s->surface.patches[p];
         pe[p] = net_energy(qt, qq, (int)sk_patch_num_corners(pa),
                            sk_patch_cp(&s->surface, (size_t)p));

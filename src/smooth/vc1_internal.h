@@ -92,8 +92,7 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
  * from their faces, over the vertices with status < 2; they move each vertex's tangents W->P by the linear map of its tangent plane
  * minimising the bending energy of the patches it moves plus the distance to the targets; keeps
  * (8) and the angle bounds and leaves W->C consistent (system (4)). *moved counts the steps.
- * sing (one per patch) gets the regularity test of every patch before the sweeps (left
- * SK_SING_UNKNOWN at the patches that stray: they seed the sweeps anyway), and
+ * sing (one per patch) gets the regularity test of every patch before the sweeps, and
  * SK_SING_UNKNOWN for the patches the sweeps may have moved (to be assembled again; for
  * sk__vc1_repair_regularity). energy (may be NULL): the bending energy of all patches before
  * (summed from s->surface) and after (the change from the quadratic model the sweeps run on). */

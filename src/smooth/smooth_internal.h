@@ -110,7 +110,7 @@ typedef struct sk__vsys {
 
 /* Solves min sum |P_m - P*_m|^2 subject to (8) by Gauss-Newton / SQP on (P, w). Returns 0 when the
  * constraints hold to rounding (residual <= 1e-12), else -1 (the best iterate is left in p, w).
- * Newton steps are tried after GN_FIRST Gauss-Newton steps, until NEWTON_REJECTS (16) in a row
+ * Newton steps are tried after GN_FIRST Gauss-Newton steps, until NEWTON_REJECTS (40) in a row
  * were undone (vertex_system.c). */
 int sk__vsys_solve(sk__vsys *s);
 

@@ -837,8 +837,8 @@ static void assert_same_solution(const sk__vsys *a, int ra, const sk__vsys *b, i
 /* A crease sector of the cow (both ends fixed at the crease tangents) on which the Newton steps
  * of the vertex-system solver are undone every time: the iteration runs to its bound with
  * Gauss-Newton, then projects onto the constraints. Given that system, when it is solved, then
- * it meets the constraints with the fixed ends kept exactly, and stops trying Newton after 16
- * undone steps in a row (it tried one every other iteration, about 95, before). */
+ * it meets the constraints with the fixed ends kept exactly, and stops trying Newton after 40
+ * undone steps in a row (it tried one every other iteration, 94, before). */
 static void test_vsys_stalled_newton(void **state)
 {
     (void)state;
@@ -869,7 +869,7 @@ static void test_vsys_stalled_newton(void **state)
             assert_true(fabs(c) <= 1e-12 * 0.0063);
         }
     assert_true(s.iterations >= 150); /* the stall this test is about */
-    assert_true(s.newton_tries >= 16 && s.newton_tries <= 20);
+    assert_true(s.newton_tries >= 40 && s.newton_tries <= 44);
 }
 
 /* The memo of vertex-system solves returns what a plain solve returns: on a first solve, on a

@@ -519,6 +519,7 @@ static int solve_sector(sk__vsys *q)
         q->w[0] = q->w[1] = q->w[2] = 0.0;
         q->residual = scale > 0.0 ? hypot(rx, ry) / scale : 0.0;
         q->iterations = 0;
+        q->newton_tries = 0;
         q->used_fallback = 0;
         if (q->residual <= 1e-12)
             return 0;
@@ -542,6 +543,7 @@ int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, doub
     sys->fixed_first = sys->fixed_last = 0;
     sys->residual = 0.0;
     sys->iterations = 0;
+    sys->newton_tries = 0;
     sys->used_fallback = 0;
     sys->relaxed = blend > 0.0 || lscale != 1.0;
     for (int s = 0; s < ns; ++s) {
@@ -612,6 +614,7 @@ int sk__vc1_solve_crease_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, doub
         }
         sys->residual = fmax(sys->residual, q.residual);
         sys->iterations += q.iterations;
+        sys->newton_tries += q.newton_tries;
         sys->used_fallback |= q.used_fallback;
         int code = ok != 0 ? 2 : bad ? 1 : 0;
         worst = code > worst ? code : worst;

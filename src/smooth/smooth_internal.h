@@ -100,6 +100,7 @@ typedef struct sk__vsys {
     double w[SK_VSYS_MAX];  /* w_1^m of each constraint (0 for boundary edges) */
     double residual;        /* max |c| relative to the scale of the targets */
     int iterations;
+    int newton_tries;       /* Newton steps tried (taken or undone) */
     int used_fallback;
     int relaxed;            /* set by the caller when the targets were relaxed */
     /* chains only: the first / last point is fixed at its target (a crease edge, whose tangent
@@ -108,7 +109,9 @@ typedef struct sk__vsys {
 } sk__vsys;
 
 /* Solves min sum |P_m - P*_m|^2 subject to (8) by Gauss-Newton / SQP on (P, w). Returns 0 when the
- * constraints hold to rounding (residual <= 1e-12), else -1 (the best iterate is left in p, w). */
+ * constraints hold to rounding (residual <= 1e-12), else -1 (the best iterate is left in p, w).
+ * Newton steps are tried after GN_FIRST Gauss-Newton steps, until NEWTON_REJECTS (40) in a row
+ * were undone (vertex_system.c). */
 int sk__vsys_solve(sk__vsys *s);
 
 /* A memo of solves (vertex_system.c): the solver is deterministic, so inputs equal to the bit

@@ -830,7 +830,46 @@ static void assert_same_solution(const sk__vsys *a, int ra, const sk__vsys *b, i
     assert_memory_equal(a->w, b->w, (size_t)a->n_edges * sizeof(double));
     assert_memory_equal(&a->residual, &b->residual, sizeof(double));
     assert_int_equal(a->iterations, b->iterations);
+    assert_int_equal(a->newton_tries, b->newton_tries);
     assert_int_equal(a->used_fallback, b->used_fallback);
+}
+
+/* A crease sector of the cow (both ends fixed at the crease tangents) on which the Newton steps
+ * of the vertex-system solver are undone every time: the iteration runs to its bound with
+ * Gauss-Newton, then projects onto the constraints. Given that system, when it is solved, then
+ * it meets the constraints with the fixed ends kept exactly, and stops trying Newton after 40
+ * undone steps in a row (it tried one every other iteration, 94, before). */
+static void test_vsys_stalled_newton(void **state)
+{
+    (void)state;
+    static const double in[4][5] = {
+        {0.0060842864043658485, 0.0011488419543707192, 1, 1, -1},
+        {2.0381502325522961e-06, 0.0010682758397196433, 0.75, 1, -0.66580384071706933},
+        {-0.0032763356228596241, -0.0014558610407697395, 0.75, 0.75, -1.2021433780386597},
+        {-0.0062861821689568741, -0.0011869641447734235, 1, 1, -1}};
+    sk__vsys s;
+    memset(&s, 0, sizeof s);
+    s.n_edges = 4;
+    s.fixed_first = s.fixed_last = 1;
+    for (int k = 0; k < 4; ++k) {
+        s.pstar[2 * k] = in[k][0], s.pstar[2 * k + 1] = in[k][1];
+        s.du[k] = in[k][2], s.dd[k] = in[k][3], s.nu[k] = in[k][4];
+    }
+    int ret = sk__vsys_solve(&s);
+    print_message("stalled sector: ret %d, %d iterations, %d Newton tries, residual %.3g\n", ret,
+                  s.iterations, s.newton_tries, s.residual);
+    assert_int_equal(ret, 0);
+    assert_true(s.residual <= 1e-12);
+    assert_memory_equal(s.p, s.pstar, 2 * sizeof(double));
+    assert_memory_equal(s.p + 6, s.pstar + 6, 2 * sizeof(double));
+    for (int m = 1; m <= 2; ++m) /* (8) at the two interior edges, relative to the targets */
+        for (int x = 0; x < 2; ++x) {
+            double c = s.du[m] * s.p[2 * (m + 1) + x] - s.nu[m] * s.dd[m] * s.p[2 * (m - 1) + x] -
+                       s.w[m] * s.p[2 * m + x];
+            assert_true(fabs(c) <= 1e-12 * 0.0063);
+        }
+    assert_true(s.iterations >= 150); /* the stall this test is about */
+    assert_true(s.newton_tries >= 40 && s.newton_tries <= 44);
 }
 
 /* The memo of vertex-system solves returns what a plain solve returns: on a first solve, on a
@@ -995,6 +1034,7 @@ int main(void)
         cmocka_unit_test(test_fair_vs_lsq),
         cmocka_unit_test(test_fair_points_eight),
         cmocka_unit_test(test_fair_model_energy),
+        cmocka_unit_test(test_vsys_stalled_newton),
         cmocka_unit_test(test_table),
         cmocka_unit_test(test_box_candidates),
         cmocka_unit_test(test_singular_any_start),

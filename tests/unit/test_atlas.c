@@ -511,10 +511,16 @@ static void test_pack_cuts(void **state)
 static void test_shared_meshes(void **state)
 {
     (void)state;
-    bool q = quick();
+    /* quick (the sanitizer run, about 6 ms a face there): the meshes above 10k faces are left
+     * to the release run; their kinds (closed scans, disks, holes, creases) are among the rest */
+    static const char *const big[] = {"armadillo.off", "bunny00.off", "fandisk.off", "lion.off",
+                                      "lion-head.off", "mech-holes-shark.off"};
     for (size_t i = 0; i < sizeof meshes / sizeof meshes[0]; ++i) {
         const char *name = meshes[i];
-        if (q && (!strcmp(name, "bunny00.off") || !strcmp(name, "armadillo.off")))
+        bool skip = false;
+        for (size_t k = 0; quick() && k < sizeof big / sizeof big[0]; ++k)
+            skip = skip || !strcmp(name, big[k]);
+        if (skip)
             continue;
         sk_soup *soup = skt_read_soup(skt_shared_mesh(name));
         sk_validation rep;

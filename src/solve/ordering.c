@@ -11,6 +11,7 @@
  * replaces the graph partitioning. */
 #include "surfkit/solve.h"
 #include "core/internal.h"
+#include "solve/solve_internal.h"
 
 #include <cholmod.h>
 #include <limits.h>
@@ -551,11 +552,9 @@ sk_status sk_sparse_point_ordering(const sk_sparse *a, unsigned dim, const doubl
     A.packed = 1;
     int ok;
     if (method == SK_ORDERING_METIS) {
-        /* one METIS call at a time in the process (see may_run_metis in solver.c) */
-#if defined(SK_HAVE_OPENMP)
-#pragma omp critical(sk__metis)
-#endif
+        sk__metis_lock(); /* one METIS call at a time in the process (solver.c) */
         ok = cholmod_metis(&A, NULL, 0, 1, pperm, &cc);
+        sk__metis_unlock();
     } else {
         ok = method == SK_ORDERING_GEOMETRIC ? cholmod_camd(&A, NULL, 0, cmember, pperm, &cc)
                                              : cholmod_amd(&A, NULL, 0, pperm, &cc);

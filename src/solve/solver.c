@@ -4,9 +4,11 @@
  * every failure comes back as an sk_status with a message. */
 #include "surfkit/solve.h"
 #include "core/internal.h"
+#include "solve/solve_internal.h"
 
 #include <cholmod.h>
 #include <limits.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <umfpack.h>
@@ -134,7 +136,20 @@ static void cholmod_ordering(cholmod_common *cc, sk_ordering o)
  * every run with 2 threads, the same with 1 or with the calls serialized; the state of METIS's
  * random generator is process-wide). So every call that may run METIS (cholmod_metis,
  * CHOLMOD's analysis with its own choice or METIS / NESDIS, UMFPACK's METIS-based orderings)
- * holds the OpenMP lock named sk__metis; AMD, CAMD and given orderings run unlocked. */
+ * holds one process-wide mutex (a plain pthread mutex, so that it also serializes threads of the
+ * caller's own and builds without OpenMP); AMD, CAMD and given orderings run unlocked. */
+static pthread_mutex_t metis_mutex = PTHREAD_MUTEX_INITIALIZER;
+
+void sk__metis_lock(void)
+{
+    pthread_mutex_lock(&metis_mutex);
+}
+
+void sk__metis_unlock(void)
+{
+    pthread_mutex_unlock(&metis_mutex);
+}
+
 static bool may_run_metis(sk_solver_kind kind, sk_ordering o)
 {
     switch (o) {
@@ -221,16 +236,12 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (opts && opts->simplicial)
             s->cc.supernodal = CHOLMOD_SIMPLICIAL;
         cholmod_sparse A = cholmod_view(a);
-        if (perm) {
-            s->L = cholmod_analyze_p(&A, perm, NULL, 0, &s->cc);
-        } else if (may_run_metis(kind, ord)) {
-#if defined(SK_HAVE_OPENMP)
-#pragma omp critical(sk__metis)
-#endif
-            s->L = cholmod_analyze(&A, &s->cc);
-        } else {
-            s->L = cholmod_analyze(&A, &s->cc);
-        }
+        bool lock = may_run_metis(kind, ord);
+        if (lock)
+            sk__metis_lock();
+        s->L = perm ? cholmod_analyze_p(&A, perm, NULL, 0, &s->cc) : cholmod_analyze(&A, &s->cc);
+        if (lock)
+            sk__metis_unlock();
         if (!s->L || s->cc.status < 0) {
             st = sk__fail(err, s->cc.status == CHOLMOD_OUT_OF_MEMORY ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "CHOLMOD analysis of a %zu x %zu matrix failed: %s", a->n, a->n,
@@ -256,20 +267,15 @@ sk_status sk_solver_create_opts(const sk_sparse *a, sk_solver_kind kind,
         if (perm) /* the given order is symmetric (of A + A^T): rows follow the columns */
             s->control[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
         double info[UMFPACK_INFO];
-        int r;
-        if (perm) {
-            r = umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
-                                     &s->symbolic, s->control, info);
-        } else if (may_run_metis(kind, ord)) {
-#if defined(SK_HAVE_OPENMP)
-#pragma omp critical(sk__metis)
-#endif
-            r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
-                                    s->control, info);
-        } else {
-            r = umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, &s->symbolic,
-                                    s->control, info);
-        }
+        bool lock = may_run_metis(kind, ord);
+        if (lock)
+            sk__metis_lock();
+        int r = perm ? umfpack_di_qsymbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax, perm,
+                                            &s->symbolic, s->control, info)
+                     : umfpack_di_symbolic((int)a->n, (int)a->n, s->ap, s->ai, s->ax,
+                                           &s->symbolic, s->control, info);
+        if (lock)
+            sk__metis_unlock();
         if (r != UMFPACK_OK) {
             st = sk__fail(err, r == UMFPACK_ERROR_out_of_memory ? SK_ERR_NOMEM : SK_ERR_NUMERIC,
                           "UMFPACK analysis of a %zu x %zu matrix failed (status %d)", a->n, a->n,

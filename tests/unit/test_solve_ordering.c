@@ -404,12 +404,6 @@ static sk_sparse *full_matrix(const sk_sparse *low)
 static void test_concurrent_metis_same_as_alone(void **state)
 {
     (void)state;
-#ifndef SK_TEST_OPENMP
-    /* without OpenMP (SK_OPENMP=OFF, the sanitizer run) the library never orders on two threads
-     * itself and has no METIS lock (it is OpenMP's); libgomp may still be linked through CHOLMOD
-     * or OpenBLAS, so a weak omp symbol cannot tell */
-    skip();
-#endif
     double *xyz = NULL;
     sk_sparse *low = grid_matrix(60, 2, &xyz), *full = full_matrix(low);
     size_t n = low->n;

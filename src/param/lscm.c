@@ -7,11 +7,21 @@
  * and A(u, v) = 1/2 sum over the counter-clockwise boundary edges (a, b) of u_a v_b - u_b v_a the
  * signed area of the image. E_C >= 0 with equality exactly for conformal maps; with two vertices
  * pinned it is a positive definite quadratic form in the remaining 2 (n - 2) unknowns, solved by
- * Cholesky with the pinned values moved to the right-hand side. */
+ * Cholesky with the pinned values moved to the right-hand side.
+ *
+ * u and v share the cotangent matrix and are coupled by A(u, v) alone, i.e. between boundary
+ * vertices only. So the direct route (from SK_LSCM_BORDERED_MIN free vertices, the default
+ * ordering) numbers the interior vertices first and the free boundary last and hands the
+ * (n - 2) x (n - 2) cotangent matrix and the boundary coupling to sk__solve_bordered_pair: one
+ * factor of the cotangent matrix for both halves and a dense system on the boundary
+ * (src/solve/bordered.c), instead of the 2 (n - 2) x 2 (n - 2) interleaved factor. The other
+ * routes (hierarchical, AMG, a given ordering) solve the interleaved system. */
 #include "param_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
+#include "solve/bordered.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -122,6 +132,135 @@ static sk_status assemble(const sk_mesh *m, const uint32_t *idx, const double *u
     return add_failed ? sk__fail(err, SK_ERR_NOMEM, "out of memory") : SK_OK;
 }
 
+/* The bordered route from this many free vertices (smaller systems, the atlas's charts among
+ * them, keep the interleaved factor) and up to this many free boundary vertices: the dense border
+ * system is 2k x 2k, (2k)^3 / 3 flops for its Cholesky (0.5 Gflop at k = 576, the boundary of a
+ * 4M-triangle lion head; the 1M one has 288). */
+#define SK_LSCM_BORDERED_MIN 5000
+#define SK_LSCM_BORDER_MAX 1024
+
+/* Whether o's route for n free vertices is the direct solve with the default ordering. */
+static bool bordered_route(const sk_param_opts *o, size_t n, size_t k)
+{
+    bool direct = o->solver == SK_LINEAR_DIRECT;
+    if (o->solver == SK_LINEAR_AUTO)
+        direct = n < (o->auto_vertices ? o->auto_vertices : SK_AUTO_VERTICES_LSCM);
+    return direct && o->ordering == SK_ORDERING_DEFAULT && n >= SK_LSCM_BORDERED_MIN &&
+           k <= SK_LSCM_BORDER_MAX;
+}
+
+/* Context of the bordered assembly: the cotangent matrix over the free vertices (interior first,
+ * the k free boundary vertices last, from m = n - k), the coupling C (k x k, column-major, row u
+ * of boundary vertex m + r, column v of m + c) and the right-hand sides (u then v, n each). */
+typedef struct {
+    const uint32_t *idx;
+    const double *uv;
+    size_t n, m, k;
+    sk_triplets *t;
+    double *c, *rhs;
+    bool failed;
+} bordered_system;
+
+/* Q[(va, ca)][(vb, cb)] += q as assemble() adds it, into the bordered pieces: u-u entries into
+ * the shared matrix (v-v ones are the same), u-v ones into C (v-u ones are C^T), pinned columns
+ * into the right-hand side of their row. */
+static void bordered_add(bordered_system *b, uint32_t va, int ca, uint32_t vb, int cb, double q)
+{
+    uint32_t ia = b->idx[va], ib = b->idx[vb];
+    if (ia == SK_INVALID)
+        return;
+    if (ib == SK_INVALID) {
+        b->rhs[(size_t)ca * b->n + ia] -= q * b->uv[2 * (size_t)vb + (size_t)cb];
+        return;
+    }
+    if (ca == cb) {
+        if (ca == 0 && ib <= ia && sk_triplets_add(b->t, ia, ib, q))
+            b->failed = true;
+    } else if (ca == 0) { /* both on the boundary: the only u-v couplings are A(u, v)'s */
+        assert(ia >= b->m && ib >= b->m);
+        b->c[(ia - b->m) + b->k * (ib - b->m)] += q;
+    }
+}
+
+/* The bordered direct solve; idx numbers the interior free vertices 0 .. m - 1 and the free
+ * boundary m .. n - 1. */
+static sk_status solve_bordered(const sk_mesh *m, const uint32_t *idx, size_t n, size_t k,
+                                double *uv, const sk_param_opts *o, sk_param_stats *s,
+                                sk_error *err)
+{
+    double t0 = sk_seconds();
+    sk_status st = SK_OK;
+    sk_triplets t = {0};
+    sk_sparse *a = NULL;
+    double *c = sk__calloc_array(k ? k * k : 1, sizeof *c);
+    double *rhs = sk__calloc_array(2 * n, sizeof *rhs);
+    double *x = sk__malloc_array(2 * n, sizeof *x);
+    if (!c || !rhs || !x || sk_triplets_reserve(&t, 9 * m->num_faces + 1, err)) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    bordered_system b = {idx, uv, n, n - k, k, &t, c, rhs, false};
+    /* Dirichlet part, per triangle and edge: c/2 (x_i - x_j)^2 for u and for v */
+    for (size_t f = 0; f < m->num_faces; ++f) {
+        if (m->f_deleted[f])
+            continue;
+        uint32_t h = m->f_halfedge[f];
+        for (int e = 0; e < 3; ++e, h = sk_next(m, h)) {
+            uint32_t i = sk_from(m, h), j = sk_to(m, h), l = sk_to(m, sk_next(m, h));
+            double w = 0.5 * sk__cot3(m->positions + 3 * (size_t)i, m->positions + 3 * (size_t)j,
+                                      m->positions + 3 * (size_t)l);
+            for (int comp = 0; comp < 2; ++comp) {
+                bordered_add(&b, i, comp, i, comp, w);
+                bordered_add(&b, j, comp, j, comp, w);
+                bordered_add(&b, i, comp, j, comp, -w);
+                bordered_add(&b, j, comp, i, comp, -w);
+            }
+        }
+    }
+    /* area part, as in assemble() */
+    for (size_t hb = 0; hb < m->num_halfedges; ++hb) {
+        if (m->e_deleted[hb >> 1] || !sk_is_boundary_h(m, (uint32_t)hb))
+            continue;
+        uint32_t h = (uint32_t)hb ^ 1u;
+        uint32_t va = sk_from(m, h), vb = sk_to(m, h);
+        bordered_add(&b, va, 0, vb, 1, -0.5);
+        bordered_add(&b, vb, 1, va, 0, -0.5);
+        bordered_add(&b, vb, 0, va, 1, 0.5);
+        bordered_add(&b, va, 1, vb, 0, 0.5);
+    }
+    if (b.failed) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    if ((st = sk_sparse_from_triplets(n, &t, SK_SPARSE_LOWER, &a, err)))
+        goto done;
+    sk_triplets_free(&t);
+    double t1 = sk_seconds();
+    s->weights_seconds = t1 - t0;
+    if ((st = sk__progress(o->progress, o->progress_user, 0.4, err)))
+        goto done;
+    /* AMD on the interior's graph: at 1M triangles 1.9 s less CPU than METIS for a factor
+     * half as large again (docs/linear.md, "The bordered LSCM solve") */
+    st = sk__solve_bordered_pair(a, k, c, SK_ORDERING_AMD, rhs, x, &s->solve,
+                                 &s->ordering_seconds, &s->residual, err);
+    if (st)
+        goto done;
+    s->solve.analyse_seconds += s->ordering_seconds; /* the ordering is analysis */
+    s->solver = SK_LINEAR_DIRECT;
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        if (idx[v] != SK_INVALID) {
+            uv[2 * v] = x[idx[v]];
+            uv[2 * v + 1] = x[n + idx[v]];
+        }
+done:
+    sk_sparse_destroy(&a);
+    sk_triplets_free(&t);
+    sk__free(c);
+    sk__free(rhs);
+    sk__free(x);
+    return st;
+}
+
 sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
                         sk_param_stats *stats, sk_error *err)
 {
@@ -161,6 +300,27 @@ sk_status sk_param_lscm(const sk_mesh *m, const sk_param_opts *opts, double *uv,
     }
     s.interior = n;
     s.boundary = 2;
+    size_t k = 0; /* free boundary vertices */
+    for (size_t v = 0; v < nv; ++v)
+        if (idx[v] != SK_INVALID && sk_is_boundary_v(m, (uint32_t)v))
+            ++k;
+    if (n > 0 && bordered_route(&o, n, k)) {
+        size_t in = 0, bn = n - k; /* interior first, the boundary last */
+        for (size_t v = 0; v < nv; ++v)
+            if (idx[v] != SK_INVALID)
+                idx[v] = (uint32_t)(sk_is_boundary_v(m, (uint32_t)v) ? bn++ : in++);
+        st = solve_bordered(m, idx, n, k, uv, &o, &s, err);
+        if (st != SK_ERR_ARG) { /* ARG: the factor could not keep the boundary last */
+            s.solve_seconds = sk_seconds() - t2 - s.weights_seconds;
+            if (st == SK_OK)
+                st = sk__progress(o.progress, o.progress_user, 1.0, err);
+            goto done;
+        }
+        sk__ok(err);
+        st = SK_OK;
+        memset(&s.solve, 0, sizeof s.solve);
+        s.ordering_seconds = 0;
+    }
     size_t N = 2 * n; /* unknown 2i is u_i, 2i + 1 is v_i */
     rhs = sk__calloc_array(N ? N : 1, sizeof *rhs);
     x = sk__malloc_array(N ? N : 1, sizeof *x);

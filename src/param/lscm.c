@@ -22,6 +22,7 @@
 #include "solve/bordered.h"
 
 #include <assert.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -149,37 +150,122 @@ static bool bordered_route(const sk_param_opts *o, size_t n, size_t k)
            k <= SK_LSCM_BORDER_MAX;
 }
 
-/* Context of the bordered assembly: the cotangent matrix over the free vertices (interior first,
- * the k free boundary vertices last, from m = n - k), the coupling C (k x k, column-major, row u
- * of boundary vertex m + r, column v of m + c) and the right-hand sides (u then v, n each). */
+/* The boundary coupling of the bordered route: C (k x k, column-major; row: u of free boundary
+ * vertex m + r, column: v of m + c) and the right-hand sides (u then v, n each). */
 typedef struct {
     const uint32_t *idx;
     const double *uv;
     size_t n, m, k;
-    sk_triplets *t;
     double *c, *rhs;
-    bool failed;
-} bordered_system;
+} bordered_coupling;
 
-/* Q[(va, ca)][(vb, cb)] += q as assemble() adds it, into the bordered pieces: u-u entries into
- * the shared matrix (v-v ones are the same), u-v ones into C (v-u ones are C^T), pinned columns
- * into the right-hand side of their row. */
-static void bordered_add(bordered_system *b, uint32_t va, int ca, uint32_t vb, int cb, double q)
+/* Q[(va, ca)][(vb, cb)] += q for a u-v entry of A(u, v) (ca != cb) as assemble() adds it: into C
+ * when both vertices are free (a v-u entry is C^T's, implied), into the right-hand side of the
+ * row when vb is pinned. */
+static void area_add(bordered_coupling *b, uint32_t va, int ca, uint32_t vb, int cb, double q)
 {
     uint32_t ia = b->idx[va], ib = b->idx[vb];
     if (ia == SK_INVALID)
         return;
     if (ib == SK_INVALID) {
         b->rhs[(size_t)ca * b->n + ia] -= q * b->uv[2 * (size_t)vb + (size_t)cb];
-        return;
-    }
-    if (ca == cb) {
-        if (ca == 0 && ib <= ia && sk_triplets_add(b->t, ia, ib, q))
-            b->failed = true;
-    } else if (ca == 0) { /* both on the boundary: the only u-v couplings are A(u, v)'s */
-        assert(ia >= b->m && ib >= b->m);
+    } else if (ca == 0) {
+        assert(ia >= b->m && ib >= b->m); /* boundary vertices, numbered last */
         b->c[(ia - b->m) + b->k * (ib - b->m)] += q;
     }
+}
+
+/* Half of the cotangent weight of the edge of half-edge h: cot of the angle opposite it in its
+ * face, halved (0 for a boundary half-edge); the edge's weight is the sum over its two halves,
+ * as assemble() sums it per triangle. */
+static double half_weight(const sk_mesh *m, uint32_t h)
+{
+    if (sk_is_boundary_h(m, h))
+        return 0;
+    return 0.5 * sk__cot3(m->positions + 3 * (size_t)sk_from(m, h),
+                          m->positions + 3 * (size_t)sk_to(m, h),
+                          m->positions + 3 * (size_t)sk_to(m, sk_next(m, h)));
+}
+
+/* The cotangent matrix over the free vertices straight into compressed columns (lower, rows
+ * sorted), column by column over each free vertex's one-ring; pinned neighbours move to both
+ * right-hand sides (rhs: u then v, n each, zeroed). */
+static sk_status cotangent_columns(const sk_mesh *m, const uint32_t *idx, size_t n,
+                                   const double *uv, double *rhs, sk_sparse **out, sk_error *err)
+{
+    sk_status st = SK_OK;
+    uint32_t *vert = sk__malloc_array(n, sizeof *vert);
+    sk_sparse *a = sk__calloc_array(1, sizeof *a);
+    if (!vert || !a || !(a->colptr = sk__malloc_array(n + 1, sizeof *a->colptr))) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    a->n = n;
+    a->storage = SK_SPARSE_LOWER;
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        if (idx[v] != SK_INVALID)
+            vert[idx[v]] = (uint32_t)v;
+    size_t nnz = 0;
+    a->colptr[0] = 0;
+    for (size_t c = 0; c < n; ++c) {
+        uint32_t h0 = m->v_halfedge[vert[c]], h = h0;
+        nnz++; /* the diagonal */
+        do {
+            uint32_t j = idx[sk_to(m, h)];
+            nnz += j != SK_INVALID && j > c;
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        if (nnz >= (size_t)INT_MAX) {
+            st = sk__fail(err, SK_ERR_ARG, "the LSCM matrix is too large");
+            goto done;
+        }
+        a->colptr[c + 1] = (int)nnz;
+    }
+    a->nnz = nnz;
+    a->rowind = sk__malloc_array(nnz, sizeof *a->rowind);
+    a->values = sk__malloc_array(nnz, sizeof *a->values);
+    if (!a->rowind || !a->values) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    int *ri = a->rowind;
+    double *va = a->values;
+    /* each column writes its own entries and right-hand side rows: any thread count, same bytes */
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) if (n > 50000)
+#endif
+    for (long cl = 0; cl < (long)n; ++cl) {
+        size_t c = (size_t)cl;
+        uint32_t h0 = m->v_halfedge[vert[c]], h = h0;
+        int p = a->colptr[c], q = p + 1;
+        double diag = 0;
+        do {
+            uint32_t vj = sk_to(m, h), j = idx[vj];
+            double w = half_weight(m, h) + half_weight(m, h ^ 1u);
+            diag += w;
+            if (j == SK_INVALID) {
+                rhs[c] += w * uv[2 * (size_t)vj];
+                rhs[n + c] += w * uv[2 * (size_t)vj + 1];
+            } else if (j > c) { /* insert, rows kept increasing */
+                int r = q++;
+                for (; r > p + 1 && ri[r - 1] > (int)j; --r) {
+                    ri[r] = ri[r - 1];
+                    va[r] = va[r - 1];
+                }
+                ri[r] = (int)j;
+                va[r] = -w;
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        ri[p] = (int)c;
+        va[p] = diag;
+    }
+done:
+    sk__free(vert);
+    if (st)
+        sk_sparse_destroy(&a);
+    *out = a;
+    return st;
 }
 
 /* The bordered direct solve; idx numbers the interior free vertices 0 .. m - 1 and the free
@@ -190,51 +276,28 @@ static sk_status solve_bordered(const sk_mesh *m, const uint32_t *idx, size_t n,
 {
     double t0 = sk_seconds();
     sk_status st = SK_OK;
-    sk_triplets t = {0};
     sk_sparse *a = NULL;
     double *c = sk__calloc_array(k ? k * k : 1, sizeof *c);
     double *rhs = sk__calloc_array(2 * n, sizeof *rhs);
     double *x = sk__malloc_array(2 * n, sizeof *x);
-    if (!c || !rhs || !x || sk_triplets_reserve(&t, 9 * m->num_faces + 1, err)) {
+    if (!c || !rhs || !x) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    bordered_system b = {idx, uv, n, n - k, k, &t, c, rhs, false};
-    /* Dirichlet part, per triangle and edge: c/2 (x_i - x_j)^2 for u and for v */
-    for (size_t f = 0; f < m->num_faces; ++f) {
-        if (m->f_deleted[f])
-            continue;
-        uint32_t h = m->f_halfedge[f];
-        for (int e = 0; e < 3; ++e, h = sk_next(m, h)) {
-            uint32_t i = sk_from(m, h), j = sk_to(m, h), l = sk_to(m, sk_next(m, h));
-            double w = 0.5 * sk__cot3(m->positions + 3 * (size_t)i, m->positions + 3 * (size_t)j,
-                                      m->positions + 3 * (size_t)l);
-            for (int comp = 0; comp < 2; ++comp) {
-                bordered_add(&b, i, comp, i, comp, w);
-                bordered_add(&b, j, comp, j, comp, w);
-                bordered_add(&b, i, comp, j, comp, -w);
-                bordered_add(&b, j, comp, i, comp, -w);
-            }
-        }
-    }
+    bordered_coupling b = {idx, uv, n, n - k, k, c, rhs};
+    if ((st = cotangent_columns(m, idx, n, uv, rhs, &a, err)))
+        goto done;
     /* area part, as in assemble() */
     for (size_t hb = 0; hb < m->num_halfedges; ++hb) {
         if (m->e_deleted[hb >> 1] || !sk_is_boundary_h(m, (uint32_t)hb))
             continue;
         uint32_t h = (uint32_t)hb ^ 1u;
         uint32_t va = sk_from(m, h), vb = sk_to(m, h);
-        bordered_add(&b, va, 0, vb, 1, -0.5);
-        bordered_add(&b, vb, 1, va, 0, -0.5);
-        bordered_add(&b, vb, 0, va, 1, 0.5);
-        bordered_add(&b, va, 1, vb, 0, 0.5);
+        area_add(&b, va, 0, vb, 1, -0.5);
+        area_add(&b, vb, 1, va, 0, -0.5);
+        area_add(&b, vb, 0, va, 1, 0.5);
+        area_add(&b, va, 1, vb, 0, 0.5);
     }
-    if (b.failed) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    if ((st = sk_sparse_from_triplets(n, &t, SK_SPARSE_LOWER, &a, err)))
-        goto done;
-    sk_triplets_free(&t);
     double t1 = sk_seconds();
     s->weights_seconds = t1 - t0;
     if ((st = sk__progress(o->progress, o->progress_user, 0.4, err)))
@@ -254,7 +317,6 @@ static sk_status solve_bordered(const sk_mesh *m, const uint32_t *idx, size_t n,
         }
 done:
     sk_sparse_destroy(&a);
-    sk_triplets_free(&t);
     sk__free(c);
     sk__free(rhs);
     sk__free(x);

@@ -23,6 +23,7 @@
 #include "core/internal.h"
 #include "solve/solver_internal.h"
 
+#include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -161,14 +162,12 @@ sk_status sk__solve_bordered_pair(const sk_sparse *a, size_t k, const double *c,
     if (k > 0) {
         border_block(L, n, k, lb);
         size_t k2 = 2 * k;
+        /* S_0 = L_B L_B^T into the leading block (lower triangle), copied to the trailing one */
+        cblas_dsyrk(CblasColMajor, CblasLower, CblasNoTrans, (blasint)k, (blasint)k, 1.0, lb,
+                    (blasint)k, 0.0, g, (blasint)k2);
         for (size_t j = 0; j < k; ++j)
-            for (size_t i = j; i < k; ++i) {
-                double s = 0;
-                for (size_t l = 0; l <= j; ++l)
-                    s += lb[i + k * l] * lb[j + k * l];
-                g[i + k2 * j] = s;
-                g[(k + i) + k2 * (k + j)] = s;
-            }
+            for (size_t i = j; i < k; ++i)
+                g[(k + i) + k2 * (k + j)] = g[i + k2 * j];
         for (size_t j = 0; j < k; ++j)     /* rows of the y block, columns of the x block: C'^T */
             for (size_t i = 0; i < k; ++i) /* (y_i, x_j) = C'(j, i) = C(gamma_j, gamma_i) */
                 g[(k + i) + k2 * j] = c[(size_t)gamma[j] + k * (size_t)gamma[i]];

@@ -302,7 +302,7 @@ static sk_status solve_bordered(const sk_mesh *m, const uint32_t *idx, size_t n,
     s->weights_seconds = t1 - t0;
     if ((st = sk__progress(o->progress, o->progress_user, 0.4, err)))
         goto done;
-    /* AMD on the interior's graph: at 1M triangles 1.9 s less CPU than METIS for a factor
+    /* AMD on the interior's graph: at 1M triangles 2.0 s less CPU than METIS for a factor
      * half as large again (docs/linear.md, "The bordered LSCM solve") */
     st = sk__solve_bordered_pair(a, k, c, SK_ORDERING_AMD, rhs, x, &s->solve,
                                  &s->ordering_seconds, &s->residual, err);

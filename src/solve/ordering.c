@@ -11,7 +11,7 @@
  * replaces the graph partitioning. */
 #include "surfkit/solve.h"
 #include "core/internal.h"
-#include "solve/solve_internal.h"
+#include "solve/solver_internal.h"
 
 #include <cholmod.h>
 #include <limits.h>

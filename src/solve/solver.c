@@ -4,7 +4,7 @@
  * every failure comes back as an sk_status with a message. */
 #include "surfkit/solve.h"
 #include "core/internal.h"
-#include "solve/solve_internal.h"
+#include "solve/solver_internal.h"
 
 #include <cholmod.h>
 #include <limits.h>
@@ -442,6 +442,14 @@ sk_status sk_solver_solve(sk_solver *s, size_t nrhs, const double *b, double *x,
     sk_status st = solve(s, nrhs, b, x, err);
     sk__blas_serial_end(blas);
     return st;
+}
+
+cholmod_factor *sk__solver_cholmod(sk_solver *s, cholmod_common **cc)
+{
+    if (s->kind != SK_SOLVER_CHOLESKY || !s->factored)
+        return NULL;
+    *cc = &s->cc;
+    return s->L;
 }
 
 void sk_solver_stats(const sk_solver *s, sk_solve_stats *stats)

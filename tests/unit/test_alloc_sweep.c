@@ -5,6 +5,8 @@
  * and not crash. cairo and fontconfig are not in it (no picture is drawn). */
 #include "testutil.h"
 
+#include "solve/bordered.h"
+
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -252,6 +254,60 @@ static sk_status p_lscm_amg(const char *off, size_t size, double *res, size_t *n
     return multilevel(off, size, res, nres, SK_PARAM_LSCM, SK_LINEAR_AMG);
 }
 
+/* LSCM's bordered direct solve (src/solve/bordered.c; the LSCM route takes it from 5000
+ * vertices, more than this sweep's disk): the disk's graph Laplacian plus the identity, boundary
+ * last, coupled along the boundary by a small antisymmetric C */
+static sk_status p_bordered(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    size_t nv = m->num_vertices, nb = 0;
+    for (size_t v = 0; v < nv; ++v)
+        nb += sk_is_boundary_v(m, (uint32_t)v);
+    uint32_t *idx = calloc(nv, sizeof *idx); /* the test's own blocks: libc */
+    double *c = calloc(nb * nb, sizeof *c), *b = calloc(2 * nv, sizeof *b);
+    assert_true(idx && c && b && 2 * nv <= RES_MAX);
+    size_t in = 0, bn = nv - nb;
+    for (size_t v = 0; v < nv; ++v)
+        idx[v] = (uint32_t)(sk_is_boundary_v(m, (uint32_t)v) ? bn++ : in++);
+    for (size_t i = 0; i + 1 < nb; ++i) {
+        c[i + nb * (i + 1)] = 0.1;
+        c[(i + 1) + nb * i] = -0.1;
+    }
+    for (size_t i = 0; i < 2 * nv; ++i)
+        b[i] = (double)(i % 7) - 3.0;
+    sk_triplets t = {0};
+    sk_sparse *a = NULL;
+    for (size_t v = 0; v < nv && st == SK_OK; ++v) {
+        uint32_t h0 = m->v_halfedge[v], h = h0;
+        double deg = 1;
+        do {
+            uint32_t j = sk_to(m, h);
+            deg += 1;
+            if (idx[j] < idx[v] && (st = sk_triplets_add(&t, idx[v], idx[j], -1.0)))
+                break;
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        if (st == SK_OK)
+            st = sk_triplets_add(&t, idx[v], idx[v], deg);
+    }
+    if (st == SK_OK && (st = sk_sparse_from_triplets(nv, &t, SK_SPARSE_LOWER, &a, &g_err)) == SK_OK &&
+        (st = sk__solve_bordered_pair(a, nb, c, SK_ORDERING_AMD, b, res, NULL, NULL, NULL,
+                                      &g_err)) == SK_OK)
+        *nres = 2 * nv;
+    sk_sparse_destroy(&a);
+    sk_triplets_free(&t);
+    free(idx);
+    free(c);
+    free(b);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
 /* one B-spline surface fitted to the disk (issue 13) */
 static sk_status p_fit(const char *off, size_t size, double *res, size_t *nres)
 {
@@ -399,6 +455,7 @@ static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **
         {"mips-hierarchical", p_mips_hier}, {"mips-flat", p_mips_flat},
         {"smooth+export", p_smooth_export}, {"floater-hierarchical", p_floater_hier},
         {"floater-amg", p_floater_amg}, {"harmonic-amg", p_harmonic_amg}, {"lscm-amg", p_lscm_amg},
+        {"lscm-bordered", p_bordered},
         {"fit", p_fit},                     {"square", p_square},
         {"square-split", p_square_split},   {"smooth-tolerance", p_tolerance},
     };

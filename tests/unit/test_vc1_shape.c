@@ -682,7 +682,7 @@ static void test_fold_normals(void **state)
     sk_error err = {0};
     assert_int_equal(sk_mesh_vertex_normals(mesh, SK_NORMALS_ANGLE, n0, &err), SK_OK);
     memcpy(n1, n0, 3 * nv * sizeof(double));
-    size_t changed = sk__fold_normals(mesh, n1, NULL), seen = 0;
+    size_t changed = sk__fold_normals(mesh, n1, NULL, SK_FOLD_SEE_DEG), seen = 0;
     assert_true(changed > 0);
     uint64_t rng = 12345;
     for (uint32_t v = 0; v < nv; ++v) {

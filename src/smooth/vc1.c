@@ -303,10 +303,9 @@ done:
 }
 
 /* The crease edges of the input as vertex pairs (s->creases): detected, and (file_normals) the
- * edges whose per-corner normals differ at an end. */
-/* The crease edges of mesh into s->creases, and *hinge_end (NULL when there is none; one flag
- * per vertex of mesh) the vertices at which a line of fold hinges ends: one crease edge, a fold
- * hinge (crease.c step 4b) */
+ * edges whose per-corner normals differ at an end; *hinge_end (NULL when there is none; one flag
+ * per vertex of mesh): the vertices where a line of fold hinges ends (one detected crease edge,
+ * a fold hinge of crease.c step 4b). */
 static sk_status detect_creases(sk_smooth *s, const sk_mesh *mesh, double angle, bool file_normals,
                                 uint8_t **hinge_end, sk_error *err)
 {

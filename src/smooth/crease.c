@@ -25,6 +25,7 @@
  *      unless both its ends are corners (three or more such edges meet there: the cube's feature
  *      lines are single edges). */
 #include "surfkit/smooth.h"
+#include "smooth/smooth_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -181,6 +182,12 @@ static uint32_t uf_find(uint32_t *parent, uint32_t x)
 sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, uint8_t *crease,
                                size_t *count, sk_error *err)
 {
+    return sk__crease_edges_hinges(mesh, opts, crease, NULL, count, err);
+}
+
+sk_status sk__crease_edges_hinges(const sk_mesh *mesh, const sk_crease_opts *opts, uint8_t *crease,
+                                  uint8_t *hinges, size_t *count, sk_error *err)
+{
     if (!mesh || !crease)
         return sk__fail(err, SK_ERR_ARG, "sk_mesh_crease_edges: NULL argument");
     double A = opts && opts->angle_deg != 0.0 ? opts->angle_deg : SK_CREASE_ANGLE_DEFAULT;
@@ -303,6 +310,9 @@ sk_status sk_mesh_crease_edges(const sk_mesh *mesh, const sk_crease_opts *opts, 
         else
             n++;
     }
+    if (hinges)
+        for (uint32_t e = 0; e < ne; ++e)
+            hinges[e] = crease[e] && hinge[e];
     if (count)
         *count = n;
     sk__ok(err);

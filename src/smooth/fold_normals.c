@@ -15,7 +15,8 @@
  * angles to three. It is kept when the smallest cosine grows by SK_FOLD_GAIN. Every other
  * vertex keeps its normal bit for bit, and the surface still interpolates the normals it was
  * built with (s->normals). The cow's tail tip (vertices 2328, 2334, 2340) is regular since; the
- * fold beside vertex 43 (the tail's root, edges of 113-160 degrees) still is not. */
+ * fold beside vertex 43 (the tail's root, edges of 113-160 degrees) since the second refit at
+ * the ends of its hinge line 956-43-2384 and their neighbours (vc1.c, refit_hinge_ends). */
 #include "smooth/smooth_internal.h"
 #include "core/vec.h"
 
@@ -23,12 +24,15 @@
 
 /* a star is folded when a face normal is more than this (degrees) off the vertex normal */
 #define SK_FOLD_DEG 90.0
-/* the new normal is taken when it sees every face within this (degrees) and the smallest face
- * cosine grows by at least SK_FOLD_GAIN (measured on the cow with every vertex allowed, singular
- * patches before / after the repair, 36 / 6 without the refit: 84 degrees 25 / 4, 80 degrees
- * 29 / 6, 75 degrees 30 / 6; with 90 degrees (a refit that may leave a face edge-on) 39 / 9; the
- * build leaves the crease vertices and their neighbours alone (vc1.c): 84 degrees 26 / 4) */
-#define SK_FOLD_SEE_DEG 84.0
+/* The new normal is taken when it sees every face within see_deg (SK_FOLD_SEE_DEG, 84 degrees,
+ * in smooth_internal.h) and the smallest face cosine grows by at least SK_FOLD_GAIN (measured on
+ * the cow with every vertex allowed, singular patches before / after the repair, 36 / 6 without
+ * the refit: 84 degrees 25 / 4, 80 degrees 29 / 6, 75 degrees 30 / 6; with 90 degrees (a refit
+ * that may leave a face edge-on) 39 / 9; the build leaves the crease vertices and their
+ * neighbours alone (vc1.c): 84 degrees 26 / 4). At the end of a fold hinge (two faces 160
+ * degrees apart on the cow: no direction sees both within 80) the build refits once more after
+ * the edge flips with SK_FOLD_HINGE_SEE_DEG, 85 degrees: the cow's vertex 956 is seen within
+ * 84.7 at best (vc1.c, refit_hinge_ends). */
 #define SK_FOLD_GAIN 0.05
 /* faces per vertex considered (the rest of a larger star is ignored: no refit there) */
 #define SK_FOLD_MAX_FACES 24
@@ -87,10 +91,10 @@ static double maximin_direction(const double *F, int k, double best[3])
     return best_cos;
 }
 
-size_t sk__fold_normals(const sk_mesh *m, double *normals, const uint8_t *skip)
+size_t sk__fold_normals(const sk_mesh *m, double *normals, const uint8_t *skip, double see_deg)
 {
     size_t changed = 0;
-    double lim = cos(SK_FOLD_DEG * M_PI / 180.0), see = cos(SK_FOLD_SEE_DEG * M_PI / 180.0);
+    double lim = cos(SK_FOLD_DEG * M_PI / 180.0), see = cos(see_deg * M_PI / 180.0);
     long nvl = (long)m->num_vertices;
     /* each vertex reads the positions and writes only its own normal */
 #ifdef SK_HAVE_OPENMP

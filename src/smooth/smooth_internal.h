@@ -32,6 +32,11 @@ size_t sk__crease_flags(const sk_mesh *m, const uint32_t *pairs, size_t npairs, 
 sk_status sk__crease_setup(const sk_mesh *m, const double *normals, const sk_mesh *src,
                            const uint8_t *src_crease, const sk_mesh *file, uint8_t **crease_e,
                            double **cn, sk_error *err);
+/* sk_mesh_crease_edges, and hinges[e] = 1 (NULL: not wanted; ne entries, written in full) for
+ * the crease edges that are fold hinges (crease.c step 4b: the sharpest edge of a face whose
+ * edges were all sharp, its faces more than 90 degrees apart). */
+sk_status sk__crease_edges_hinges(const sk_mesh *mesh, const sk_crease_opts *opts, uint8_t *crease,
+                                  uint8_t *hinges, size_t *count, sk_error *err);
 /* Sets crease[e] for the interior edges of m whose per-corner normals (m->h_wedge_normal, the
  * file's) differ across the edge at one of its ends; returns how many it set that were not set. */
 size_t sk__corner_normal_creases(const sk_mesh *m, uint8_t *crease);
@@ -170,9 +175,12 @@ sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *kee
 
 /* Estimated normals at folded stars (fold_normals.c): where a face around v is more than 90
  * degrees off normals[v], the normal becomes the direction with the largest smallest cosine to
- * the faces around v when that sees every face within 84 degrees and gains; vertices with
- * skip[v] set (skip may be NULL) are left alone; returns how many vertices changed. */
-size_t sk__fold_normals(const sk_mesh *m, double *normals, const uint8_t *skip);
+ * the faces around v when that sees every face within see_deg degrees (SK_FOLD_SEE_DEG, or
+ * SK_FOLD_HINGE_SEE_DEG at the ends of fold hinges) and gains; vertices with skip[v] set (skip
+ * may be NULL) are left alone; returns how many vertices changed. */
+#define SK_FOLD_SEE_DEG 84.0
+#define SK_FOLD_HINGE_SEE_DEG 85.0
+size_t sk__fold_normals(const sk_mesh *m, double *normals, const uint8_t *skip, double see_deg);
 
 /* Flips the interior edge of half-edge h of a triangle mesh (edge_flips.c): the two triangles
  * abc, bad become cdb... the edge joins the two opposite vertices instead, its id kept. */

@@ -4,6 +4,7 @@
  * 0.5 degrees and gaps under 0.005 mm. */
 #include "smooth/smooth_internal.h"
 #include "surfkit/intersect.h"
+#include "analysis/intersect_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -281,26 +282,40 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
 }
 
 /* Crossing patch pairs, on a tessellation of n segments per side of the patches that can cross
- * another (sk__patch_box_candidates; the others' pairs cannot cross): the tessellator emits the
- * faces patch by patch (n^2 per triangle, 2 n^2 per tensor patch), and candidate g's corner ids
- * make face g of the groups soup, so patches sharing a corner are neighbours. The reported
- * patches are mapped back to the whole set's indices (in the same order: the candidates keep
- * theirs). */
+ * another (sk__patch_box_pairs, or sk__patch_box_candidates where the grid gives no pairs; the
+ * others' pairs cannot cross): the tessellator emits the faces patch by patch (n^2 per triangle,
+ * 2 n^2 per tensor patch), and candidate g's corner ids make face g of the groups soup, so
+ * patches sharing a corner are neighbours. With the pairs only their triangles are tested against
+ * each other (sk__self_intersections_pairs: the same crossing pairs as testing every candidate
+ * against every other, a crossing pair having overlapping boxes), else all the candidates'
+ * (sk_self_intersections). The reported patches are mapped back to the whole set's indices (in
+ * the same order: the candidates keep theirs). */
 static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuity_report *rep,
                                sk_error *err)
 {
     sk_soup *tess = NULL, *groups = NULL;
     sk_patch_set sub = {0};
+    uint64_t *pairs = NULL;
+    size_t npairs = 0;
     uint32_t *face_patch = NULL, *orig = sk__malloc_array(set->count + 1, sizeof *orig);
+    uint32_t *sub_of = sk__malloc_array(set->count + 1, sizeof *sub_of);
     uint8_t *cand = sk__malloc_array(set->count + 1, 1);
-    sk_status st = orig && cand ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk_status st = orig && cand && sub_of ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (!st)
+        st = sk__patch_box_pairs(set, &pairs, &npairs, err);
+    if (!st && pairs) {
+        memset(cand, 0, set->count);
+        for (size_t k = 0; k < npairs; ++k)
+            cand[pairs[k] >> 32] = cand[(uint32_t)pairs[k]] = 1;
+    } else if (!st) {
         st = sk__patch_box_candidates(set, cand, err);
+    }
     size_t nc = 0;
     for (size_t p = 0; !st && p < set->count; ++p) {
         const sk_patch *pp = &set->patches[p];
         if (!cand[p])
             continue;
+        sub_of[p] = (uint32_t)nc;
         orig[nc++] = (uint32_t)p;
         st = sk_patch_set_add(&sub, (sk_patch_kind)pp->kind, pp->degree, pp->degree_v,
                               sk_patch_cp(set, p), pp->corner_ids, NULL, err);
@@ -326,7 +341,13 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
         st = sk__fail(err, SK_ERR_NUMERIC, "the tessellation has %zu faces, expected %zu",
                       tess->num_faces, f);
     sk_intersection_report x;
-    if (!st)
+    bool fallback = !pairs;
+    if (!st && pairs) {
+        for (size_t k = 0; k < npairs; ++k) /* to the candidates' indices (the order kept) */
+            pairs[k] = (uint64_t)sub_of[pairs[k] >> 32] << 32 | sub_of[(uint32_t)pairs[k]];
+        st = sk__self_intersections_pairs(tess, face_patch, nc, pairs, npairs, &x, &fallback, err);
+    }
+    if (!st && fallback)
         st = sk_self_intersections(tess, face_patch, groups, &x, err);
     if (!st) {
         rep->intersecting_pairs = x.pairs;
@@ -339,6 +360,8 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
     }
 done:
     sk__free(face_patch);
+    sk__free(pairs);
+    sk__free(sub_of);
     sk__free(orig);
     sk__free(cand);
     sk_patch_set_free(&sub);

@@ -334,7 +334,7 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
             for (unsigned k = 0; k < nc; ++k)
                 for (int q = 0; q < 3; ++q)
                     phong[q] += w[k] * Nv[k][q];
-            if (len > 0 && sk__norm3(phong) > 0)
+            if (len > 0 && sk__dot3(phong, phong) > 0) /* |phong| > 0 without the root */
                 max_angle(&M, nrm, phong);
             else
                 flat_normal = true;

@@ -9,6 +9,7 @@
  * lies on an edge of one of them. */
 #include "surfkit/intersect.h"
 #include "analysis/bvh_internal.h"
+#include "analysis/intersect_internal.h"
 #include "core/internal.h"
 #include "mesh/fan.h"
 
@@ -351,5 +352,132 @@ sk_status sk_self_intersections(const sk_soup *surface, const uint32_t *face_gro
     summarize(&all, groups->num_faces, rep, err, &st);
     sk__free(all.key);
     rep->seconds = sk_seconds() - t0;
+    return st;
+}
+
+/* The triangles of group g (fan ids[0, n)) whose boxes meet box b: their corners (9 each) and
+ * boxes (lo xyz, hi xyz) into tri and tbox; returns their number */
+static size_t near_box(const sk_soup *surface, const uint32_t *tri_v, const uint32_t *ids,
+                       size_t n, const double *b, double *tri, double *tbox)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double *t = tri + 9 * m, *lo = tbox + 6 * m, *hi = lo + 3;
+        fan_box(surface, tri_v, ids[i], t, lo, hi);
+        bool apart = false;
+        for (int d = 0; d < 3 && !apart; ++d)
+            apart = lo[d] > b[3 + d] || hi[d] < b[d];
+        m += !apart;
+    }
+    return m;
+}
+
+/* whether a triangle of group a crosses one of group b: the triangles of each that meet the
+ * other's box, tested in pairs with overlapping boxes (the early reject of most pairs: two
+ * patches whose control-point boxes touch at a corner) */
+static bool pair_crosses(const sk_soup *surface, const uint32_t *tri_v, const uint32_t *gstart,
+                         const uint32_t *gids, const double *gbox, uint32_t a, uint32_t b,
+                         double *buf, size_t *tests)
+{
+    size_t na = gstart[a + 1] - gstart[a], nb = gstart[b + 1] - gstart[b];
+    double *ta = buf, *ba = ta + 9 * na, *tb = ba + 6 * na, *bb = tb + 9 * nb;
+    size_t ma = near_box(surface, tri_v, gids + gstart[a], na, gbox + 6 * (size_t)b, ta, ba);
+    if (!ma)
+        return false;
+    size_t mb = near_box(surface, tri_v, gids + gstart[b], nb, gbox + 6 * (size_t)a, tb, bb);
+    for (size_t i = 0; i < ma; ++i)
+        for (size_t j = 0; j < mb; ++j) {
+            const double *p = ba + 6 * i, *q = bb + 6 * j;
+            bool apart = false;
+            for (int d = 0; d < 3 && !apart; ++d)
+                apart = p[d] > q[3 + d] || q[d] > p[3 + d];
+            if (apart)
+                continue;
+            ++*tests;
+            if (triangles_cross(ta + 9 * i, tb + 9 * j))
+                return true;
+        }
+    return false;
+}
+
+sk_status sk__self_intersections_pairs(const sk_soup *surface, const uint32_t *face_group,
+                                       size_t num_groups, const uint64_t *cand_pairs, size_t npairs,
+                                       sk_intersection_report *rep, bool *fallback,
+                                       sk_error *err)
+{
+    double t0 = sk_seconds();
+    memset(rep, 0, sizeof *rep);
+    *fallback = false;
+    uint32_t *tri_v = NULL, *tri_f = NULL, *gstart = NULL, *gids = NULL;
+    double *gbox = NULL;
+    uint8_t *hit = NULL;
+    pairs all = {0};
+    size_t nt = 0, tests = 0, ng = num_groups;
+    sk_status st = sk__soup_fan_triangles(surface, &tri_v, &tri_f, &nt, err);
+    visit_ctx c0 = {surface, NULL, face_group, 0, 0, NULL, NULL, 0};
+    if (!st)
+        st = by_group(&c0, tri_f, nt, ng, &gstart, &gids, err);
+    if (!st && (!(gbox = sk__malloc_array(6 * ng + 1, sizeof *gbox)) ||
+                !(hit = sk__calloc_array(npairs + 1, 1))))
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    size_t most = 0; /* the most triangles in a group */
+    for (size_t g = 0; !st && g < ng; ++g) {
+        double tri[9], lo[3], hi[3], *b = gbox + 6 * g;
+        size_t n = gstart[g + 1] - gstart[g];
+        most = n > most ? n : most;
+        for (int d = 0; d < 3; ++d)
+            b[d] = INFINITY, b[3 + d] = -INFINITY;
+        for (size_t i = 0; i < n; ++i) {
+            fan_box(surface, tri_v, gids[gstart[g] + i], tri, lo, hi);
+            for (int d = 0; d < 3; ++d) {
+                b[d] = lo[d] < b[d] ? lo[d] : b[d];
+                b[3 + d] = hi[d] > b[3 + d] ? hi[d] : b[3 + d];
+            }
+        }
+        for (int d = 0; d < 3; ++d)
+            if (n && !(isfinite(b[d]) && isfinite(b[3 + d])))
+                *fallback = true;
+    }
+    if (st || *fallback)
+        goto done;
+    bool nomem = false;
+    long npl = (long)npairs;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel reduction(+ : tests) reduction(|| : nomem)
+#endif
+    {
+        double *buf = sk__malloc_array(30 * most + 1, sizeof *buf); /* 2 x (9 + 6) per triangle */
+        nomem = !buf;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 256)
+#endif
+        for (long k = 0; k < npl; ++k)
+            if (buf)
+                hit[k] = pair_crosses(surface, tri_v, gstart, gids, gbox,
+                                      (uint32_t)(cand_pairs[k] >> 32), (uint32_t)cand_pairs[k], buf, &tests);
+        sk__free(buf);
+    }
+    if (nomem) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    for (size_t k = 0; k < npairs; ++k)
+        if (hit[k])
+            pairs_push(&all, cand_pairs[k]);
+    if (all.nomem) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    rep->triangle_tests = tests;
+    summarize(&all, ng, rep, err, &st);
+    rep->seconds = sk_seconds() - t0;
+done:
+    sk__free(all.key);
+    sk__free(hit);
+    sk__free(gbox);
+    sk__free(gstart);
+    sk__free(gids);
+    sk__free(tri_v);
+    sk__free(tri_f);
     return st;
 }

@@ -4,6 +4,7 @@
  * 0.5 degrees and gaps under 0.005 mm. */
 #include "smooth/smooth_internal.h"
 #include "surfkit/intersect.h"
+#include "analysis/intersect_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
 
@@ -106,30 +107,72 @@ static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
     }
 }
 
-/* position and unit normal (zero where du x dv vanishes) at parameter t along the side; inlined
- * with the constant degrees of VC1 (quartic triangles, bicubic quads: same results) */
-static inline __attribute__((always_inline)) void side_eval_n(const side_rows *r, const int n,
-                                                              double t, double x[3],
-                                                              double nrm[3])
+/* The differences of the rows that the tangents along and across the side sum (row0[j + 1] -
+ * row0[j], row1[j] - row0[j]): constants of the side, formed once per side instead of once per
+ * sample (the same subtractions, so the same tangents to the bit). */
+typedef struct side_diffs {
+    double along[5][3], across[5][3];
+} side_diffs;
+
+static void side_diffs_of(const side_rows *r, side_diffs *d)
 {
-    double B[6], B1[6], T[3] = {0, 0, 0}, X[3] = {0, 0, 0};
-    sk__bernstein_n((unsigned)n, t, B, NULL);
-    sk__bernstein_n((unsigned)(n - 1), t, B1, NULL);
+    int n = r->n, nx = r->kind == SK_PATCH_TRIANGLE ? n : n + 1;
+    for (int j = 0; j < n; ++j)
+        for (int c = 0; c < 3; ++c)
+            d->along[j][c] = r->row0[j + 1][c] - r->row0[j][c];
+    for (int j = 0; j < nx; ++j)
+        for (int c = 0; c < 3; ++c)
+            d->across[j][c] = r->row1[j][c] - r->row0[j][c];
+}
+
+/* Bernstein values of degrees n and n - 1 at the K + 1 samples t_i = i / K of an edge and at
+ * 1 - t_i (the other side runs the edge backwards), for n = 3 and 4 (the degrees of VC1's sides),
+ * made once per block of edges by the same sk__bernstein_n calls as per sample before. */
+#define TAB_MAX_K 64
+typedef struct bern_tab {
+    unsigned K;
+    double B[2][2][TAB_MAX_K + 1][5], B1[2][2][TAB_MAX_K + 1][5]; /* [n - 3][reversed][i][j] */
+} bern_tab;
+
+static void bern_tab_init(bern_tab *tb, unsigned K)
+{
+    tb->K = K;
+    if (K > TAB_MAX_K)
+        return;
+    for (unsigned n = 3; n <= 4; ++n)
+        for (unsigned i = 0; i <= K; ++i) {
+            double t = (double)i / K, ts[2] = {t, 1.0 - t};
+            for (int rev = 0; rev < 2; ++rev) {
+                sk__bernstein_n(n, ts[rev], tb->B[n - 3][rev][i], NULL);
+                sk__bernstein_n(n - 1, ts[rev], tb->B1[n - 3][rev][i], NULL);
+            }
+        }
+}
+
+/* position and unit normal (zero where du x dv vanishes) on the side with Bernstein values B
+ * (degree n) and B1 (degree n - 1); inlined with the constant degrees of VC1 (quartic triangles,
+ * bicubic quads: same results) */
+static inline __attribute__((always_inline)) void side_eval_b(const side_rows *r,
+                                                              const side_diffs *d, const int n,
+                                                              const double *B, const double *B1,
+                                                              double x[3], double nrm[3])
+{
+    double T[3] = {0, 0, 0}, X[3] = {0, 0, 0};
     x[0] = x[1] = x[2] = 0.0;
     for (int j = 0; j <= n; ++j)
         for (int c = 0; c < 3; ++c)
             x[c] += B[j] * r->row0[j][c];
     for (int j = 0; j < n; ++j)
         for (int c = 0; c < 3; ++c)
-            T[c] += B1[j] * (r->row0[j + 1][c] - r->row0[j][c]);
+            T[c] += B1[j] * d->along[j][c];
     if (r->kind == SK_PATCH_TRIANGLE) {
         for (int j = 0; j < n; ++j)
             for (int c = 0; c < 3; ++c)
-                X[c] += B1[j] * (r->row1[j][c] - r->row0[j][c]);
+                X[c] += B1[j] * d->across[j][c];
     } else {
         for (int j = 0; j <= n; ++j)
             for (int c = 0; c < 3; ++c)
-                X[c] += B[j] * (r->row1[j][c] - r->row0[j][c]);
+                X[c] += B[j] * d->across[j][c];
     }
     sk__cross3(nrm, T, X);
     double len = sk__norm3(nrm);
@@ -139,14 +182,29 @@ static inline __attribute__((always_inline)) void side_eval_n(const side_rows *r
         nrm[0] = nrm[1] = nrm[2] = 0.0;
 }
 
-static void side_eval(const side_rows *r, double t, double x[3], double nrm[3])
+/* the side at sample i of the edge (at 1 - t_i when rev) */
+static void side_eval(const side_rows *r, const side_diffs *d, const bern_tab *tb, unsigned i,
+                      int rev, double x[3], double nrm[3])
 {
-    if (r->n == 4)
-        side_eval_n(r, 4, t, x, nrm);
-    else if (r->n == 3)
-        side_eval_n(r, 3, t, x, nrm);
-    else
-        side_eval_n(r, r->n, t, x, nrm);
+    int n = r->n;
+    if (tb->K <= TAB_MAX_K && n == 4) {
+        side_eval_b(r, d, 4, tb->B[1][rev][i], tb->B1[1][rev][i], x, nrm);
+    } else if (tb->K <= TAB_MAX_K && n == 3) {
+        side_eval_b(r, d, 3, tb->B[0][rev][i], tb->B1[0][rev][i], x, nrm);
+    } else {
+        double t = (double)i / tb->K, B[6], B1[6];
+        t = rev ? 1.0 - t : t;
+        sk__bernstein_n((unsigned)n, t, B, NULL);
+        sk__bernstein_n((unsigned)(n - 1), t, B1, NULL);
+        side_eval_b(r, d, n, B, B1, x, nrm);
+    }
+}
+
+/* |n| == 0 for n a unit vector or zero (a unit vector's largest component is over 0.5, so its
+ * squares do not underflow): no square root */
+static bool is_zero3(const double n[3])
+{
+    return n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0;
 }
 
 static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_block *b)
@@ -156,6 +214,8 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     b->worst = -1;
     b->max_jump = -1.0;
     b->min_crease_jump = 180.0;
+    bern_tab tb;
+    bern_tab_init(&tb, K);
     for (long e = e0; e < e1; ++e) {
         uint32_t h = (uint32_t)(2 * e), o = h + 1;
         uint32_t f = m->h_face[h], g = m->h_face[o];
@@ -167,15 +227,18 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
         else
             ++b->ncrease;
         side_rows rf, rg;
+        side_diffs df, dg;
         side_rows_of(s, f, side_of(m, f, h), &rf);
         side_rows_of(s, g, side_of(m, g, o), &rg);
+        side_diffs_of(&rf, &df);
+        side_diffs_of(&rg, &dg);
         double local_max = 0.0;
         for (unsigned i = 0; i <= K; ++i) {
-            double t = (double)i / K, x1[3], x2[3], n1[3], n2[3];
-            side_eval(&rf, t, x1, n1);
-            side_eval(&rg, 1.0 - t, x2, n2);
+            double x1[3], x2[3], n1[3], n2[3];
+            side_eval(&rf, &df, &tb, i, 0, x1, n1);
+            side_eval(&rg, &dg, &tb, i, 1, x2, n2);
             double gap = sk__dist3(x1, x2), jump = sk__angle3(n1, n2) * RAD2DEG;
-            if (sk__norm3(n1) == 0.0 || sk__norm3(n2) == 0.0)
+            if (is_zero3(n1) || is_zero3(n2))
                 jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
             b->max_gap = b->max_gap > gap ? b->max_gap : gap;
             if (crease) {
@@ -219,26 +282,40 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
 }
 
 /* Crossing patch pairs, on a tessellation of n segments per side of the patches that can cross
- * another (sk__patch_box_candidates; the others' pairs cannot cross): the tessellator emits the
- * faces patch by patch (n^2 per triangle, 2 n^2 per tensor patch), and candidate g's corner ids
- * make face g of the groups soup, so patches sharing a corner are neighbours. The reported
- * patches are mapped back to the whole set's indices (in the same order: the candidates keep
- * theirs). */
+ * another (sk__patch_box_pairs, or sk__patch_box_candidates where the grid gives no pairs; the
+ * others' pairs cannot cross): the tessellator emits the faces patch by patch (n^2 per triangle,
+ * 2 n^2 per tensor patch), and candidate g's corner ids make face g of the groups soup, so
+ * patches sharing a corner are neighbours. With the pairs only their triangles are tested against
+ * each other (sk__self_intersections_pairs: the same crossing pairs as testing every candidate
+ * against every other, a crossing pair having overlapping boxes), else all the candidates'
+ * (sk_self_intersections). The reported patches are mapped back to the whole set's indices (in
+ * the same order: the candidates keep theirs). */
 static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuity_report *rep,
                                sk_error *err)
 {
     sk_soup *tess = NULL, *groups = NULL;
     sk_patch_set sub = {0};
+    uint64_t *pairs = NULL;
+    size_t npairs = 0;
     uint32_t *face_patch = NULL, *orig = sk__malloc_array(set->count + 1, sizeof *orig);
+    uint32_t *sub_of = sk__malloc_array(set->count + 1, sizeof *sub_of);
     uint8_t *cand = sk__malloc_array(set->count + 1, 1);
-    sk_status st = orig && cand ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk_status st = orig && cand && sub_of ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (!st)
+        st = sk__patch_box_pairs(set, &pairs, &npairs, err);
+    if (!st && pairs) {
+        memset(cand, 0, set->count);
+        for (size_t k = 0; k < npairs; ++k)
+            cand[pairs[k] >> 32] = cand[(uint32_t)pairs[k]] = 1;
+    } else if (!st) {
         st = sk__patch_box_candidates(set, cand, err);
+    }
     size_t nc = 0;
     for (size_t p = 0; !st && p < set->count; ++p) {
         const sk_patch *pp = &set->patches[p];
         if (!cand[p])
             continue;
+        sub_of[p] = (uint32_t)nc;
         orig[nc++] = (uint32_t)p;
         st = sk_patch_set_add(&sub, (sk_patch_kind)pp->kind, pp->degree, pp->degree_v,
                               sk_patch_cp(set, p), pp->corner_ids, NULL, err);
@@ -264,7 +341,13 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
         st = sk__fail(err, SK_ERR_NUMERIC, "the tessellation has %zu faces, expected %zu",
                       tess->num_faces, f);
     sk_intersection_report x;
-    if (!st)
+    bool fallback = !pairs;
+    if (!st && pairs) {
+        for (size_t k = 0; k < npairs; ++k) /* to the candidates' indices (the order kept) */
+            pairs[k] = (uint64_t)sub_of[pairs[k] >> 32] << 32 | sub_of[(uint32_t)pairs[k]];
+        st = sk__self_intersections_pairs(tess, face_patch, nc, pairs, npairs, &x, &fallback, err);
+    }
+    if (!st && fallback)
         st = sk_self_intersections(tess, face_patch, groups, &x, err);
     if (!st) {
         rep->intersecting_pairs = x.pairs;
@@ -277,6 +360,8 @@ static sk_status intersections(const sk_patch_set *set, unsigned n, sk_continuit
     }
 done:
     sk__free(face_patch);
+    sk__free(pairs);
+    sk__free(sub_of);
     sk__free(orig);
     sk__free(cand);
     sk_patch_set_free(&sub);

@@ -148,6 +148,135 @@ static void max_distance(shape_max *M, const double x[3], const flat_tri *tris, 
     M->dmax = d;
 }
 
+/* Evaluation of a patch on the rows of the sample grid, giving what sk_patch_eval gives (point,
+ * unit normal, |du x dv|) to the bit, for less: two samples of a row at once in the de Casteljau
+ * steps of a quartic triangle (two lanes of a vector, each lane the same operations in the same
+ * order as the scalar code of src/bezier/eval.c), and the rows of a bicubic patch's net summed
+ * in s once per grid row (a = i / N is the row's), not once per sample. Other degrees go through
+ * sk_patch_eval. */
+typedef double v2d __attribute__((vector_size(16)));
+
+typedef struct row_eval {
+    const sk_patch_set *set;
+    size_t p;
+    const double *cp;
+    int mode; /* 0: sk_patch_eval, 1: quartic triangle, 2: bicubic */
+    double a, r[4][3], dr[4][3];
+} row_eval;
+
+static void row_eval_start(row_eval *R, const sk_patch_set *set, size_t p, double a)
+{
+    const sk_patch *pa = &set->patches[p];
+    R->set = set, R->p = p, R->a = a, R->cp = sk_patch_cp(set, p);
+    R->mode = 0;
+    if (pa->kind == SK_PATCH_TRIANGLE && pa->degree == 4)
+        R->mode = 1;
+    else if (pa->kind != SK_PATCH_TRIANGLE && pa->degree == 3 && pa->degree_v == 3)
+        R->mode = 2;
+    if (R->mode != 2)
+        return;
+    double Bs[4], dBs[4];
+    sk__bernstein_n(3, a, Bs, dBs);
+    for (unsigned j = 0; j <= 3; ++j) {
+        const double *row = R->cp + 3 * sk_tensor_index(3, 0, j);
+        double r[3] = {0, 0, 0}, dr[3] = {0, 0, 0};
+        for (unsigned i = 0; i <= 3; ++i)
+            for (int x = 0; x < 3; ++x) {
+                r[x] += Bs[i] * row[3 * i + x];
+                dr[x] += dBs[i] * row[3 * i + x];
+            }
+        memcpy(R->r[j], r, sizeof r);
+        memcpy(R->dr[j], dr, sizeof dr);
+    }
+}
+
+/* sk_bezier_eval's normal and length from the point's derivatives */
+static double finish(const double D1[3], const double D2[3], double normal[3])
+{
+    double n[3];
+    sk__cross3(n, D1, D2);
+    double len = sk__norm3(n);
+    if (len > 0.0)
+        sk__scale3(normal, n, 1.0 / len);
+    else
+        normal[0] = normal[1] = normal[2] = 0.0;
+    return len;
+}
+
+/* de Casteljau of the quartic triangle at (v, w[0]) and (v, w[1]) (tri_eval_n of eval.c) */
+static void tri4_eval2(const double *cp, double v, const double w[2], double pt[2][3],
+                       double d1[2][3], double d2[2][3])
+{
+    const unsigned n = 4;
+    v2d U = {1.0 - v - w[0], 1.0 - v - w[1]}, V = {v, v}, W = {w[0], w[1]};
+    v2d net[3 * 10], tmp[3 * 10];
+    for (unsigned k = 0; k < n; ++k) { /* degree 4 -> 3 from the control points */
+        unsigned row = sk_tri_index(n, 0, k), up = sk_tri_index(n, 0, k + 1);
+        unsigned orow = sk_tri_index(n - 1, 0, k);
+        for (unsigned j = 0; j + k < n; ++j) {
+            const double *a = cp + 3 * (row + j), *b = a + 3, *c = cp + 3 * (up + j);
+            v2d *o = net + 3 * (orow + j);
+            for (int x = 0; x < 3; ++x) {
+                v2d A = {a[x], a[x]}, B = {b[x], b[x]}, C = {c[x], c[x]};
+                o[x] = U * A + V * B + W * C;
+            }
+        }
+    }
+    v2d *src = net, *dst = tmp;
+    for (unsigned r = n - 1; r > 1; --r) {
+        for (unsigned k = 0; k < r; ++k) {
+            unsigned row = sk_tri_index(r, 0, k), up = sk_tri_index(r, 0, k + 1);
+            unsigned orow = sk_tri_index(r - 1, 0, k);
+            for (unsigned j = 0; j + k < r; ++j) {
+                const v2d *a = src + 3 * (row + j), *b = a + 3, *c = src + 3 * (up + j);
+                v2d *o = dst + 3 * (orow + j);
+                for (int x = 0; x < 3; ++x)
+                    o[x] = U * a[x] + V * b[x] + W * c[x];
+            }
+        }
+        v2d *t = src;
+        src = dst, dst = t;
+    }
+    const v2d *b100 = src, *b010 = src + 3 * sk_tri_index(1, 1, 0),
+              *b001 = src + 3 * sk_tri_index(1, 0, 1);
+    v2d N = {(double)n, (double)n};
+    for (int x = 0; x < 3; ++x) {
+        v2d P = U * b100[x] + V * b010[x] + W * b001[x];
+        v2d E1 = N * (b010[x] - b100[x]), E2 = N * (b001[x] - b100[x]);
+        for (int l = 0; l < 2; ++l)
+            pt[l][x] = P[l], d1[l][x] = E1[l], d2[l][x] = E2[l];
+    }
+}
+
+/* samples (a, b[0]) and, when two, (a, b[1]) of the row: point, unit normal, |du x dv| */
+static void row_eval2(const row_eval *R, const double b[2], int two, double x[2][3],
+                      double nrm[2][3], double len[2])
+{
+    if (R->mode == 1) {
+        double D1[2][3], D2[2][3];
+        tri4_eval2(R->cp, R->a, b, x, D1, D2);
+        for (int l = 0; l < 1 + two; ++l)
+            len[l] = finish(D1[l], D2[l], nrm[l]);
+        return;
+    }
+    for (int l = 0; l < 1 + two; ++l) {
+        if (R->mode == 0) {
+            len[l] = sk_patch_eval(R->set, R->p, R->a, b[l], x[l], NULL, NULL, nrm[l]);
+            continue;
+        }
+        double Bt[4], dBt[4], P[3] = {0, 0, 0}, S[3] = {0, 0, 0}, T[3] = {0, 0, 0};
+        sk__bernstein_n(3, b[l], Bt, dBt);
+        for (unsigned j = 0; j <= 3; ++j)
+            for (int q = 0; q < 3; ++q) {
+                P[q] += Bt[j] * R->r[j][q];
+                S[q] += Bt[j] * R->dr[j][q];
+                T[q] += dBt[j] * R->r[j][q];
+            }
+        memcpy(x[l], P, sizeof P);
+        len[l] = finish(S, T, nrm[l]);
+    }
+}
+
 void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double *fairness_deg)
 {
     const sk_smooth *s = c->s;
@@ -184,12 +313,19 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
         flat_tri_init(tris + t, X[tri[t][0]], X[tri[t][1]], X[tri[t][2]]);
     shape_max M = {0};
     bool flat_normal = false; /* 180: a vanishing normal somewhere */
-    for (unsigned i = 0; i <= N; ++i)
-        for (unsigned j = 0; j <= N; ++j) {
-            if (pa->kind == SK_PATCH_TRIANGLE && i + j > N)
-                continue;
-            double a = (double)i / N, b = (double)j / N, x[3], nrm[3], w[4];
-            double len = sk_patch_eval(&s->surface, p, a, b, x, NULL, NULL, nrm);
+    for (unsigned i = 0; i <= N; ++i) {
+        double a = (double)i / N, b2[2], x2[2][3], nrm2[2][3], len2[2];
+        unsigned nj = pa->kind == SK_PATCH_TRIANGLE ? N - i + 1 : N + 1;
+        row_eval R;
+        row_eval_start(&R, &s->surface, p, a);
+        for (unsigned j = 0; j < nj; ++j) {
+            if (j % 2 == 0) {
+                int two = j + 1 < nj;
+                b2[0] = (double)j / N;
+                b2[1] = two ? (double)(j + 1) / N : b2[0];
+                row_eval2(&R, b2, two, x2, nrm2, len2);
+            }
+            double b = b2[j % 2], *x = x2[j % 2], *nrm = nrm2[j % 2], len = len2[j % 2], w[4];
             if (pa->kind == SK_PATCH_TRIANGLE)
                 w[0] = 1.0 - a - b, w[1] = a, w[2] = b;
             else
@@ -198,12 +334,13 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
             for (unsigned k = 0; k < nc; ++k)
                 for (int q = 0; q < 3; ++q)
                     phong[q] += w[k] * Nv[k][q];
-            if (len > 0 && sk__norm3(phong) > 0)
+            if (len > 0 && sk__dot3(phong, phong) > 0) /* |phong| > 0 without the root */
                 max_angle(&M, nrm, phong);
             else
                 flat_normal = true;
             max_distance(&M, x, tris, ntri);
         }
+    }
     double dmax = M.dmax, amax = fmax(M.amax, flat_normal ? 180.0 : 0.0);
     *overshoot = longest > 0 ? dmax / longest : (dmax > 0 ? INFINITY : 0.0);
     *fairness_deg = amax;

@@ -147,6 +147,13 @@ bool sk__patch_singular_from(const sk_smooth *s, size_t p, bool *cone_regular, u
 /* The patches whose control-point box overlaps the box of a patch sharing no corner with it
  * (box_candidates.c): cand[p] = 1 for those (np bytes), the only ones that can cross another. */
 sk_status sk__patch_box_candidates(const sk_patch_set *set, uint8_t *cand, sk_error *err);
+/* The pairs themselves (box_candidates.c): *pairs (sk__malloc_array, free with sk__free) gets the
+ * *npairs keys (a << 32) | b, a < b, sorted, of the patch pairs sharing no corner whose boxes
+ * (padded by 1e-9 of the largest coordinate) overlap. *pairs is NULL where the grid cannot give
+ * them (a crowded cell, too many big boxes, a non-finite or all-point set): the caller then
+ * falls back to sk__patch_box_candidates. */
+sk_status sk__patch_box_pairs(const sk_patch_set *set, uint64_t **pairs, size_t *npairs,
+                              sk_error *err);
 
 /* Parity split (parity_split.c): every closed component of m with an odd number of vertices gets
  * its longest edge split at the midpoint of its wire frame curve (normals there: the mean of the

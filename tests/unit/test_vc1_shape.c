@@ -9,6 +9,8 @@
 #include "surfkit/smooth.h"
 #include "smooth/smooth_internal.h"
 #include "smooth/vc1_internal.h"
+#include "analysis/intersect_internal.h"
+#include "core/internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -977,6 +979,12 @@ static void test_vsys_scale(void **state)
     assert_true(exact >= 80);
 }
 
+static int cmp_key(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
 static void test_box_candidates(void **state)
 {
     (void)state;
@@ -1026,6 +1034,78 @@ static void test_box_candidates(void **state)
         }
         print_message("%s: %zu patches, %zu candidates, %zu needed\n", names[i], np, ncand, nneed);
         assert_true(ncand < np / 2);
+        /* the pairs: sorted, each with no shared corner and boxes that meet (padded by 1e-9 of
+         * the largest coordinate), every pair of the brute force listed */
+        uint64_t *pairs = NULL;
+        size_t npairs = 0, nfound = 0;
+        assert_int_equal(sk__patch_box_pairs(set, &pairs, &npairs, NULL), SK_OK);
+        assert_non_null(pairs);
+        double big = 0;
+        for (size_t q = 0; q < 6 * np; ++q)
+            big = fmax(big, fabs(box[q]));
+        for (size_t k = 0; k < npairs; ++k) {
+            size_t a = pairs[k] >> 32, b = (uint32_t)pairs[k];
+            assert_true(a < b && b < np);
+            assert_true(k == 0 || pairs[k - 1] < pairs[k]);
+            for (int q = 0; q < 3; ++q)
+                assert_true(box[6 * a + q] <= box[6 * b + 3 + q] + 2.1e-9 * big &&
+                            box[6 * b + q] <= box[6 * a + 3 + q] + 2.1e-9 * big);
+        }
+        for (size_t a = 0; a < np; ++a)
+            for (size_t b = a + 1; b < np; ++b) {
+                bool overlap = true, shared = false;
+                for (int k = 0; k < 3; ++k)
+                    overlap = overlap && box[6 * a + k] <= box[6 * b + 3 + k] &&
+                              box[6 * b + k] <= box[6 * a + 3 + k];
+                const sk_patch *pa = &set->patches[a], *pb = &set->patches[b];
+                for (unsigned x = 0; x < sk_patch_num_corners(pa); ++x)
+                    for (unsigned y = 0; y < sk_patch_num_corners(pb); ++y)
+                        shared = shared || pa->corner_ids[x] == pb->corner_ids[y];
+                uint64_t key = (uint64_t)a << 32 | b;
+                bool listed = bsearch(&key, pairs, npairs, sizeof key, cmp_key) != NULL;
+                if (overlap && !shared)
+                    assert_true(listed);
+                if (listed)
+                    assert_false(shared);
+                nfound += listed;
+            }
+        assert_int_equal(nfound, npairs);
+        /* the crossings of the pairs on a tessellation of the whole surface are those of the
+         * test of every patch against every other */
+        sk_soup *tess = NULL, *groups = NULL;
+        assert_int_equal(sk_patch_set_tessellate(set, 4, &tess, NULL), SK_OK);
+        assert_int_equal(sk_soup_create(0, np, 4 * np, false, false, &groups, NULL), SK_OK);
+        uint32_t *face_patch = malloc(tess->num_faces * sizeof *face_patch);
+        assert_non_null(face_patch);
+        size_t f = 0;
+        for (size_t p = 0; p < np; ++p) {
+            const sk_patch *pp = &set->patches[p];
+            for (int k = 0; k < (pp->kind == SK_PATCH_TRIANGLE ? 16 : 32); ++k)
+                face_patch[f++] = (uint32_t)p;
+            assert_int_equal(sk_soup_push_face(groups, pp->corner_ids, sk_patch_num_corners(pp)),
+                             SK_OK);
+        }
+        assert_int_equal(f, tess->num_faces);
+        sk_intersection_report all, some;
+        bool fallback = true;
+        assert_int_equal(sk_self_intersections(tess, face_patch, groups, &all, NULL), SK_OK);
+        assert_int_equal(sk__self_intersections_pairs(tess, face_patch, np, pairs, npairs, &some,
+                                                      &fallback, NULL),
+                         SK_OK);
+        assert_false(fallback);
+        print_message("%s: %zu box pairs, %zu crossing pairs (%zu triangle tests; all against "
+                      "all %zu)\n",
+                      names[i], npairs, some.pairs, some.triangle_tests, all.triangle_tests);
+        assert_int_equal(some.pairs, all.pairs);
+        assert_int_equal(some.groups, all.groups);
+        assert_int_equal(some.num_examples, all.num_examples);
+        assert_memory_equal(some.examples, all.examples, 2 * all.num_examples * sizeof *all.examples);
+        if (i == 1)
+            assert_true(all.pairs > 0); /* the cow's surface crosses itself */
+        free(face_patch);
+        sk_soup_destroy(&tess);
+        sk_soup_destroy(&groups);
+        sk__free(pairs);
         free(cand);
         free(need);
         free(box);

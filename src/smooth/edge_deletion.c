@@ -24,7 +24,12 @@
  * edge of path J in one triangle at the intersection point): the two edges are replaced by the third
  * edge of their triangle, which is what the paper's re-definition followed by Reduce Path does.
  * Both steps keep the parity of every vertex and strictly shrink the deleted set, so the loop ends;
- * at the end no triangle holds two deleted edges, so every face is a triangle or a quad. */
+ * at the end no triangle holds two deleted edges, so every face is a triangle or a quad.
+ *
+ * Then cycle exchanges (see shortcut_paths): the deleted set is a T-join, and xor with a closed walk
+ * that holds more deleted than kept edges keeps every parity and shrinks it (a walk along a path
+ * closed by a shorter kept path, or two paths re-paired at their ends); case (2b) again after them.
+ * How far the result is from the optimum: bench/tjoin.sh (the exact minimum T-join by LEMON). */
 #include "surfkit/smooth.h"
 #include "smooth/smooth_internal.h"
 #include "core/internal.h"
@@ -961,7 +966,7 @@ done:
  * with W2 and Q1 empty a shorter path replaces a part of a path, with W1 and W2 two whole paths
  * (x ... b, c ... d) it re-pairs their ends (x - d, b - c: the 2-opt move). The best exchange that
  * shrinks D is applied (its gain counted edge by edge, shared edges cancelling); each strictly
- * shrinks D, so the passes end; case (2b) runs again afterwards (Q may share a triangle with D). */
+ * shrinks D, so the search ends; case (2b) runs again afterwards (Q may share a triangle with D). */
 #define SK_SHORTCUT_MAX_WALK 8
 #define SK_SHORTCUT_RADIUS 2
 #define SK_SHORTCUT_MAX_WALKS 48
@@ -1162,9 +1167,9 @@ static size_t shortcut_pass(shortcut_ctx *C)
 
 static sk_status delete_even_edges(ed_state *S, sk_error *err);
 
-/* Passes of cycle exchanges, each followed by case (2b), while they save edges. */
-#define SK_SHORTCUT_PASSES 4
-
+/* One pass of cycle exchanges over the even vertices (each vertex tried again after an exchange
+ * of its own, later vertices see the earlier exchanges; a second pass saved nothing more on the
+ * shared meshes), then case (2b) when some applied. */
 static sk_status shortcut_paths(ed_state *S, sk_error *err)
 {
     size_t nv = S->nv;
@@ -1189,12 +1194,8 @@ static sk_status shortcut_paths(ed_state *S, sk_error *err)
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
         goto done;
     }
-    for (int pass = 0; pass < SK_SHORTCUT_PASSES; ++pass) {
-        if (shortcut_pass(C) == 0)
-            break;
-        if ((st = delete_even_edges(S, err)) != SK_OK)
-            goto done;
-    }
+    if (shortcut_pass(C) > 0)
+        st = delete_even_edges(S, err);
 done:
     for (int k = 0; C && k < 2; ++k) {
         sk__free(balls[k]->stamp);

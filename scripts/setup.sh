@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs (idempotently) every Debian package surfkit needs to build, test and benchmark.
 # Usage: scripts/setup.sh [--peers] [--interop]
-#   --peers    also CGAL and OpenMesh for bench/peers, and xatlas-web and xatlasjs (npm, bench/package.json)
+#   --peers    also CGAL and OpenMesh for bench/peers, LEMON for bench/tjoin_lemon.cpp, and xatlas-web and xatlasjs (npm, bench/package.json)
 #   --interop  also the programs tests/interop runs (Blender, FreeCAD, VTK's Python module;
 #              scripts/test.sh, hence CI, asks for them). MeshLab is not installed:
 #              meshlabserver 2020.09 does not run headless (no X: xcb fails; QT_QPA_PLATFORM=
@@ -14,7 +14,7 @@ pkgs=(build-essential cmake ninja-build pkg-config clang
       python3-dev python3-numpy python3-pytest python3-setuptools python3-pip)
 for arg in "$@"; do
   case "$arg" in
-    --peers) pkgs+=(libcgal-dev libopenmesh-dev) ;;
+    --peers) pkgs+=(libcgal-dev libopenmesh-dev liblemon-dev) ;;
     --interop) pkgs+=(blender freecad python3-vtk9) ;;
     *) echo "setup: unknown option $arg (use --peers, --interop)" >&2; exit 2 ;;
   esac

@@ -47,6 +47,9 @@ typedef struct sk_edge_deletion_stats {
     size_t adjacent_pairs;    /* pairs of neighbouring even vertices matched before Initialise
                                  (one edge each; included in pairs) */
     size_t augmenting_paths;  /* augmenting paths that enlarged that matching */
+    size_t shortcuts;         /* local improvement: walks along deleted edges replaced by shorter
+                                 paths of kept edges (cycle exchanges) */
+    size_t shortcut_savings;  /* deleted edges those exchanges saved */
 } sk_edge_deletion_stats;
 
 /* Deletes interior edges of a triangle mesh so that every interior vertex lies in an odd number of

@@ -24,7 +24,12 @@
  * edge of path J in one triangle at the intersection point): the two edges are replaced by the third
  * edge of their triangle, which is what the paper's re-definition followed by Reduce Path does.
  * Both steps keep the parity of every vertex and strictly shrink the deleted set, so the loop ends;
- * at the end no triangle holds two deleted edges, so every face is a triangle or a quad. */
+ * at the end no triangle holds two deleted edges, so every face is a triangle or a quad.
+ *
+ * Then cycle exchanges (see shortcut_paths): the deleted set is a T-join, and xor with a closed walk
+ * that holds more deleted than kept edges keeps every parity and shrinks it (a walk along a path
+ * closed by a shorter kept path, or two paths re-paired at their ends); case (2b) again after them.
+ * How far the result is from the optimum: bench/tjoin.sh (the exact minimum T-join by LEMON). */
 #include "surfkit/smooth.h"
 #include "smooth/smooth_internal.h"
 #include "core/internal.h"
@@ -951,6 +956,261 @@ done:
     return st;
 }
 
+/* Local improvement of the deleted set D (a T-join: odd degree exactly at the even interior
+ * vertices, the boundary free) by cycle exchanges: D is a minimum T-join exactly when no cycle C has
+ * more than half of its edges in D (Guan's criterion for the postman problem; Edmonds & Johnson
+ * 1973), and D xor C keeps every vertex's parity for any closed walk C. The closed walks tried,
+ * from every even vertex x: W1 Q1 W2 Q2, W1 and W2 simple walks of at most SK_SHORTCUT_MAX_WALK
+ * deleted edges, Q1 and Q2 shortest paths of at most SK_SHORTCUT_RADIUS kept edges that may be
+ * deleted (not forbidden, not on the boundary, not joining two boundary vertices), Q2 ending at x:
+ * with W2 and Q1 empty a shorter path replaces a part of a path, with W1 and W2 two whole paths
+ * (x ... b, c ... d) it re-pairs their ends (x - d, b - c: the 2-opt move). The best exchange that
+ * shrinks D is applied (its gain counted edge by edge, shared edges cancelling); each strictly
+ * shrinks D, so the search ends; case (2b) runs again afterwards (Q may share a triangle with D). */
+#define SK_SHORTCUT_MAX_WALK 8
+#define SK_SHORTCUT_RADIUS 2
+#define SK_SHORTCUT_MAX_WALKS 48
+
+typedef struct walk_set {
+    size_t n;
+    uint32_t end[SK_SHORTCUT_MAX_WALKS], len[SK_SHORTCUT_MAX_WALKS];
+    uint32_t h[SK_SHORTCUT_MAX_WALKS][SK_SHORTCUT_MAX_WALK];
+} walk_set;
+
+typedef struct bfs_ball {
+    uint32_t *stamp, *dist, *pred, *queue; /* per vertex; pred: the half-edge into it */
+    uint32_t cur;
+    size_t n;                               /* vertices in queue[0 .. n) */
+} bfs_ball;
+
+typedef struct shortcut_ctx {
+    ed_state *S;
+    bfs_ball bx, by;
+    uint8_t *onwalk, *etog;
+    uint32_t cur_walk[SK_SHORTCUT_MAX_WALK];
+    walk_set w1, w2;
+    uint32_t list[4 * SK_SHORTCUT_MAX_WALK];
+} shortcut_ctx;
+
+/* the edge may join D by an exchange */
+static bool shortcut_allowed(const ed_state *S, uint32_t e)
+{
+    const sk_mesh *m = S->m;
+    return !S->dcnt[e] && !S->forbid[e] && !sk_is_boundary_e(m, e) &&
+           !(S->bnd[sk_from(m, 2 * e)] && S->bnd[sk_to(m, 2 * e)]);
+}
+
+static bool has_deleted_edge(const ed_state *S, uint32_t v)
+{
+    const sk_mesh *m = S->m;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    do {
+        if (S->dcnt[sk_edge(h)])
+            return true;
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+    return false;
+}
+
+/* breadth first from x over the allowed edges, SK_SHORTCUT_RADIUS deep */
+static void shortcut_ball(const ed_state *S, bfs_ball *B, uint32_t x)
+{
+    const sk_mesh *m = S->m;
+    size_t qh = 0, qt = 0;
+    B->cur++;
+    B->stamp[x] = B->cur;
+    B->dist[x] = 0;
+    B->pred[x] = SK_INVALID;
+    B->queue[qt++] = x;
+    while (qh < qt) {
+        uint32_t v = B->queue[qh++];
+        if (B->dist[v] >= SK_SHORTCUT_RADIUS)
+            continue;
+        uint32_t g0 = m->v_halfedge[v], g = g0;
+        do {
+            uint32_t w = sk_to(m, g);
+            if (B->stamp[w] != B->cur && shortcut_allowed(S, sk_edge(g))) {
+                B->stamp[w] = B->cur;
+                B->dist[w] = B->dist[v] + 1;
+                B->pred[w] = g;
+                B->queue[qt++] = w;
+            }
+            g = sk_cw_out(m, g);
+        } while (g != g0);
+    }
+    B->n = qt;
+}
+
+/* every simple walk along D from v (depth edges so far) into W */
+static void shortcut_walks(shortcut_ctx *C, walk_set *W, uint32_t v, uint32_t depth)
+{
+    const sk_mesh *m = C->S->m;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    do {
+        uint32_t w = sk_to(m, h);
+        if (C->S->dcnt[sk_edge(h)] && !C->onwalk[w] && W->n < SK_SHORTCUT_MAX_WALKS) {
+            uint32_t k = depth + 1;
+            C->cur_walk[depth] = h;
+            W->end[W->n] = w;
+            W->len[W->n] = k;
+            memcpy(W->h[W->n], C->cur_walk, k * sizeof *C->cur_walk);
+            W->n++;
+            if (k < SK_SHORTCUT_MAX_WALK) {
+                C->onwalk[w] = 1;
+                shortcut_walks(C, W, w, k);
+                C->onwalk[w] = 0;
+            }
+        }
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+}
+
+static void collect_walks(shortcut_ctx *C, walk_set *W, uint32_t v)
+{
+    W->n = 0;
+    C->onwalk[v] = 1;
+    shortcut_walks(C, W, v, 0);
+    C->onwalk[v] = 0;
+}
+
+/* the closed walk W1 (walk i of w1), Q1 (z back to y in by), W2 (walk j of w2, or none), Q2 (u
+ * back to x in bx) as an edge list; its exact gain (edges of D it removes minus edges it adds,
+ * edges used twice cancelling); apply: toggle them */
+static long exchange(shortcut_ctx *C, size_t i, uint32_t z, size_t j, uint32_t u, bool apply)
+{
+    const sk_mesh *m = C->S->m;
+    size_t n = 0;
+    for (uint32_t k = 0; k < C->w1.len[i]; ++k)
+        C->list[n++] = sk_edge(C->w1.h[i][k]);
+    for (uint32_t v = z; C->by.pred[v] != SK_INVALID; v = sk_from(m, C->by.pred[v]))
+        C->list[n++] = sk_edge(C->by.pred[v]);
+    for (uint32_t k = 0; j != SIZE_MAX && k < C->w2.len[j]; ++k)
+        C->list[n++] = sk_edge(C->w2.h[j][k]);
+    for (uint32_t v = u; C->bx.pred[v] != SK_INVALID; v = sk_from(m, C->bx.pred[v]))
+        C->list[n++] = sk_edge(C->bx.pred[v]);
+    for (size_t k = 0; k < n; ++k)
+        C->etog[C->list[k]] ^= 1u;
+    long gain = 0;
+    for (size_t k = 0; k < n; ++k) {
+        uint32_t e = C->list[k];
+        if (C->etog[e]) {
+            gain += C->S->dcnt[e] ? 1 : -1;
+            if (apply)
+                C->S->dcnt[e] ^= 1u;
+            C->etog[e] = 0;
+        }
+    }
+    return gain;
+}
+
+/* one pass over the even vertices; returns the deleted edges saved */
+static size_t shortcut_pass(shortcut_ctx *C)
+{
+    ed_state *S = C->S;
+    size_t saved = 0;
+    for (uint32_t x = 0; x < S->nv; ++x) {
+        if (!S->even[x])
+            continue;
+        for (;;) {
+            shortcut_ball(S, &C->bx, x);
+            collect_walks(C, &C->w1, x);
+            long best = 0;
+            size_t bi = 0, bj = SIZE_MAX;
+            uint32_t bz = SK_INVALID, bu = SK_INVALID;
+            for (size_t i = 0; i < C->w1.n; ++i) {
+                uint32_t y = C->w1.end[i];
+                shortcut_ball(S, &C->by, y);
+                /* W2 and Q1 empty: Q2 from y */
+                if (C->bx.stamp[y] == C->bx.cur &&
+                    (long)C->w1.len[i] - (long)C->bx.dist[y] > best) {
+                    long g = exchange(C, i, y, SIZE_MAX, y, false);
+                    if (g > best) {
+                        best = g;
+                        bi = i, bz = y, bj = SIZE_MAX, bu = y;
+                    }
+                }
+                for (size_t q = 0; q < C->by.n; ++q) {
+                    uint32_t z = C->by.queue[q];
+                    if (!has_deleted_edge(S, z))
+                        continue;
+                    collect_walks(C, &C->w2, z);
+                    for (size_t j = 0; j < C->w2.n; ++j) {
+                        uint32_t u = C->w2.end[j];
+                        if (C->bx.stamp[u] != C->bx.cur)
+                            continue;
+                        long est = (long)C->w1.len[i] + (long)C->w2.len[j] -
+                                   (long)C->by.dist[z] - (long)C->bx.dist[u];
+                        if (est <= best)
+                            continue;
+                        long g = exchange(C, i, z, j, u, false);
+                        if (g > best) {
+                            best = g;
+                            bi = i, bz = z, bj = j, bu = u;
+                        }
+                    }
+                }
+            }
+            if (best <= 0)
+                break;
+            /* the winner's Q1 is in the ball of its own y: rebuild it */
+            shortcut_ball(S, &C->by, C->w1.end[bi]);
+            if (bj != SIZE_MAX)
+                collect_walks(C, &C->w2, bz);
+            exchange(C, bi, bz, bj, bu, true);
+            saved += (size_t)best;
+            S->st.shortcuts++;
+        }
+    }
+    S->st.shortcut_savings += saved;
+    return saved;
+}
+
+static sk_status delete_even_edges(ed_state *S, sk_error *err);
+
+/* One pass of cycle exchanges over the even vertices (each vertex tried again after an exchange
+ * of its own, later vertices see the earlier exchanges; a second pass saved nothing more on the
+ * shared meshes), then case (2b) when some applied. */
+static sk_status shortcut_paths(ed_state *S, sk_error *err)
+{
+    size_t nv = S->nv;
+    shortcut_ctx *C = sk__calloc_array(1, sizeof *C);
+    bfs_ball *balls[2] = {C ? &C->bx : NULL, C ? &C->by : NULL};
+    bool ok = C != NULL;
+    for (int k = 0; ok && k < 2; ++k) {
+        balls[k]->stamp = sk__calloc_array(nv + 1, sizeof *balls[k]->stamp);
+        balls[k]->dist = sk__malloc_array(nv + 1, sizeof *balls[k]->dist);
+        balls[k]->pred = sk__malloc_array(nv + 1, sizeof *balls[k]->pred);
+        balls[k]->queue = sk__malloc_array(nv + 1, sizeof *balls[k]->queue);
+        ok = balls[k]->stamp && balls[k]->dist && balls[k]->pred && balls[k]->queue;
+    }
+    if (ok) {
+        C->S = S;
+        C->onwalk = sk__calloc_array(nv + 1, 1);
+        C->etog = sk__calloc_array(S->ne + 1, 1);
+        ok = C->onwalk && C->etog;
+    }
+    sk_status st = SK_OK;
+    if (!ok) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+        goto done;
+    }
+    if (shortcut_pass(C) > 0)
+        st = delete_even_edges(S, err);
+done:
+    for (int k = 0; C && k < 2; ++k) {
+        sk__free(balls[k]->stamp);
+        sk__free(balls[k]->dist);
+        sk__free(balls[k]->pred);
+        sk__free(balls[k]->queue);
+    }
+    if (C) {
+        sk__free(C->onwalk);
+        sk__free(C->etog);
+    }
+    sk__free(C);
+    return st;
+}
+
 /* Every interior vertex is odd now; returns the number of deleted edges. */
 static sk_status verify_odd(ed_state *S, sk_error *err)
 {
@@ -1054,6 +1314,8 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
         st = reduce_paths(&S, err);
     if (st == SK_OK)
         st = delete_even_edges(&S, err);
+    if (st == SK_OK)
+        st = shortcut_paths(&S, err);
     if (st == SK_OK)
         st = verify_odd(&S, err);
     if (st == SK_OK)

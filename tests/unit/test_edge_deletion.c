@@ -82,13 +82,14 @@ static void test_disks(void **state)
 }
 
 /* Deleted edges against the lower bound #even / 2, per mesh (measured with the matching of
- * adjacent even vertices and Initialise's 0-1 search, plus about 1% slack). On the scans the
- * bound cannot be met: an even vertex none of whose even neighbours is free across an allowed
- * edge (quad corner <= 160 degrees) costs an edge of its own, so no deletion that keeps to the
- * allowed edges has fewer than #even - nu(G1) edges, nu(G1) the largest matching of the allowed
- * edges between even vertices (exact: cow 668, pig 97, lion-head 1788, so 1.216, 1.162, 1.210 x the
- * bound). The second check: within 8% of #even - (matched pairs), the size that bound has for
- * the matching found. */
+ * adjacent even vertices, Initialise's 0-1 search and the cycle exchanges, plus about 1% slack;
+ * before the exchanges cow 1.232, pig 1.248, lion-head 1.262, three_peaks 1.103, bunny00 1.089,
+ * armadillo 1.169). On the scans the bound cannot be met: the exact minimum T-join of the input
+ * (bench/tjoin_lemon.cpp, no forbidden edges) is already cow 899 (1.055 x the bound), pig 120
+ * (1.026), lion-head 2460 (1.087), three_peaks 559 (1.029), bunny00 10460 (1.028), armadillo 6828
+ * (1.049); keeping to the allowed edges (quad corner <= 160 degrees) costs more: an even vertex none
+ * of whose even neighbours is free across an allowed edge costs an edge of its own. The second
+ * check: within 8% of #even - (matched pairs), the size that bound has for the matching found. */
 static void test_near_minimal(void **state)
 {
     (void)state;
@@ -98,9 +99,9 @@ static void test_near_minimal(void **state)
     } cases[] = {
         {"sphere.off", 1.0},       {"knot1.off", 1.002},    {"mushroom.off", 1.002},
         {"cylinder.off", 1.0},     {"mech-holes-shark.off", 1.0}, {"paraboloid-patch.off", 1.0},
-        {"nefertiti.off", 1.06},   {"three_peaks.off", 1.11}, {"cow.off", 1.245},
-        {"pig.off", 1.26},         {"lion-head.off", 1.275}, {"bunny00.off", 1.10},
-        {"armadillo.off", 1.18},
+        {"nefertiti.off", 1.06},   {"three_peaks.off", 1.10}, {"cow.off", 1.175},
+        {"pig.off", 1.235},        {"lion-head.off", 1.26}, {"bunny00.off", 1.095},
+        {"armadillo.off", 1.172},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         if (getenv("SK_TEST_QUICK") && (strcmp(cases[i].name, "bunny00.off") == 0 ||
@@ -121,6 +122,10 @@ static void test_near_minimal(void **state)
             fail_msg("%s: %zu deleted, more than 1.08 x %zu", cases[i].name, st.deleted_edges,
                      matching_size);
         assert_true(st.adjacent_pairs <= st.pairs);
+        /* every exchange saves at least one edge; on the scans with paths some apply */
+        assert_true(st.shortcut_savings >= st.shortcuts);
+        if (ratio > 1.1 && st.shortcuts == 0)
+            fail_msg("%s: %.4f x the bound and no cycle exchange", cases[i].name, ratio);
         sk_mesh_destroy(&c);
         sk_mesh_destroy(&m);
     }

@@ -463,8 +463,13 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
         t->stats->rounds++;
         size_t nbad = vs == SK_OK ? count_bad(t) : 0;
         sk__tol_record_try(t->stats, base, true, vs, nvert, &t->r);
-        if (t->stats->num_tried <= SK_TOLERANCE_MAX_TRIED)
-            t->stats->tried[t->stats->num_tried - 1].offending = nbad;
+        if (t->stats->num_tried <= SK_TOLERANCE_MAX_TRIED && vs == SK_OK) {
+            sk_tolerance_try *e = &t->stats->tried[t->stats->num_tried - 1];
+            e->offending = nbad;
+            e->paired = t->b.reused_patches;
+            e->unmoved = t->b.unmoved_patches;
+            e->moved_far = t->b.far_patches;
+        }
         if ((st = sk__progress(t->o.progress, t->o.progress_user,
                                0.5 + 0.5 * (double)(round + 1) / t->max_rounds, err)))
             return st;

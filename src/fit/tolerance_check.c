@@ -415,6 +415,9 @@ static sk_status remember(tol_ctx *c, const sk_smooth *s, const uint32_t *m2f, c
     return sk__tol_remember(s, m2f, c->nv, &b->prev, err);
 }
 
+/* a paired patch counted as moved far (sk_tolerance_try.moved_far): by this share of T */
+#define FAR_MOVE 0.1
+
 /* The refinement's check of a surface, reusing what stayed from the last round: the patches
  * the VC1 build gave bit for bit again keep their surface side, and the input samples whose
  * triangle within T lies in such a patch keep their bound. What it flags in bad and whether it
@@ -453,6 +456,12 @@ static sk_status check_incremental(tol_ctx *c, const sk_smooth *s, const uint32_
         goto out;
     b->reused_patches = kept;
     b->checked_patches = np;
+    b->unmoved_patches = b->far_patches = 0;
+    for (size_t q = 0; b->prev.valid && q < b->prev.count; ++q)
+        if (prev2new[q] != SK_INVALID) {
+            b->unmoved_patches += moved[q] == 0;
+            b->far_patches += moved[q] >= FAR_MOVE * c->tol;
+        }
     if ((st = remember(c, s, m2f, b, &goff, err)))
         goto out;
     *done = true;
@@ -473,7 +482,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint32_t *m2f, cons
     sk_soup *ts = NULL;
     bool done = false;
     sk_status st = sk_patch_set_tessellate(&s->surface, c->tess, &ts, err);
-    b->reused_patches = b->checked_patches = 0;
+    b->reused_patches = b->checked_patches = b->unmoved_patches = b->far_patches = 0;
     if (!st && bad && c->incremental)
         st = check_incremental(c, s, m2f, ts, alive, b, bad, max_out, &done, err);
     if (!st && !done) {

@@ -72,6 +72,7 @@ typedef struct check_buf {
     uint32_t *fw, *vw;
     tol_prev prev;
     size_t reused_patches, checked_patches; /* of the last check (incremental) */
+    size_t unmoved_patches, far_patches;    /* ... of the reused: bit-identical, moved >= T / 10 */
 } check_buf;
 
 /* one surface of a cut and its figures */

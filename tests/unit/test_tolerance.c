@@ -270,12 +270,27 @@ static void incremental_same(const char *name, double rel)
     }
     print_message("%s T = %g diag: %zu rounds, %zu of %zu patches paired with the last round's\n",
                   name, rel, st[0].rounds, st[0].reused_patches, st[0].checked_patches);
-    size_t round_patches = 0;
-    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k)
-        if (st[0].tried[k].refined)
-            round_patches += st[0].tried[k].patches;
+    size_t round_patches = 0, paired = 0, first_round = SIZE_MAX;
+    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k) {
+        const sk_tolerance_try *e = &st[0].tried[k];
+        if (!e->refined) {
+            assert_int_equal(e->paired, 0);
+            continue;
+        }
+        first_round = first_round < k ? first_round : k;
+        round_patches += e->patches;
+        paired += e->paired;
+        print_message("  round %zu: %zu patches, %zu paired, %zu of them unmoved, %zu moved by "
+                      "T / 10 or more\n", k, e->patches, e->paired, e->unmoved, e->moved_far);
+        /* a patch is paired at most once, and moved far or not at all, or neither */
+        assert_true(e->paired <= e->patches && e->unmoved + e->moved_far <= e->paired);
+        assert_int_equal(st[1].tried[k].paired, 0); /* full checks: no pairing */
+        assert_int_equal(st[1].tried[k].unmoved + st[1].tried[k].moved_far, 0);
+    }
     assert_true(st[0].rounds >= 2 && st[0].num_tried <= SK_TOLERANCE_MAX_TRIED);
     assert_int_equal(st[0].checked_patches, round_patches);
+    assert_int_equal(st[0].reused_patches, paired); /* the rounds' pairings add up */
+    assert_int_equal(st[0].tried[first_round].paired, 0); /* nothing to pair with */
     assert_true(st[0].reused_patches > 0 && st[0].reused_patches < st[0].checked_patches);
     assert_int_equal(st[1].checked_patches, 0);
     assert_int_equal(st[0].rounds, st[1].rounds);

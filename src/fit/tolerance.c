@@ -344,8 +344,8 @@ static sk_status search_levels(tol_run *t, size_t est, probed pr, size_t *coarse
         for (; j < end; ++j) {
             sk__tol_level_cut(&t->c, j, t->alive);
             size_t nvert = 0;
-            if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, NULL, &t->r, &vs, &nvert, t->stats,
-                                    err)))
+            if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, NULL, &t->r, &vs,
+                                            &nvert, t->stats, err)))
                 return st;
             t->stats->levels_tried++;
             sk__tol_record_try(t->stats, j, false, vs, nvert, &t->r);
@@ -464,8 +464,8 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
         sk_status vs = SK_OK;
         size_t nvert = 0;
         memset(t->bad, 0, t->c.nv);
-        if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, t->bad, &t->hint, &t->r, &vs, &nvert, t->stats,
-                                err)))
+        if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, t->bad, &t->hint, &t->r, &vs,
+                                        &nvert, t->stats, err)))
             return st;
         t->stats->rounds++;
         size_t nbad = vs == SK_OK ? count_bad(t) : 0;

@@ -195,10 +195,11 @@ static size_t sym_diff(const uint64_t *a, size_t na, const uint64_t *b, size_t n
     return n;
 }
 
-/* ring distances from the vertices with seed[v] set (BFS over the mesh) */
+/* ring distances from the ns vertices seed (BFS over the mesh) */
 static uint32_t *rings_from(const sk_mesh *m, const uint32_t *seed, size_t ns)
 {
-    uint32_t *dist = malloc(m->num_vertices * sizeof *dist), *q = malloc(m->num_vertices * sizeof *q);
+    uint32_t *dist = malloc(m->num_vertices * sizeof *dist);
+    uint32_t *q = malloc(m->num_vertices * sizeof *q);
     assert_true(dist && q);
     size_t qh = 0, qt = 0;
     for (size_t v = 0; v < m->num_vertices; ++v)

@@ -589,8 +589,12 @@ static void write_tol_report(FILE *fp, const void *ctx)
             json_knum(&j, "max_deviation", e->max_deviation);
             json_kuint(&j, "singular_patches", e->singular);
             json_kbool(&j, "met", e->met);
-            if (e->refined)
+            if (e->refined) {
                 json_kuint(&j, "offending_vertices", e->offending);
+                json_kuint(&j, "paired_patches", e->paired);
+                json_kuint(&j, "unmoved_patches", e->unmoved);
+                json_kuint(&j, "moved_far_patches", e->moved_far);
+            }
         }
         json_obj_close(&j);
     }

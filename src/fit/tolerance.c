@@ -2,7 +2,11 @@
  * driver. The search over the levels finds the coarsest whose surface is within T; the local
  * refinement wants the vertices of the input faces that are out of tolerance (on either side),
  * rebuilds the cut from scratch (so the order stays that of the hierarchy) and builds its VC1
- * surface again.
+ * surface again, the edge deletion warm-started from the last round's deleted edges
+ * (sk__edge_deletion_hinted: from nothing, the few new vertices of a round re-routed the
+ * deletion far away; on armadillo after two Loop subdivisions at 1e-3 of the diagonal the
+ * rounds then flagged 380, 288, 213, 165, 60, 93, 6 vertices after the first two, in 10 rounds
+ * and 20,716 patches; warm-started 246, 46, 20, in 6 rounds and 19,407 patches).
  *
  * The pieces: tolerance_cut.c (cuts of the progressive mesh), tolerance_check.c (a cut's surface
  * and its distances to the input). */
@@ -64,6 +68,7 @@ typedef struct tol_run {
     uint8_t *alive, *bad, *fresh;
     uint32_t *stack, *stamp, stamp_value;
     check_buf b;
+    tol_hint hint; /* the last round's deleted edges */
     sk_soup *fine_soup, *ts;
 } tol_run;
 
@@ -78,6 +83,7 @@ static void run_free(tol_run *t)
     sk__free(t->fresh);
     sk__free(t->stack);
     sk__free(t->stamp);
+    sk__free(t->hint.pairs);
     sk_soup_destroy(&t->ts);
     sk_soup_destroy(&t->fine_soup);
     sk__tol_ctx_free(&t->c);
@@ -280,7 +286,7 @@ static sk_status probe_below(tol_run *t, size_t est, probed *out, sk_error *err)
     size_t j = est - PROBE_BELOW, nvert = 0;
     sk_status vs = SK_OK;
     sk__tol_level_cut(&t->c, j, t->alive);
-    sk_status st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, &t->r, &vs, &nvert,
+    sk_status st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, NULL, &t->r, &vs, &nvert,
                                          t->stats, err);
     if (st)
         return st;
@@ -338,8 +344,8 @@ static sk_status search_levels(tol_run *t, size_t est, probed pr, size_t *coarse
         for (; j < end; ++j) {
             sk__tol_level_cut(&t->c, j, t->alive);
             size_t nvert = 0;
-            if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, &t->r, &vs, &nvert, t->stats,
-                                    err)))
+            if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, NULL, NULL, &t->r, &vs,
+                                            &nvert, t->stats, err)))
                 return st;
             t->stats->levels_tried++;
             sk__tol_record_try(t->stats, j, false, vs, nvert, &t->r);
@@ -448,6 +454,7 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
     size_t base = coarsest_met > t->refine_levels ? coarsest_met - t->refine_levels : 0;
     t->stats->base_level = base;
     t->b.prev.valid = false; /* a search may have checked other surfaces since */
+    t->hint.n = 0;           /* the first round's edge deletion starts from nothing */
     sk__tol_level_cut(&t->c, base, t->alive);
     size_t failures = 0;
     sk_status st = SK_OK;
@@ -457,14 +464,19 @@ static sk_status refine(tol_run *t, size_t coarsest_met, sk_error *err)
         sk_status vs = SK_OK;
         size_t nvert = 0;
         memset(t->bad, 0, t->c.nv);
-        if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, t->bad, &t->r, &vs, &nvert, t->stats,
-                                err)))
+        if ((st = sk__tol_build_surface(&t->c, t->alive, &t->b, t->bad, &t->hint, &t->r, &vs,
+                                        &nvert, t->stats, err)))
             return st;
         t->stats->rounds++;
         size_t nbad = vs == SK_OK ? count_bad(t) : 0;
         sk__tol_record_try(t->stats, base, true, vs, nvert, &t->r);
-        if (t->stats->num_tried <= SK_TOLERANCE_MAX_TRIED)
-            t->stats->tried[t->stats->num_tried - 1].offending = nbad;
+        if (t->stats->num_tried <= SK_TOLERANCE_MAX_TRIED && vs == SK_OK) {
+            sk_tolerance_try *e = &t->stats->tried[t->stats->num_tried - 1];
+            e->offending = nbad;
+            e->paired = t->b.reused_patches;
+            e->unmoved = t->b.unmoved_patches;
+            e->moved_far = t->b.far_patches;
+        }
         if ((st = sk__progress(t->o.progress, t->o.progress_user,
                                0.5 + 0.5 * (double)(round + 1) / t->max_rounds, err)))
             return st;

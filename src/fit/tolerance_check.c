@@ -415,6 +415,9 @@ static sk_status remember(tol_ctx *c, const sk_smooth *s, const uint32_t *m2f, c
     return sk__tol_remember(s, m2f, c->nv, &b->prev, err);
 }
 
+/* a paired patch counted as moved far (sk_tolerance_try.moved_far): by this share of T */
+#define FAR_MOVE 0.1
+
 /* The refinement's check of a surface, reusing what stayed from the last round: the patches
  * the VC1 build gave bit for bit again keep their surface side, and the input samples whose
  * triangle within T lies in such a patch keep their bound. What it flags in bad and whether it
@@ -453,6 +456,12 @@ static sk_status check_incremental(tol_ctx *c, const sk_smooth *s, const uint32_
         goto out;
     b->reused_patches = kept;
     b->checked_patches = np;
+    b->unmoved_patches = b->far_patches = 0;
+    for (size_t q = 0; b->prev.valid && q < b->prev.count; ++q)
+        if (prev2new[q] != SK_INVALID) {
+            b->unmoved_patches += moved[q] == 0;
+            b->far_patches += moved[q] >= FAR_MOVE * c->tol;
+        }
     if ((st = remember(c, s, m2f, b, &goff, err)))
         goto out;
     *done = true;
@@ -473,7 +482,7 @@ static sk_status check(tol_ctx *c, const sk_smooth *s, const uint32_t *m2f, cons
     sk_soup *ts = NULL;
     bool done = false;
     sk_status st = sk_patch_set_tessellate(&s->surface, c->tess, &ts, err);
-    b->reused_patches = b->checked_patches = 0;
+    b->reused_patches = b->checked_patches = b->unmoved_patches = b->far_patches = 0;
     if (!st && bad && c->incremental)
         st = check_incremental(c, s, m2f, ts, alive, b, bad, max_out, &done, err);
     if (!st && !done) {
@@ -547,9 +556,53 @@ static void singular_patches(const sk_smooth *s, uint8_t *out)
 /* Builds and measures the surface of the cut alive (parity fixed first). A VC1 failure
  * (SK_ERR_NUMERIC, SK_ERR_TOPOLOGY) is returned as *vc1_status with SK_OK; other errors (memory,
  * cancel) are returned. */
+/* The cut's ids of the fine vertex pairs hint (pairs not both in the cut dropped): a new array
+ * (NULL when out of memory), *n the pairs kept */
+static uint32_t *hint_to_cut(const tol_ctx *c, const tol_hint *h, size_t *n)
+{
+    uint32_t *out = sk__malloc_array(2 * h->n + 1, sizeof *out);
+    *n = 0;
+    for (size_t k = 0; out && k < h->n; ++k) {
+        uint32_t a = c->f2m[h->pairs[2 * k]], b = c->f2m[h->pairs[2 * k + 1]];
+        if (a == SK_INVALID || b == SK_INVALID)
+            continue;
+        out[2 * *n] = a;
+        out[2 * *n + 1] = b;
+        ++*n;
+    }
+    return out;
+}
+
+/* h := the deleted edges of s as fine vertex pairs (those with a vertex the VC1 build added
+ * left out) */
+static sk_status hint_from_surface(const sk_smooth *s, const uint32_t *m2f, tol_hint *h,
+                                   sk_error *err)
+{
+    size_t built = s->config->num_vertices - s->stats.split_edges;
+    if (s->num_deleted > h->cap) {
+        sk__free(h->pairs);
+        h->pairs = sk__malloc_array(2 * s->num_deleted, sizeof *h->pairs);
+        h->cap = h->pairs ? s->num_deleted : 0;
+        if (!h->pairs) {
+            h->n = 0;
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        }
+    }
+    h->n = 0;
+    for (size_t k = 0; k < s->num_deleted; ++k) {
+        uint32_t a = s->deleted[2 * k], b = s->deleted[2 * k + 1];
+        if (a >= built || b >= built)
+            continue;
+        h->pairs[2 * h->n] = m2f[a];
+        h->pairs[2 * h->n + 1] = m2f[b];
+        ++h->n;
+    }
+    return SK_OK;
+}
+
 sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_t *bad,
-                               cut_result *r, sk_status *vc1_status, size_t *vertices,
-                               sk_tolerance_stats *stats, sk_error *err)
+                               tol_hint *hint, cut_result *r, sk_status *vc1_status,
+                               size_t *vertices, sk_tolerance_stats *stats, sk_error *err)
 {
     sk__tol_cut_result_free(r);
     *vc1_status = SK_OK;
@@ -564,7 +617,14 @@ sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_
     *vertices = m->num_vertices;
     double t0 = sk_seconds();
     sk_error e = {0};
-    st = sk_smooth_build(m, &c->so, &r->s, &e);
+    size_t nh = 0;
+    uint32_t *h = hint && hint->n ? hint_to_cut(c, hint, &nh) : NULL;
+    if (hint && hint->n && !h) {
+        sk_mesh_destroy(&m);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    st = sk__smooth_build_hinted(m, &c->so, h, nh, &r->s, &e);
+    sk__free(h);
     sk_mesh_destroy(&m);
     double t1 = sk_seconds();
     stats->seconds_vc1 += t1 - t0;
@@ -577,6 +637,8 @@ sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_
     }
     if (st)
         return sk__fail(err, st, "%s", e.message);
+    if (hint && (st = hint_from_surface(r->s, r->m2f, hint, err)))
+        return st;
     r->patches = r->s->surface.count;
     /* singular patches: the surface has no tangent plane there; refine around them */
     uint8_t *singular = sk__malloc_array(r->patches ? r->patches : 1, 1);

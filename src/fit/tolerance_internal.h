@@ -72,7 +72,15 @@ typedef struct check_buf {
     uint32_t *fw, *vw;
     tol_prev prev;
     size_t reused_patches, checked_patches; /* of the last check (incremental) */
+    size_t unmoved_patches, far_patches;    /* ... of the reused: bit-identical, moved >= T / 10 */
 } check_buf;
+
+/* The refinement's warm start of the edge deletion: the last round's deleted edges as pairs
+ * of fine vertices (sk__edge_deletion_hinted) */
+typedef struct tol_hint {
+    uint32_t *pairs;
+    size_t n, cap;
+} tol_hint;
 
 /* one surface of a cut and its figures */
 typedef struct cut_result {
@@ -116,8 +124,10 @@ void sk__tol_record_try(sk_tolerance_stats *stats, size_t level, bool refined, s
  * own triangles, the piecewise linear surface through its vertices: the level estimate */
 sk_status sk__tol_check_linear(tol_ctx *c, uint8_t *alive, check_buf *b, double *max_out,
                                sk_error *err);
+/* hint (NULL: none; the refinement rounds): the edge deletion starts from it, and it gets the
+ * new surface's deleted edges */
 sk_status sk__tol_build_surface(tol_ctx *c, uint8_t *alive, check_buf *b, uint8_t *bad,
-                                cut_result *r, sk_status *vc1_status, size_t *vertices,
-                                sk_tolerance_stats *stats, sk_error *err);
+                                tol_hint *hint, cut_result *r, sk_status *vc1_status,
+                                size_t *vertices, sk_tolerance_stats *stats, sk_error *err);
 
 #endif

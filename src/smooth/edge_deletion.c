@@ -1287,9 +1287,62 @@ sk_status sk_edge_deletion(const sk_mesh *m, sk_mesh **out, uint32_t **deleted_o
     return sk__edge_deletion_creases(m, NULL, out, deleted_out, stats, err);
 }
 
+/* The warm start (sk__edge_deletion_hinted): the hinted edges that m still has, that may be
+ * deleted (interior, no crease, not joining two boundary-like vertices, not avoided) and that
+ * share no triangle with another of them are deleted first; a vertex's parity then counts them,
+ * so only the vertices whose parity they leave wrong are paired, by the paths of Initialise
+ * (whose union with the hinted edges, as a symmetric difference, fixes the parity exactly
+ * there). */
+static void apply_hint(ed_state *S, const uint32_t *hint, size_t nhint)
+{
+    const sk_mesh *m = S->m;
+    for (size_t k = 0; k < nhint; ++k) {
+        uint32_t a = hint[2 * k], b = hint[2 * k + 1];
+        if (a >= S->nv || b >= S->nv || m->v_deleted[a] || m->v_deleted[b] ||
+            m->v_halfedge[a] == SK_INVALID || m->v_halfedge[b] == SK_INVALID)
+            continue;
+        uint32_t h = sk__find_halfedge(m, a, b);
+        if (h == SK_INVALID)
+            continue;
+        uint32_t e = sk_edge(h);
+        if (sk_is_boundary_e(m, e) || (S->crease && S->crease[e]) || S->forbid[e] ||
+            (S->bnd[a] && S->bnd[b]) || S->dcnt[e])
+            continue;
+        bool clash = false; /* a triangle with two deleted edges */
+        for (int side = 0; side < 2 && !clash; ++side) {
+            uint32_t g = side ? sk_opp(h) : h;
+            clash = S->dcnt[sk_edge(m->h_next[g])] || S->dcnt[sk_edge(m->h_prev[g])];
+        }
+        if (!clash)
+            S->dcnt[e] = 1;
+    }
+    S->nrem = 0;
+    for (uint32_t v = 0; v < S->nv; ++v) {
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || S->bnd[v])
+            continue;
+        unsigned deg = 0;
+        uint32_t h0 = m->v_halfedge[v], h = h0;
+        do {
+            deg += S->dcnt[sk_edge(h)];
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        S->even[v] ^= (uint8_t)(deg & 1u);
+        if (S->even[v])
+            S->remaining[S->nrem++] = v;
+    }
+    S->st.lower_bound = (S->nrem + 1) / 2;
+}
+
 sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_mesh **out,
                                     uint32_t **deleted_out, sk_edge_deletion_stats *stats,
                                     sk_error *err)
+{
+    return sk__edge_deletion_hinted(m, crease, NULL, 0, out, deleted_out, stats, err);
+}
+
+sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
+                                   size_t nhint, sk_mesh **out, uint32_t **deleted_out,
+                                   sk_edge_deletion_stats *stats, sk_error *err)
 {
     *out = NULL;
     if (deleted_out)
@@ -1305,6 +1358,8 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
     if (st == SK_OK) {
         find_even_vertices(&S);
         st = check_parity(&S, err);
+        if (st == SK_OK && hint)
+            apply_hint(&S, hint, nhint);
     }
     if (st == SK_OK)
         st = match_adjacent(&S, err);

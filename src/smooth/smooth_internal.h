@@ -55,6 +55,20 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
                                     uint32_t **deleted, sk_edge_deletion_stats *stats,
                                     sk_error *err);
 
+/* sk__edge_deletion_creases warm-started from hint (nhint vertex pairs of m, e.g. the edges an
+ * earlier deletion over a mesh that agrees with m away from a few vertex splits deleted): the
+ * hinted edges that may be deleted are kept where they leave no triangle with two deleted edges,
+ * and only the vertices whose parity they leave wrong are paired (so the result changes only
+ * near where m differs; it is an edge deletion, not the near-minimal one of m alone). */
+sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
+                                   size_t nhint, sk_mesh **out, uint32_t **deleted,
+                                   sk_edge_deletion_stats *stats, sk_error *err);
+/* sk_smooth_build with the edge deletion warm-started from hint (sk__edge_deletion_hinted; NULL:
+ * sk_smooth_build), nhint pairs of the mesh's vertex ids */
+sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opts,
+                                  const uint32_t *hint, size_t nhint, sk_smooth **out,
+                                  sk_error *err);
+
 /* The normal at corner i of patch p: its sector's (s->corner_normals) or the vertex normal. */
 /* The half-edge from a to b in m, or SK_INVALID. */
 static inline uint32_t sk__find_halfedge(const sk_mesh *m, uint32_t a, uint32_t b)

@@ -484,13 +484,14 @@ static void forget_build(sk_smooth *s, const sk_smooth_stats *saved)
  * SK_CREASE_ROUNDS times). */
 static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *base,
                               uint8_t *keep, bool file_normals, double alpha, double max_nu,
-                              const sk_smooth_opts *opts, double t0[2], sk_error *err)
+                              const sk_smooth_opts *opts, const uint32_t *hint, size_t nhint,
+                              double t0[2], sk_error *err)
 {
     sk_status st = SK_OK;
     sk_smooth_stats saved = s->stats;
     for (int round = 0;; ++round) {
-        if ((st = sk__edge_deletion_creases(base, keep, &s->config, &s->deleted,
-                                            &s->stats.deletion, err)) != SK_OK)
+        if ((st = sk__edge_deletion_hinted(base, keep, hint, nhint, &s->config, &s->deleted,
+                                           &s->stats.deletion, err)) != SK_OK)
             return st;
         if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep,
                                            file_normals ? mesh : NULL, &s->crease_edge,
@@ -527,6 +528,13 @@ static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *
 
 sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
                           sk_error *err)
+{
+    return sk__smooth_build_hinted(mesh, opts_in, NULL, 0, out, err);
+}
+
+sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opts_in,
+                                  const uint32_t *hint, size_t nhint, sk_smooth **out,
+                                  sk_error *err)
 {
     sk_smooth_opts opts = {0};
     if (opts_in)
@@ -628,7 +636,8 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         sk__crease_validate(base, keep);
     s->normals = normals;
     normals = NULL;
-    if ((st = build_rounds(s, mesh, base, keep, file_normals, alpha, max_nu, &opts, t0, err)) !=
+    if ((st = build_rounds(s, mesh, base, keep, file_normals, alpha, max_nu, &opts, hint, nhint, t0,
+                           err)) !=
         SK_OK)
         goto fail;
     sk__free(keep);

@@ -2,6 +2,7 @@
  * faces triangles or quads, the mesh stays valid, the deleted count is near the lower bound. */
 #include "testutil.h"
 #include "surfkit/smooth.h"
+#include "smooth/smooth_internal.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -157,6 +158,140 @@ static void test_quads_refused(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* the deleted edges as sorted (low, high) vertex pairs, packed in 64 bits */
+static uint64_t *pair_set(const uint32_t *del, size_t n)
+{
+    uint64_t *p = malloc((n + 1) * sizeof *p);
+    assert_non_null(p);
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t a = del[2 * i], b = del[2 * i + 1];
+        p[i] = a < b ? a << 32 | b : b << 32 | a;
+    }
+    for (size_t i = 1; i < n; ++i) /* insertion sort: a few thousand */
+        for (size_t j = i; j > 0 && p[j - 1] > p[j]; --j) {
+            uint64_t t = p[j];
+            p[j] = p[j - 1];
+            p[j - 1] = t;
+        }
+    return p;
+}
+
+/* |A symmetric difference B| of two sorted sets; *far := the largest ring distance dist[] of an
+ * end of a differing edge */
+static size_t sym_diff(const uint64_t *a, size_t na, const uint64_t *b, size_t nb,
+                       const uint32_t *dist, uint32_t *far)
+{
+    size_t i = 0, j = 0, n = 0;
+    *far = 0;
+    while (i < na || j < nb) {
+        uint64_t x;
+        if (j >= nb || (i < na && a[i] < b[j]))
+            x = a[i++];
+        else if (i >= na || b[j] < a[i])
+            x = b[j++];
+        else {
+            ++i, ++j;
+            continue;
+        }
+        ++n;
+        uint32_t d = dist[x >> 32] < dist[x & 0xffffffffu] ? dist[x >> 32] : dist[x & 0xffffffffu];
+        *far = d > *far ? d : *far;
+    }
+    return n;
+}
+
+/* ring distances from the ns vertices seed (BFS over the mesh) */
+static uint32_t *rings_from(const sk_mesh *m, const uint32_t *seed, size_t ns)
+{
+    uint32_t *dist = malloc(m->num_vertices * sizeof *dist);
+    uint32_t *q = malloc(m->num_vertices * sizeof *q);
+    assert_true(dist && q);
+    size_t qh = 0, qt = 0;
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        dist[v] = UINT32_MAX;
+    for (size_t k = 0; k < ns; ++k)
+        if (dist[seed[k]] == UINT32_MAX) {
+            dist[seed[k]] = 0;
+            q[qt++] = seed[k];
+        }
+    while (qh < qt) {
+        uint32_t v = q[qh++], h0 = m->v_halfedge[v], h = h0;
+        do {
+            uint32_t w = m->h_vertex[h];
+            if (dist[w] == UINT32_MAX) {
+                dist[w] = dist[v] + 1;
+                q[qt++] = w;
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+    free(q);
+    return dist;
+}
+
+/* The warm start (sk__edge_deletion_hinted): from its own deletion a mesh gets the same edges
+ * back; after an edge flip the warm start changes the deleted set only within a few rings of the
+ * flip, while the deletion from nothing changes it farther away (printed). */
+static void test_hinted_local(void **state)
+{
+    (void)state;
+    const char *names[] = {"knot1.off", "sphere.off", "mushroom.off"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(names[i])), *c = NULL;
+        sk_edge_deletion_stats st0, st1, st2, st3;
+        uint32_t *d0 = NULL, *d1 = NULL, *d2 = NULL, *d3 = NULL;
+        assert_int_equal(sk_edge_deletion(m, &c, &d0, &st0, NULL), SK_OK);
+        sk_mesh_destroy(&c);
+        assert_int_equal(sk__edge_deletion_hinted(m, NULL, d0, st0.deleted_edges, &c, &d1, &st1,
+                                                  NULL), SK_OK);
+        check_config(c);
+        sk_mesh_destroy(&c);
+        uint64_t *p0 = pair_set(d0, st0.deleted_edges), *p1 = pair_set(d1, st1.deleted_edges);
+        assert_int_equal(st1.deleted_edges, st0.deleted_edges);
+        assert_memory_equal(p0, p1, st0.deleted_edges * sizeof *p0);
+        /* flip the first interior edge, away from the deleted ones, that keeps valences >= 4 */
+        uint32_t h = SK_INVALID, ends[4] = {0, 0, 0, 0};
+        for (uint32_t e = 0; e < sk_num_edges(m) && h == SK_INVALID; ++e) {
+            uint32_t g = 2 * e, a = sk_from(m, g), b = sk_to(m, g);
+            if (sk_is_boundary_e(m, e) || sk_mesh_valence(m, a) < 5 || sk_mesh_valence(m, b) < 5)
+                continue;
+            uint32_t x = m->h_vertex[m->h_next[g]], y = m->h_vertex[m->h_next[g ^ 1u]];
+            if (sk__find_halfedge(m, x, y) != SK_INVALID)
+                continue;
+            h = g;
+            ends[0] = a, ends[1] = b, ends[2] = x, ends[3] = y;
+        }
+        assert_true(h != SK_INVALID);
+        sk__flip_edge(m, h);
+        assert_int_equal(sk__edge_deletion_hinted(m, NULL, d0, st0.deleted_edges, &c, &d2, &st2,
+                                                  NULL), SK_OK);
+        check_config(c);
+        sk_mesh_destroy(&c);
+        assert_int_equal(sk_edge_deletion(m, &c, &d3, &st3, NULL), SK_OK);
+        sk_mesh_destroy(&c);
+        uint32_t *dist = rings_from(m, ends, 4), far2 = 0, far3 = 0;
+        uint64_t *p2 = pair_set(d2, st2.deleted_edges), *p3 = pair_set(d3, st3.deleted_edges);
+        size_t n2 = sym_diff(p0, st0.deleted_edges, p2, st2.deleted_edges, dist, &far2);
+        size_t n3 = sym_diff(p0, st0.deleted_edges, p3, st3.deleted_edges, dist, &far3);
+        print_message("%-14s %zu deleted; after a flip: warm start %zu deleted, %zu changed, "
+                      "within %u rings; from nothing %zu deleted, %zu changed, within %u rings\n",
+                      names[i], st0.deleted_edges, st2.deleted_edges, n2, far2, st3.deleted_edges,
+                      n3, far3);
+        assert_true(n2 <= 12 && far2 <= 4);
+        assert_true(st2.deleted_edges <= st0.deleted_edges + 4);
+        free(dist);
+        free(p0);
+        free(p1);
+        free(p2);
+        free(p3);
+        free(d0);
+        free(d1);
+        free(d2);
+        free(d3);
+        sk_mesh_destroy(&m);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -165,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_near_minimal),
         cmocka_unit_test(test_odd_closed_refused),
         cmocka_unit_test(test_quads_refused),
+        cmocka_unit_test(test_hinted_local),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -270,12 +270,27 @@ static void incremental_same(const char *name, double rel)
     }
     print_message("%s T = %g diag: %zu rounds, %zu of %zu patches paired with the last round's\n",
                   name, rel, st[0].rounds, st[0].reused_patches, st[0].checked_patches);
-    size_t round_patches = 0;
-    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k)
-        if (st[0].tried[k].refined)
-            round_patches += st[0].tried[k].patches;
+    size_t round_patches = 0, paired = 0, first_round = SIZE_MAX;
+    for (size_t k = 0; k < st[0].num_tried && k < SK_TOLERANCE_MAX_TRIED; ++k) {
+        const sk_tolerance_try *e = &st[0].tried[k];
+        if (!e->refined) {
+            assert_int_equal(e->paired, 0);
+            continue;
+        }
+        first_round = first_round < k ? first_round : k;
+        round_patches += e->patches;
+        paired += e->paired;
+        print_message("  round %zu: %zu patches, %zu paired, %zu of them unmoved, %zu moved by "
+                      "T / 10 or more\n", k, e->patches, e->paired, e->unmoved, e->moved_far);
+        /* a patch is paired at most once, and moved far or not at all, or neither */
+        assert_true(e->paired <= e->patches && e->unmoved + e->moved_far <= e->paired);
+        assert_int_equal(st[1].tried[k].paired, 0); /* full checks: no pairing */
+        assert_int_equal(st[1].tried[k].unmoved + st[1].tried[k].moved_far, 0);
+    }
     assert_true(st[0].rounds >= 2 && st[0].num_tried <= SK_TOLERANCE_MAX_TRIED);
     assert_int_equal(st[0].checked_patches, round_patches);
+    assert_int_equal(st[0].reused_patches, paired); /* the rounds' pairings add up */
+    assert_int_equal(st[0].tried[first_round].paired, 0); /* nothing to pair with */
     assert_true(st[0].reused_patches > 0 && st[0].reused_patches < st[0].checked_patches);
     assert_int_equal(st[1].checked_patches, 0);
     assert_int_equal(st[0].rounds, st[1].rounds);
@@ -327,12 +342,13 @@ static size_t stall_round(const sk_tolerance_stats *st, unsigned k, size_t *roun
 
 /* The stall rule: the refinement stops at the stall_rounds-th round in a row without
  * progress (counted again here from the rounds' figures), and the result is the full search's
- * (the same status, patch count and deviation). On three_peaks at 1e-2 of the diagonal with
- * one round: its third round flags more vertices and is farther than the second. Without
- * SK_TEST_QUICK, fandisk at 2.8e-3, the case the rule is for: no level meets T, so the
- * default's refinement from the estimate cannot converge; it stops after 16 rounds and the full
- * search follows (3e-3, this test's case until the surfaces changed slightly with the crease
- * and fairing merges of 2 December, is now met at the estimate). */
+ * (the same status, patch count and deviation). On three_peaks at 2e-2 of the diagonal with
+ * one round: its fourth round flags one vertex again, as the third, and is farther. Without
+ * SK_TEST_QUICK, fandisk at 2.72e-3, where no level meets T (not even the input's own), so the
+ * refinement from the estimate cannot converge: with two rounds in a row without progress it
+ * stops after 10 rounds, the full search follows. (With the rounds' warm-started edge deletion
+ * of session 27 the refinement no longer stalls by the default rule there: it reaches the input
+ * level in 14 rounds; 2.8e-3, the case before, is now met.) */
 static void stall_same(const char *name, double rel, unsigned stall, sk_status want,
                        size_t max_rounds)
 {
@@ -366,9 +382,9 @@ static void stall_same(const char *name, double rel, unsigned stall, sk_status w
 static void stalled_rounds(void **state)
 {
     (void)state;
-    stall_same("three_peaks.off", 1e-2, 1, SK_OK, 3);
+    stall_same("three_peaks.off", 2e-2, 1, SK_OK, 4);
     if (!getenv("SK_TEST_QUICK"))
-        stall_same("fandisk.off", 2.8e-3, 0, SK_WARN_TOLERANCE, 20);
+        stall_same("fandisk.off", 2.72e-3, 2, SK_WARN_TOLERANCE, 20);
 }
 
 static void unreachable(void **state)

@@ -579,7 +579,7 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
         if (!(w->kc[i] = sk__calloc_array(L, sizeof *w->kc[i])))
             return false;
         for (size_t k = 0; k < L; ++k)
-            if (!(w->kc[i][k] = sk__malloc_array(mg->A[k].rows ? mg->A[k].rows : 1,
+            if (!(w->kc[i][k] = sk__malloc_array(width * (mg->A[k].rows ? mg->A[k].rows : 1),
                                                  sizeof(double))))
                 return false;
     }
@@ -883,7 +883,8 @@ static size_t krylov(sk__multilevel *mg, size_t k, const double *b, double *x, d
 }
 
 /* ---------------------------------------------------------------------------------------------
- * Two right-hand sides in one pass (u and v of the fixed-boundary methods): the vectors hold
+ * Two right-hand sides in one pass (u and v of the fixed-boundary methods; one thread, where
+ * one column per thread before streamed every matrix twice): the vectors hold
  * both interleaved, entry 2 i + c of column c, so every sweep, residual, restriction and
  * product reads the matrix once for both and carries two independent sums per row. Each column
  * goes through exactly the operations, in the same order, that the one-column functions above
@@ -1034,7 +1035,56 @@ static void coarse_solve2(sk__multilevel *mg, const double *r, double *z, worksp
     }
 }
 
-/* vcycle for two columns (no K-cycle: that is for the symmetric systems only). */
+static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w);
+
+/* kcycle for two columns: the second step is taken when either column needs it, and a column
+ * that does not need it keeps its one-step result. */
+static void kcycle2(sk__multilevel *mg, size_t j, const double *r, double *x, workspace *w)
+{
+    const sk__csr *a = &mg->A[j];
+    size_t n = a->rows;
+    double *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
+           *u = w->kc[4][j];
+    double rho1[2], t1[2], gam[2] = {0, 0}, t2[2] = {0, 0}, e[2], f[2];
+    bool two[2];
+    vcycle2(mg, j, r, c, w);
+    cycle_multiply2(a, mg->fval[j], mg->fscale[j], c, v);
+    dot2(n, c, v, rho1);
+    dot2(n, c, r, e);
+    for (int q = 0; q < 2; ++q)
+        t1[q] = rho1[q] > 0 ? e[q] / rho1[q] : 1;
+    for (size_t i = 0; i < n; ++i)
+        for (int q = 0; q < 2; ++q)
+            r2[2 * i + q] = r[2 * i + q] - t1[q] * v[2 * i + q];
+    dot2(n, r2, r2, e);
+    dot2(n, r, r, f);
+    for (int q = 0; q < 2; ++q)
+        two[q] = rho1[q] > 0 && e[q] > 0.0625 * f[q];
+    if (two[0] || two[1]) {
+        vcycle2(mg, j, r2, d, w);
+        cycle_multiply2(a, mg->fval[j], mg->fscale[j], d, u);
+        double du[2], dr[2];
+        dot2(n, d, v, gam);
+        dot2(n, d, u, du);
+        dot2(n, d, r2, dr);
+        for (int q = 0; q < 2; ++q) {
+            if (!two[q]) {
+                gam[q] = 0;
+                continue;
+            }
+            double rho2 = du[q] - gam[q] * gam[q] / rho1[q];
+            if (rho2 > 0) {
+                t2[q] = dr[q] / rho2;
+                t1[q] -= gam[q] * t2[q] / rho1[q];
+            }
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        for (int q = 0; q < 2; ++q)
+            x[2 * i + q] = t1[q] * c[2 * i + q] + (t2[q] != 0 ? t2[q] * d[2 * i + q] : 0);
+}
+
+/* vcycle for two columns. */
 static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w)
 {
     if (k == 0) {
@@ -1057,7 +1107,10 @@ static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, wo
                 t[i] = r[i] - t[i];
         }
         multiply2(&mg->R[k - 1], t, w->r[k - 1]);
-        vcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+        if (mg->kcycle && k - 1 > 0)
+            kcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+        else
+            vcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
         prolong_add2(&mg->P[k - 1], mg->scale, w->z[k - 1], z);
     }
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
@@ -1167,7 +1220,95 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
         relres[c] = bn[c] != 0 ? sqrt(d[c]) / bn[c] : 0;
 }
 
-/* sk__multilevel_solve of two right-hand sides of a non-symmetric system in one pass. */
+/* pcg for two columns: it[c] the iterations, relres[c] the true relative residual. */
+static void pcg2(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
+                 size_t maxit, workspace *w, size_t it[2], double relres[2])
+{
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *r = w->kv[0], *z = w->kv[1], *p = w->kv[2], *q = w->kv[3], *rold = w->kv[4];
+    double bn[2], rn[2], rz[2], d[2], e[2];
+    bool on[2];
+    dot2(n, b, b, bn);
+    for (int c = 0; c < 2; ++c) {
+        bn[c] = sqrt(bn[c]);
+        it[c] = 0;
+        relres[c] = 0;
+        for (size_t i = 0; bn[c] == 0 && i < n; ++i)
+            x[2 * i + c] = 0;
+    }
+    if (bn[0] == 0 && bn[1] == 0)
+        return;
+    multiply2(a, x, r);
+    for (size_t i = 0; i < 2 * n; ++i)
+        r[i] = b[i] - r[i];
+    dot2(n, r, r, rn);
+    for (int c = 0; c < 2; ++c) {
+        rn[c] = sqrt(rn[c]);
+        on[c] = bn[c] != 0 && rn[c] > tol * bn[c] && maxit > 0;
+    }
+    if (on[0] || on[1]) {
+        vcycle2(mg, k, r, z, w);
+        memcpy(p, z, 2 * n * sizeof *p);
+        dot2(n, r, z, rz);
+        for (;;) {
+            for (int c = 0; c < 2; ++c)
+                on[c] = on[c] && it[c] < maxit;
+            if (!on[0] && !on[1])
+                break;
+            multiply2(a, p, q);
+            dot2(n, p, q, d);
+            double alpha[2] = {0, 0};
+            for (int c = 0; c < 2; ++c) {
+                if (on[c] && !(d[c] > 0))
+                    on[c] = false;
+                if (on[c])
+                    alpha[c] = rz[c] / d[c];
+            }
+            if (mg->kcycle)
+                memcpy(rold, r, 2 * n * sizeof *rold);
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < 2; ++c)
+                    if (on[c]) {
+                        x[2 * i + c] += alpha[c] * p[2 * i + c];
+                        r[2 * i + c] -= alpha[c] * q[2 * i + c];
+                    }
+            dot2(n, r, r, d);
+            for (int c = 0; c < 2; ++c)
+                if (on[c]) {
+                    ++it[c];
+                    rn[c] = sqrt(d[c]);
+                    if (rn[c] <= tol * bn[c])
+                        on[c] = false;
+                }
+            if (!on[0] && !on[1])
+                break;
+            vcycle2(mg, k, r, z, w);
+            dot2(n, r, z, d);
+            if (mg->kcycle)
+                dot2(n, rold, z, e);
+            double beta[2] = {0, 0};
+            for (int c = 0; c < 2; ++c)
+                if (on[c]) {
+                    /* flexible (Polak-Ribiere) for the K-cycle */
+                    beta[c] = (mg->kcycle ? d[c] - e[c] : d[c]) / rz[c];
+                    rz[c] = d[c];
+                }
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < 2; ++c)
+                    if (on[c])
+                        p[2 * i + c] = z[2 * i + c] + beta[c] * p[2 * i + c];
+        }
+    }
+    multiply2(a, x, r);
+    for (size_t i = 0; i < 2 * n; ++i)
+        r[i] = b[i] - r[i];
+    dot2(n, r, r, d);
+    for (int c = 0; c < 2; ++c)
+        relres[c] = bn[c] != 0 ? sqrt(d[c]) / bn[c] : 0;
+}
+
+/* sk__multilevel_solve of two right-hand sides in one pass. */
 static void solve2(sk__multilevel *mg, const double *b, double *x, const sk__krylov_opts *opts,
                    size_t *its, double *worst, int *nomem, int *fail)
 {
@@ -1191,10 +1332,12 @@ static void solve2(sk__multilevel *mg, const double *b, double *x, const sk__kry
     for (size_t k = 1; k < L; ++k) {
         memset(w.x[k], 0, 2 * mg->A[k].rows * sizeof(double));
         prolong_add2(&mg->P[k - 1], 1, w.x[k - 1], w.x[k]);
-        if (k < L - 1)
-            bicgstab2(mg, k, w.b[k], w.x[k], 0, opts->level_iterations, &w, it, rr);
+        double tol = k < L - 1 ? 0 : opts->tolerance;
+        size_t maxit = k < L - 1 ? opts->level_iterations : opts->max_iterations;
+        if (mg->symmetric)
+            pcg2(mg, k, w.b[k], w.x[k], tol, maxit, &w, it, rr);
         else
-            bicgstab2(mg, k, w.b[k], w.x[k], opts->tolerance, opts->max_iterations, &w, it, rr);
+            bicgstab2(mg, k, w.b[k], w.x[k], tol, maxit, &w, it, rr);
     }
     if (L == 1)
         rr[0] = rr[1] = 0;
@@ -1223,7 +1366,7 @@ sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b,
     size_t its = 0;
     double worst = 0;
     int nomem = 0, fail = 0;
-    if (nrhs == 2 && !mg->symmetric) {
+    if (nrhs == 2) {
         solve2(mg, b, x, opts, &its, &worst, &nomem, &fail);
         nrhs = 0; /* done */
     }

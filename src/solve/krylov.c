@@ -519,6 +519,7 @@ typedef struct workspace {
     double **b, **x, **r, **z, **t; /* per level */
     double **kc[5];                 /* K-cycle vectors per level */
     double *kv[8];                  /* Krylov vectors, finest size */
+    double *cb;                     /* two right-hand sides: the coarsest level's columns */
     int fail;
 } workspace;
 
@@ -548,10 +549,12 @@ static void ws_free(workspace *w, size_t L)
     }
     for (int i = 0; i < 8; ++i)
         sk__free(w->kv[i]);
+    sk__free(w->cb);
     memset(w, 0, sizeof *w);
 }
 
-static bool ws_alloc(workspace *w, const sk__multilevel *mg)
+/* width: vectors of one right-hand side (1) or of two interleaved (2). */
+static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
 {
     memset(w, 0, sizeof *w);
     size_t L = mg->L;
@@ -563,7 +566,7 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg)
     if (!w->b || !w->x || !w->r || !w->z || !w->t)
         return false;
     for (size_t k = 0; k < L; ++k) {
-        size_t n = mg->A[k].rows ? mg->A[k].rows : 1;
+        size_t n = width * (mg->A[k].rows ? mg->A[k].rows : 1);
         w->b[k] = sk__malloc_array(n, sizeof(double));
         w->x[k] = sk__malloc_array(n, sizeof(double));
         w->r[k] = sk__malloc_array(n, sizeof(double));
@@ -576,14 +579,17 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg)
         if (!(w->kc[i] = sk__calloc_array(L, sizeof *w->kc[i])))
             return false;
         for (size_t k = 0; k < L; ++k)
-            if (!(w->kc[i][k] = sk__malloc_array(mg->A[k].rows ? mg->A[k].rows : 1,
+            if (!(w->kc[i][k] = sk__malloc_array(width * (mg->A[k].rows ? mg->A[k].rows : 1),
                                                  sizeof(double))))
                 return false;
     }
-    size_t nf = mg->A[L - 1].rows ? mg->A[L - 1].rows : 1;
+    size_t nf = width * (mg->A[L - 1].rows ? mg->A[L - 1].rows : 1);
     for (int i = 0; i < 8; ++i)
         if (!(w->kv[i] = sk__malloc_array(nf, sizeof(double))))
             return false;
+    if (width > 1 && !(w->cb = sk__malloc_array(2 * width * (mg->A[0].rows ? mg->A[0].rows : 1),
+                                                sizeof(double))))
+        return false;
     return true;
 }
 
@@ -876,6 +882,480 @@ static size_t krylov(sk__multilevel *mg, size_t k, const double *b, double *x, d
                          : bicgstab(mg, k, b, x, tol, maxit, w, relres);
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Two right-hand sides in one pass (u and v of the fixed-boundary methods; one thread, where
+ * one column per thread before streamed every matrix twice): the vectors hold
+ * both interleaved, entry 2 i + c of column c, so every sweep, residual, restriction and
+ * product reads the matrix once for both and carries two independent sums per row. Each column
+ * goes through exactly the operations, in the same order, that the one-column functions above
+ * apply to it, so the result is the same to the bit; a column that has converged (or broken
+ * down) is left as it is while the other one goes on.
+ * ------------------------------------------------------------------------------------------- */
+
+static void dot2(size_t n, const double *a, const double *b, double out[2])
+{
+    double s0 = 0, s1 = 0;
+    for (size_t i = 0; i < n; ++i) {
+        s0 += a[2 * i] * b[2 * i];
+        s1 += a[2 * i + 1] * b[2 * i + 1];
+    }
+    out[0] = s0;
+    out[1] = s1;
+}
+
+/* y = a x (double values) */
+static void multiply2(const sk__csr *a, const double *x, double *y)
+{
+    for (long i = 0; i < (long)a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            s0 += a->val[k] * xc[0];
+            s1 += a->val[k] * xc[1];
+        }
+        y[2 * i] = s0;
+        y[2 * i + 1] = s1;
+    }
+}
+
+/* y = a x with the values sc val (the cycle's single-precision copy) */
+static void cycle_multiply2(const sk__csr *a, const float *val, double sc, const double *x,
+                            double *y)
+{
+    for (long i = 0; i < (long)a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        y[2 * i] = sc * s0;
+        y[2 * i + 1] = sc * s1;
+    }
+}
+
+static void gs_forward2(const sk__csr *a, const float *val, double sc, const double *dinv,
+                        const double *b, double *x)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        x[2 * i] += (b[2 * i] - sc * s0) * dinv[i];
+        x[2 * i + 1] += (b[2 * i + 1] - sc * s1) * dinv[i];
+    }
+}
+
+/* gs_forward_zero_residual for two columns */
+static void gs_forward_zero_residual2(const sk__csr *a, const float *val, double sc,
+                                      const double *dinv, const size_t *upper, const double *b,
+                                      double *x, double *t)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        size_t end = upper[i];
+        if (end > a->ptr[i] && a->col[end - 1] == i)
+            --end; /* the diagonal: x_i is still zero */
+        for (size_t k = a->ptr[i]; k < end; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        s0 = b[2 * i] - sc * s0;
+        s1 = b[2 * i + 1] - sc * s1;
+        x[2 * i] = s0 * dinv[i];
+        x[2 * i + 1] = s1 * dinv[i];
+        t[2 * i] = dinv[i] == 0 ? s0 : 0;
+        t[2 * i + 1] = dinv[i] == 0 ? s1 : 0;
+    }
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        t[2 * i] -= sc * s0;
+        t[2 * i + 1] -= sc * s1;
+    }
+}
+
+static void gs_backward2(const sk__csr *a, const float *val, double sc, const double *dinv,
+                         const double *b, double *x)
+{
+    for (size_t i = a->rows; i-- > 0;) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        x[2 * i] += (b[2 * i] - sc * s0) * dinv[i];
+        x[2 * i + 1] += (b[2 * i + 1] - sc * s1) * dinv[i];
+    }
+}
+
+/* y += scale P x */
+static void prolong_add2(const sk__csr *p, double scale, const double *x, double *y)
+{
+    for (size_t i = 0; i < p->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)p->col[k];
+            s0 += p->val[k] * xc[0];
+            s1 += p->val[k] * xc[1];
+        }
+        y[2 * i] += scale * s0;
+        y[2 * i + 1] += scale * s1;
+    }
+}
+
+/* The coarsest solve of both columns (each by itself, as coarse_solve does). */
+static void coarse_solve2(sk__multilevel *mg, const double *r, double *z, workspace *w)
+{
+    size_t n = mg->A[0].rows;
+    double *in = w->cb, *out = w->cb + 2 * n;
+    for (size_t i = 0; i < n; ++i) {
+        in[i] = r[2 * i];
+        in[n + i] = r[2 * i + 1];
+    }
+    for (size_t c = 0; c < 2; ++c)
+        coarse_solve(mg, in + c * n, out + c * n, w);
+    for (size_t i = 0; i < n; ++i) {
+        z[2 * i] = out[i];
+        z[2 * i + 1] = out[n + i];
+    }
+}
+
+static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w);
+
+/* kcycle for two columns: the second step is taken when either column needs it, and a column
+ * that does not need it keeps its one-step result. */
+static void kcycle2(sk__multilevel *mg, size_t j, const double *r, double *x, workspace *w)
+{
+    const sk__csr *a = &mg->A[j];
+    size_t n = a->rows;
+    double *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
+           *u = w->kc[4][j];
+    double rho1[2], t1[2], gam[2] = {0, 0}, t2[2] = {0, 0}, e[2], f[2];
+    bool two[2];
+    vcycle2(mg, j, r, c, w);
+    cycle_multiply2(a, mg->fval[j], mg->fscale[j], c, v);
+    dot2(n, c, v, rho1);
+    dot2(n, c, r, e);
+    for (int q = 0; q < 2; ++q)
+        t1[q] = rho1[q] > 0 ? e[q] / rho1[q] : 1;
+    for (size_t i = 0; i < n; ++i)
+        for (int q = 0; q < 2; ++q)
+            r2[2 * i + q] = r[2 * i + q] - t1[q] * v[2 * i + q];
+    dot2(n, r2, r2, e);
+    dot2(n, r, r, f);
+    for (int q = 0; q < 2; ++q)
+        two[q] = rho1[q] > 0 && e[q] > 0.0625 * f[q];
+    if (two[0] || two[1]) {
+        vcycle2(mg, j, r2, d, w);
+        cycle_multiply2(a, mg->fval[j], mg->fscale[j], d, u);
+        double du[2], dr[2];
+        dot2(n, d, v, gam);
+        dot2(n, d, u, du);
+        dot2(n, d, r2, dr);
+        for (int q = 0; q < 2; ++q) {
+            if (!two[q]) {
+                gam[q] = 0;
+                continue;
+            }
+            double rho2 = du[q] - gam[q] * gam[q] / rho1[q];
+            if (rho2 > 0) {
+                t2[q] = dr[q] / rho2;
+                t1[q] -= gam[q] * t2[q] / rho1[q];
+            }
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        for (int q = 0; q < 2; ++q)
+            x[2 * i + q] = t1[q] * c[2 * i + q] + (t2[q] != 0 ? t2[q] * d[2 * i + q] : 0);
+}
+
+/* vcycle for two columns. */
+static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w)
+{
+    if (k == 0) {
+        coarse_solve2(mg, r, z, w);
+        return;
+    }
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *t = w->t[k];
+    const float *fv = mg->fval[k];
+    double sc = mg->fscale[k];
+    gs_forward_zero_residual2(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t);
+    for (int s = 1; s < SK_MG_SWEEPS; ++s)
+        gs_forward2(a, fv, sc, mg->dinv[k], r, z);
+    unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    for (unsigned c = 0; c < cycles; ++c) {
+        if (c > 0 || SK_MG_SWEEPS > 1) {
+            cycle_multiply2(a, fv, sc, z, t);
+            for (size_t i = 0; i < 2 * n; ++i)
+                t[i] = r[i] - t[i];
+        }
+        multiply2(&mg->R[k - 1], t, w->r[k - 1]);
+        if (mg->kcycle && k - 1 > 0)
+            kcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+        else
+            vcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+        prolong_add2(&mg->P[k - 1], mg->scale, w->z[k - 1], z);
+    }
+    for (int s = 0; s < SK_MG_SWEEPS; ++s)
+        gs_backward2(a, fv, sc, mg->dinv[k], r, z);
+}
+
+/* bicgstab for two columns: it[c] the iterations, relres[c] the true relative residual. */
+static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
+                      size_t maxit, workspace *w, size_t it[2], double relres[2])
+{
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *r = w->kv[0], *rh = w->kv[1], *p = w->kv[2], *v = w->kv[3], *s = w->kv[4],
+           *t = w->kv[5], *ph = w->kv[6], *sh = w->kv[7];
+    double bn[2], rho[2] = {1, 1}, alpha[2] = {1, 1}, omega[2] = {1, 1}, rn[2], d[2], e[2];
+    bool on[2]; /* still iterating */
+    dot2(n, b, b, bn);
+    for (int c = 0; c < 2; ++c) {
+        bn[c] = sqrt(bn[c]);
+        on[c] = bn[c] != 0;
+        it[c] = 0;
+        relres[c] = 0;
+        for (size_t i = 0; !on[c] && i < n; ++i)
+            x[2 * i + c] = 0;
+    }
+    if (!on[0] && !on[1])
+        return;
+    multiply2(a, x, r);
+    for (size_t i = 0; i < 2 * n; ++i)
+        r[i] = b[i] - r[i];
+    memcpy(rh, r, 2 * n * sizeof *rh);
+    memset(p, 0, 2 * n * sizeof *p);
+    memset(v, 0, 2 * n * sizeof *v);
+    dot2(n, r, r, rn);
+    for (int c = 0; c < 2; ++c)
+        rn[c] = sqrt(rn[c]);
+    for (;;) {
+        double beta[2] = {0, 0};
+        dot2(n, rh, r, d);
+        for (int c = 0; c < 2; ++c) {
+            on[c] = on[c] && rn[c] > tol * bn[c] && it[c] < maxit;
+            if (on[c] && (d[c] == 0 || omega[c] == 0))
+                on[c] = false; /* breakdown: the caller sees the residual */
+            if (on[c]) {
+                beta[c] = (d[c] / rho[c]) * (alpha[c] / omega[c]);
+                rho[c] = d[c];
+            }
+        }
+        if (!on[0] && !on[1])
+            break;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 2; ++c)
+                if (on[c])
+                    p[2 * i + c] = r[2 * i + c] +
+                                   beta[c] * (p[2 * i + c] - omega[c] * v[2 * i + c]);
+        vcycle2(mg, k, p, ph, w);
+        multiply2(a, ph, v);
+        dot2(n, rh, v, d);
+        bool go[2] = {on[0], on[1]}; /* on to the second half of this iteration */
+        for (int c = 0; c < 2; ++c) {
+            if (go[c] && d[c] == 0)
+                on[c] = go[c] = false;
+            if (go[c])
+                alpha[c] = rho[c] / d[c];
+        }
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 2; ++c)
+                if (go[c])
+                    s[2 * i + c] = r[2 * i + c] - alpha[c] * v[2 * i + c];
+        dot2(n, s, s, d);
+        for (int c = 0; c < 2; ++c) {
+            if (!go[c])
+                continue;
+            ++it[c];
+            if (sqrt(d[c]) <= tol * bn[c]) {
+                for (size_t i = 0; i < n; ++i)
+                    x[2 * i + c] += alpha[c] * ph[2 * i + c];
+                on[c] = go[c] = false;
+            }
+        }
+        if (!go[0] && !go[1])
+            continue; /* the loop's head sees that nothing is left */
+        vcycle2(mg, k, s, sh, w);
+        multiply2(a, sh, t);
+        dot2(n, t, t, d);
+        dot2(n, t, s, e);
+        for (int c = 0; c < 2; ++c)
+            if (go[c])
+                omega[c] = d[c] > 0 ? e[c] / d[c] : 0;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 2; ++c)
+                if (go[c]) {
+                    size_t q = 2 * i + c;
+                    x[q] += alpha[c] * ph[q] + omega[c] * sh[q];
+                    r[q] = s[q] - omega[c] * t[q];
+                }
+        dot2(n, r, r, d);
+        for (int c = 0; c < 2; ++c)
+            if (go[c])
+                rn[c] = sqrt(d[c]);
+    }
+    multiply2(a, x, r);
+    for (size_t i = 0; i < 2 * n; ++i)
+        r[i] = b[i] - r[i];
+    dot2(n, r, r, d);
+    for (int c = 0; c < 2; ++c)
+        relres[c] = bn[c] != 0 ? sqrt(d[c]) / bn[c] : 0;
+}
+
+/* pcg for two columns: it[c] the iterations, relres[c] the true relative residual. */
+static void pcg2(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
+                 size_t maxit, workspace *w, size_t it[2], double relres[2])
+{
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *r = w->kv[0], *z = w->kv[1], *p = w->kv[2], *q = w->kv[3], *rold = w->kv[4];
+    double bn[2], rn[2], rz[2], d[2], e[2];
+    bool on[2];
+    dot2(n, b, b, bn);
+    for (int c = 0; c < 2; ++c) {
+        bn[c] = sqrt(bn[c]);
+        it[c] = 0;
+        relres[c] = 0;
+        for (size_t i = 0; bn[c] == 0 && i < n; ++i)
+            x[2 * i + c] = 0;
+    }
+    if (bn[0] == 0 && bn[1] == 0)
+        return;
+    multiply2(a, x, r);
+    for (size_t i = 0; i < 2 * n; ++i)
+        r[i] = b[i] - r[i];
+    dot2(n, r, r, rn);
+    for (int c = 0; c < 2; ++c) {
+        rn[c] = sqrt(rn[c]);
+        on[c] = bn[c] != 0 && rn[c] > tol * bn[c] && maxit > 0;
+    }
+    if (on[0] || on[1]) {
+        vcycle2(mg, k, r, z, w);
+        memcpy(p, z, 2 * n * sizeof *p);
+        dot2(n, r, z, rz);
+        for (;;) {
+            for (int c = 0; c < 2; ++c)
+                on[c] = on[c] && it[c] < maxit;
+            if (!on[0] && !on[1])
+                break;
+            multiply2(a, p, q);
+            dot2(n, p, q, d);
+            double alpha[2] = {0, 0};
+            for (int c = 0; c < 2; ++c) {
+                if (on[c] && !(d[c] > 0))
+                    on[c] = false;
+                if (on[c])
+                    alpha[c] = rz[c] / d[c];
+            }
+            if (mg->kcycle)
+                memcpy(rold, r, 2 * n * sizeof *rold);
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < 2; ++c)
+                    if (on[c]) {
+                        x[2 * i + c] += alpha[c] * p[2 * i + c];
+                        r[2 * i + c] -= alpha[c] * q[2 * i + c];
+                    }
+            dot2(n, r, r, d);
+            for (int c = 0; c < 2; ++c)
+                if (on[c]) {
+                    ++it[c];
+                    rn[c] = sqrt(d[c]);
+                    if (rn[c] <= tol * bn[c])
+                        on[c] = false;
+                }
+            if (!on[0] && !on[1])
+                break;
+            vcycle2(mg, k, r, z, w);
+            dot2(n, r, z, d);
+            if (mg->kcycle)
+                dot2(n, rold, z, e);
+            double beta[2] = {0, 0};
+            for (int c = 0; c < 2; ++c)
+                if (on[c]) {
+                    /* flexible (Polak-Ribiere) for the K-cycle */
+                    beta[c] = (mg->kcycle ? d[c] - e[c] : d[c]) / rz[c];
+                    rz[c] = d[c];
+                }
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < 2; ++c)
+                    if (on[c])
+                        p[2 * i + c] = z[2 * i + c] + beta[c] * p[2 * i + c];
+        }
+    }
+    multiply2(a, x, r);
+    for (size_t i = 0; i < 2 * n; ++i)
+        r[i] = b[i] - r[i];
+    dot2(n, r, r, d);
+    for (int c = 0; c < 2; ++c)
+        relres[c] = bn[c] != 0 ? sqrt(d[c]) / bn[c] : 0;
+}
+
+/* sk__multilevel_solve of two right-hand sides in one pass. */
+static void solve2(sk__multilevel *mg, const double *b, double *x, const sk__krylov_opts *opts,
+                   size_t *its, double *worst, int *nomem, int *fail)
+{
+    size_t L = mg->L, nf = mg->A[L - 1].rows;
+    workspace w;
+    if (!ws_alloc(&w, mg, 2)) {
+        *nomem = 1;
+        ws_free(&w, L);
+        return;
+    }
+    double *bf = w.b[L - 1];
+    for (size_t i = 0; i < nf; ++i) {
+        bf[2 * i] = b[i];
+        bf[2 * i + 1] = b[nf + i];
+    }
+    for (size_t k = L - 1; k-- > 0;)
+        multiply2(&mg->R[k], w.b[k + 1], w.b[k]);
+    coarse_solve2(mg, w.b[0], w.x[0], &w);
+    size_t it[2] = {0, 0};
+    double rr[2] = {0, 0};
+    for (size_t k = 1; k < L; ++k) {
+        memset(w.x[k], 0, 2 * mg->A[k].rows * sizeof(double));
+        prolong_add2(&mg->P[k - 1], 1, w.x[k - 1], w.x[k]);
+        double tol = k < L - 1 ? 0 : opts->tolerance;
+        size_t maxit = k < L - 1 ? opts->level_iterations : opts->max_iterations;
+        if (mg->symmetric)
+            pcg2(mg, k, w.b[k], w.x[k], tol, maxit, &w, it, rr);
+        else
+            bicgstab2(mg, k, w.b[k], w.x[k], tol, maxit, &w, it, rr);
+    }
+    if (L == 1)
+        rr[0] = rr[1] = 0;
+    const double *xf = w.x[L - 1];
+    for (size_t i = 0; i < nf; ++i) {
+        x[i] = xf[2 * i];
+        x[nf + i] = xf[2 * i + 1];
+    }
+    for (int c = 0; c < 2; ++c) {
+        if (L > 1 && it[c] > *its)
+            *its = it[c];
+        if (rr[c] > *worst)
+            *worst = rr[c];
+    }
+    *fail |= w.fail;
+    ws_free(&w, L);
+}
+
 sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b, double *x,
                                const sk__krylov_opts *opts, sk__krylov_result *res,
                                sk_error *err)
@@ -886,12 +1366,16 @@ sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b,
     size_t its = 0;
     double worst = 0;
     int nomem = 0, fail = 0;
+    if (nrhs == 2) {
+        solve2(mg, b, x, opts, &its, &worst, &nomem, &fail);
+        nrhs = 0; /* done */
+    }
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(static, 1) reduction(max : its, worst) reduction(| : nomem, fail) if (nrhs > 1)
 #endif
     for (long c = 0; c < (long)nrhs; ++c) {
         workspace w;
-        if (!ws_alloc(&w, mg)) {
+        if (!ws_alloc(&w, mg, 1)) {
             nomem = 1;
             ws_free(&w, L);
             continue;

@@ -81,7 +81,9 @@ typedef struct sk__krylov_result {
 } sk__krylov_result;
 
 /* Solves A x = b on the finest level for nrhs right-hand sides (column after column, n doubles
- * each; right-hand sides run in parallel) by nested iteration: the right-hand side restricted to
+ * each; two right-hand sides, u and v, run together through one pass over the matrices with
+ * interleaved vectors, the same to the bit as one at a time; other counts run in parallel) by
+ * nested iteration: the right-hand side restricted to
  * every level (b_k = P_k^T b_{k+1}), the coarsest solved directly, prolonged, a few Krylov steps
  * on each finer level, and on the finest Krylov iterations until the tolerance. */
 sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b, double *x,

@@ -90,7 +90,12 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
     }
     if (max_nu > 0.0)
         sk__bound_ratios(m, r, max_nu);
-    for (size_t h = 0; h < nh; ++h) {
+    long nhl = (long)nh;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nhl > 100000)
+#endif
+    for (long hl = 0; hl < nhl; ++hl) {
+        size_t h = (size_t)hl;
         uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
         W->nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
     }

@@ -584,6 +584,7 @@ sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk
         if ((st = sk__pn_build(s, err)) != SK_OK)
             goto fail;
         clock_since(t0, &s->stats.seconds_patches, &s->stats.cpu_patches);
+        sk__free(hinge_end); /* the hinge ends refit the VC1 normals only */
         *out = s;
         sk__ok(err);
         sk__blas_serial_end(blas_threads);

@@ -41,6 +41,12 @@ void sk__curve_eval(const double *cp, unsigned n, double t, double pt[3], double
 void sk__tri_eval(const double *cp, unsigned n, double v, double w, double pt[3], double d1[3],
                   double d2[3]);
 
+/* Grows the set by `patches` headers and `points` control points and leaves both unwritten: the
+ * caller fills every new header (all fields, reserved = 0) and every new point before the set is
+ * read (a parallel fill touches the fresh pages on the threads that use them). */
+sk_status sk__patch_set_extend_unset(sk_patch_set *set, size_t patches, size_t points,
+                                     sk_error *err);
+
 /* sk_patch_set_add with a tag. */
 sk_status sk__patch_set_add_tagged(sk_patch_set *set, sk_patch_kind kind, unsigned degree,
                                    unsigned degree_v, const double *cp, const uint32_t *corner_ids,

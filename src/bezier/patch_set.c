@@ -92,6 +92,17 @@ sk_status sk__patch_set_add_tagged(sk_patch_set *set, sk_patch_kind kind, unsign
     return st;
 }
 
+sk_status sk__patch_set_extend_unset(sk_patch_set *set, size_t patches, size_t points,
+                                     sk_error *err)
+{
+    sk_status st = sk_patch_set_reserve(set, patches, points, err);
+    if (st)
+        return st;
+    set->count += patches;
+    set->num_points += points;
+    return SK_OK;
+}
+
 void sk_patch_set_clear(sk_patch_set *set)
 {
     if (set)

@@ -314,6 +314,7 @@ static sk_status krylov_run(sk__multilevel *mg, const sk_sparse *a, bool symmetr
     ko.tolerance = o->tolerance > 0 ? o->tolerance : SK_HLINEAR_TOLERANCE;
     ko.max_iterations = o->max_iterations ? o->max_iterations : 500;
     ko.level_iterations = SK_HLINEAR_LEVEL_ITERATIONS;
+    ko.pair_always = false; /* u, v on two threads where two are free (krylov.c) */
     sk__krylov_result kr;
     sk_status st = sk__multilevel_solve(mg, nrhs, rhs, x, &ko, &kr, err);
     if (st)

@@ -26,24 +26,29 @@ void sk_smooth_destroy(sk_smooth **smooth)
     *smooth = NULL;
 }
 
-/* One zeroed patch per face of s->config (headers set), points in one block. */
+/* One patch per face of s->config, points in one block: the headers here, the points left for
+ * vc1_assemble to write (every one of them; its parallel loop makes the first touch of the
+ * block's pages, which a zero fill here made serially: most of the patches stage at 832k
+ * triangles). */
 static sk_status add_patches(sk_smooth *s, sk_error *err)
 {
     const sk_mesh *m = s->config;
     size_t nf = m->num_faces, npts = 0;
     for (uint32_t f = 0; f < nf; ++f)
         npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;
-    sk_status st = sk_patch_set_reserve(&s->surface, nf, npts, err);
+    size_t first = s->surface.num_points, base = s->surface.count;
+    sk_status st = sk__patch_set_extend_unset(&s->surface, nf, npts, err);
     if (st)
         return st;
-    sk__huge_hint(s->surface.points, npts * 3 * sizeof(double));
-    for (uint32_t f = 0; f < nf && st == SK_OK; ++f) {
-        sk_patch h;
-        sk__vc1_patch_header(m, f, &h);
-        st = sk__patch_set_add_tagged(&s->surface, (sk_patch_kind)h.kind, h.degree, h.degree_v,
-                                      NULL, h.corner_ids, h.tag, err);
+    sk__huge_hint(s->surface.points + 3 * first, npts * 3 * sizeof(double));
+    for (uint32_t f = 0; f < nf; ++f) {
+        sk_patch *p = &s->surface.patches[base + f];
+        sk__vc1_patch_header(m, f, p);
+        p->reserved = 0;
+        p->first = first;
+        first += sk_bezier_num_points((sk_patch_kind)p->kind, p->degree, p->degree_v);
     }
-    return st;
+    return SK_OK;
 }
 
 /* A stage's start: wall and CPU clocks (sk_seconds, sk_cpu_seconds). */
@@ -85,7 +90,12 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
     }
     if (max_nu > 0.0)
         sk__bound_ratios(m, r, max_nu);
-    for (size_t h = 0; h < nh; ++h) {
+    long nhl = (long)nh;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nhl > 100000)
+#endif
+    for (long hl = 0; hl < nhl; ++hl) {
+        size_t h = (size_t)hl;
         uint32_t f = m->h_face[h], g = m->h_face[h ^ 1u];
         W->nu[h] = (f != SK_INVALID && g != SK_INVALID) ? sk__nu(r[f], r[g]) : NAN;
     }

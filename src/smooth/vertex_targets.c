@@ -145,8 +145,12 @@ void sk__bound_ratios(const sk_mesh *m, double *r, double max_ratio)
      * by forward and backward relaxation sweeps (at most SK_RATIO_SWEEPS pairs; the VC1 property
      * does not depend on reaching the bound). */
     size_t nf = m->num_faces;
+    long nfl = (long)nf;
     double L = log(max_ratio);
-    for (size_t f = 0; f < nf; ++f)
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f)
         if (!m->f_deleted[f])
             r[f] = log(r[f]); /* all positive: checked by the caller */
     for (int sweep = 0; sweep < 2 * SK_RATIO_SWEEPS; ++sweep) {
@@ -171,7 +175,10 @@ void sk__bound_ratios(const sk_mesh *m, double *r, double max_ratio)
         if (!changed)
             break;
     }
-    for (size_t f = 0; f < nf; ++f)
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f)
         if (!m->f_deleted[f])
             r[f] = exp(r[f]);
 }

@@ -110,7 +110,12 @@ static double tri_area(const double *a, const double *b, const double *c)
 
 void sk__patch_ratios(const sk_mesh *m, const double *target, double *r)
 {
-    for (uint32_t f = 0; f < m->num_faces; ++f) {
+    long nfl = (long)m->num_faces;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long fl = 0; fl < nfl; ++fl) {
+        uint32_t f = (uint32_t)fl; /* each face's r from its own corners: any thread order */
         if (m->f_deleted[f]) {
             r[f] = 0.0;
             continue;

@@ -9,6 +9,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(SK_HAVE_OPENMP)
+#include <omp.h>
+#endif
 
 /* Gauss-Seidel sweeps before and after the coarse correction. */
 #define SK_MG_SWEEPS 1
@@ -1356,6 +1359,18 @@ static void solve2(sk__multilevel *mg, const double *b, double *x, const sk__kry
     ws_free(&w, L);
 }
 
+/* u and v in one pass read each matrix once (about 20% less CPU at 1M), one column per thread
+ * finishes sooner on two free cores (Floater at 1M on a quiet machine: solve 1.9 s against
+ * 2.6 s); both give the same bits, so the choice does not change the result. */
+static bool two_threads_free(void)
+{
+#if defined(SK_HAVE_OPENMP)
+    return !omp_in_parallel() && omp_get_max_threads() >= 2;
+#else
+    return false;
+#endif
+}
+
 sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b, double *x,
                                const sk__krylov_opts *opts, sk__krylov_result *res,
                                sk_error *err)
@@ -1366,7 +1381,7 @@ sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b,
     size_t its = 0;
     double worst = 0;
     int nomem = 0, fail = 0;
-    if (nrhs == 2) {
+    if (nrhs == 2 && (opts->pair_always || !two_threads_free())) {
         solve2(mg, b, x, opts, &its, &worst, &nomem, &fail);
         nrhs = 0; /* done */
     }

@@ -72,6 +72,7 @@ typedef struct sk__krylov_opts {
     double tolerance;      /* stop at ||b - A x|| <= tolerance ||b|| (2-norm) */
     size_t max_iterations; /* per right-hand side, finest level */
     size_t level_iterations; /* nested iteration: Krylov steps on each intermediate level */
+    bool pair_always; /* two right-hand sides in one pass even where two threads are free */
 } sk__krylov_opts;
 
 typedef struct sk__krylov_result {
@@ -82,7 +83,8 @@ typedef struct sk__krylov_result {
 
 /* Solves A x = b on the finest level for nrhs right-hand sides (column after column, n doubles
  * each; two right-hand sides, u and v, run together through one pass over the matrices with
- * interleaved vectors, the same to the bit as one at a time; other counts run in parallel) by
+ * interleaved vectors, the same to the bit as one at a time, unless two threads are free (then, and
+ * for other counts, one column per thread; opts->pair_always: one pass anyway)) by
  * nested iteration: the right-hand side restricted to
  * every level (b_k = P_k^T b_{k+1}), the coarsest solved directly, prolonged, a few Krylov steps
  * on each finer level, and on the finest Krylov iterations until the tolerance. */

@@ -233,7 +233,7 @@ static void test_solve_matches_cholmod(void **state)
         assert_true(ms.levels >= 3);
         assert_true(ms.unknowns[0] <= 200);
         assert_int_equal(ms.unknowns[1], n);
-        sk__krylov_opts ko = {1e-12, 300, 2};
+        sk__krylov_opts ko = {1e-12, 300, 2, false};
         sk__krylov_result kr;
         assert_int_equal(sk__multilevel_solve(mg, 2, b, x, &ko, &kr, NULL), SK_OK);
         assert_true(kr.converged);
@@ -276,7 +276,7 @@ static void test_cycle_scaled_far_beyond_float(void **state)
         sk__multilevel *mg = NULL;
         assert_int_equal(sk__amg_create(&fine, &ao, true, &mg, NULL), SK_OK);
         sk__multilevel_set_cycle(mg, 1.5, 1, true);
-        sk__krylov_opts ko = {1e-12, 300, 2};
+        sk__krylov_opts ko = {1e-12, 300, 2, false};
         sk__krylov_result kr;
         assert_int_equal(sk__multilevel_solve(mg, 1, b, x[k], &ko, &kr, NULL), SK_OK);
         assert_true(kr.converged);
@@ -349,7 +349,7 @@ static void test_two_columns_as_one(void **state)
             sk__multilevel_stats ms;
             sk__multilevel_stats_get(mg, &ms);
             assert_true(ms.levels >= 3);
-            sk__krylov_opts ko = {1e-12, 300, 2};
+            sk__krylov_opts ko = {1e-12, 300, 2, true}; /* the pair path on any thread count */
             sk__krylov_result kr, k1[2];
             assert_int_equal(sk__multilevel_solve(mg, 2, b, x, &ko, &kr, NULL), SK_OK);
             for (int c = 0; c < 2; ++c)

@@ -1,5 +1,6 @@
 #include "testutil.h"
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -111,4 +112,16 @@ void skt_cad_real_ref(char out[32], double x)
             out[n + 1] = '\0';
         }
     }
+}
+
+double skt_uv_difference(size_t nv, const double *a, const double *b)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, d = 0;
+    for (size_t v = 0; v < nv; ++v)
+        for (int c = 0; c < 2; ++c) {
+            lo[c] = fmin(lo[c], a[2 * v + c]);
+            hi[c] = fmax(hi[c], a[2 * v + c]);
+            d = fmax(d, fabs(a[2 * v + c] - b[2 * v + c]));
+        }
+    return d / fmax(hi[0] - lo[0], hi[1] - lo[1]);
 }

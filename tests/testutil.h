@@ -26,6 +26,8 @@ sk_mesh *skt_read_mesh(const char *path);
 /* An irregular planar disk: an n x n grid in z = 0, interior points jittered by up to 0.15,
  * two triangles per cell (srand(seed)). */
 sk_mesh *skt_planar_disk(int n, unsigned seed);
+/* The largest |a - b| over nv uv pairs, relative to the larger side of a's uv bounding box. */
+double skt_uv_difference(size_t nv, const double *a, const double *b);
 /* Reads a whole file into memory (fails the test if it cannot). */
 void *skt_read_file(const char *path, size_t *size);
 

@@ -15,19 +15,6 @@
 static const char *meshes[] = {"nefertiti.off", "patch-01.off", "paraboloid-patch.off",
                                "three_peaks.off", "mushroom.off", "lion-head.off"};
 
-/* largest |a - b| over the vertices, relative to the larger side of a's bounding box */
-static double uv_difference(size_t nv, const double *a, const double *b)
-{
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, d = 0;
-    for (size_t v = 0; v < nv; ++v)
-        for (int c = 0; c < 2; ++c) {
-            lo[c] = fmin(lo[c], a[2 * v + c]);
-            hi[c] = fmax(hi[c], a[2 * v + c]);
-            d = fmax(d, fabs(a[2 * v + c] - b[2 * v + c]));
-        }
-    return d / fmax(hi[0] - lo[0], hi[1] - lo[1]);
-}
-
 /* Every linear method on m solved directly and by `solver` (coarsest level of at most
  * `coarse` vertices): the multilevel path taken (at least min_levels levels, converged), the same
  * uv to 1e-8 of the layout, the same flips and MIPS sum. */
@@ -54,7 +41,7 @@ static void compare_with_direct(const sk_mesh *m, const char *name, sk_linear_so
         assert_true(sh.iterations >= 1);
         assert_true(sh.residual <= 1e-12);
         assert_true(sh.solve.factor_nnz < sd.solve.factor_nnz);
-        double d = uv_difference(nv, ud, uh);
+        double d = skt_uv_difference(nv, ud, uh);
         if (!(d <= 1e-8))
             fail_msg("%s %s: solver %d differs from direct by %.3g of the layout", name,
                      sk_param_method_name(o.method), (int)solver, d);
@@ -179,7 +166,7 @@ static void test_auto_route(void **state)
         assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
         assert_int_equal(sa.solver, SK_LINEAR_AMG);
         assert_true(sa.levels >= 2 && sa.iterations >= 1 && sa.residual <= 1e-10);
-        assert_true(uv_difference(nv, ud, ua) <= 1e-8);
+        assert_true(skt_uv_difference(nv, ud, ua) <= 1e-8);
         o.auto_vertices = sd.interior + 1; /* direct */
         assert_int_equal(sk_param_linear(m, &o, ua, &sa, NULL), SK_OK);
         assert_int_equal(sa.solver, SK_LINEAR_DIRECT);

@@ -202,18 +202,6 @@ static void test_refusals(void **state)
     sk_sparse_destroy(&a);
 }
 
-static double uv_difference(size_t nv, const double *a, const double *b)
-{
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, d = 0;
-    for (size_t v = 0; v < nv; ++v)
-        for (int c = 0; c < 2; ++c) {
-            lo[c] = fmin(lo[c], a[2 * v + c]);
-            hi[c] = fmax(hi[c], a[2 * v + c]);
-            d = fmax(d, fabs(a[2 * v + c] - b[2 * v + c]));
-        }
-    return d / fmax(hi[0] - lo[0], hi[1] - lo[1]);
-}
-
 /* given disks of 5000 vertices or more (lion head, three peaks and
  * mushroom Loop-subdivided once), when LSCM runs direct with the default ordering (the
  * bordered route) and with METIS (the interleaved 2n x 2n factor), then the same uv to 1e-8 of
@@ -251,7 +239,7 @@ static void test_lscm_bordered_against_interleaved(void **state)
         if (!(sb.solve.factor_nnz < si.solve.factor_nnz))
             fail_msg("%s: factor %zu bordered, %zu interleaved", names[i], sb.solve.factor_nnz,
                      si.solve.factor_nnz);
-        double d = uv_difference(nv, ui, ub);
+        double d = skt_uv_difference(nv, ui, ub);
         if (!(d <= 1e-8))
             fail_msg("%s: bordered LSCM differs by %.3g of the layout", names[i], d);
         sk_param_metrics rb, ri;

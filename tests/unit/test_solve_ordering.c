@@ -264,19 +264,6 @@ static void test_orderings_out_of_memory(void **state)
     sk_sparse_destroy(&a);
 }
 
-/* largest |a - b| over the vertices, relative to the larger side of a's bounding box */
-static double uv_difference(size_t nv, const double *a, const double *b)
-{
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, d = 0;
-    for (size_t v = 0; v < nv; ++v)
-        for (int c = 0; c < 2; ++c) {
-            lo[c] = fmin(lo[c], a[2 * v + c]);
-            hi[c] = fmax(hi[c], a[2 * v + c]);
-            d = fmax(d, fabs(a[2 * v + c] - b[2 * v + c]));
-        }
-    return d / fmax(hi[0] - lo[0], hi[1] - lo[1]);
-}
-
 /* Every linear method with every ordering on disks large enough for surfkit's own pick (the
  * default switches to vertex-graph orderings at 5000 unknowns): the same uv as CHOLMOD's /
  * UMFPACK's own ordering, the same flips. */
@@ -318,7 +305,7 @@ static void test_param_orderings_agree(void **state)
                 if (sk_param_linear(m, &o, uv, &st, &err))
                     fail_msg("%s %s ordering %d: %s", meshes[i], sk_param_method_name(o.method),
                              (int)ords[k], err.message);
-                double d = uv_difference(nv, ref, uv);
+                double d = skt_uv_difference(nv, ref, uv);
                 if (!(d <= 1e-8))
                     fail_msg("%s %s ordering %d: uv differ by %.3g of the layout", meshes[i],
                              sk_param_method_name(o.method), (int)ords[k], d);

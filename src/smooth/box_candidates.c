@@ -90,6 +90,27 @@ static size_t cell_range(const double *b, const double glo[3], double h, uint32_
 }
 
 /* pairs within each run of one cell key: overlapping boxes of patches sharing no corner */
+/* One (cell key, patch) entry for every grid cell each patch's box (not big[p]) covers; the
+ * arrays hold as many entries as cell_range counted. Returns the entry count. */
+static size_t cell_keys(const double *box, const uint8_t *big, size_t np, const double glo[3],
+                        double h, uint64_t *key, uint32_t *val)
+{
+    size_t m = 0;
+    uint32_t lo[3], hi[3];
+    for (size_t p = 0; p < np; ++p) {
+        if (big[p])
+            continue;
+        cell_range(box + 6 * p, glo, h, lo, hi);
+        for (uint64_t z = lo[2]; z <= hi[2]; ++z)
+            for (uint64_t y = lo[1]; y <= hi[1]; ++y)
+                for (uint64_t x = lo[0]; x <= hi[0]; ++x) {
+                    key[m] = x | y << 21 | z << 42;
+                    val[m++] = (uint32_t)p;
+                }
+    }
+    return m;
+}
+
 static void mark_runs(const sk_patch_set *set, const double *box, const uint64_t *key,
                       const uint32_t *val, size_t n, uint8_t *cand)
 {
@@ -157,18 +178,7 @@ sk_status sk__patch_box_candidates(const sk_patch_set *set, uint8_t *cand, sk_er
     uint64_t *key = sk__malloc_array(n + 1, sizeof *key);
     uint32_t *val = sk__malloc_array(n + 1, sizeof *val);
     sk_status st = big && key && val ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory");
-    size_t m = 0;
-    for (size_t p = 0; !st && p < np; ++p) {
-        if (big[p])
-            continue;
-        cell_range(box + 6 * p, glo, h, lo, hi);
-        for (uint64_t z = lo[2]; z <= hi[2]; ++z)
-            for (uint64_t y = lo[1]; y <= hi[1]; ++y)
-                for (uint64_t x = lo[0]; x <= hi[0]; ++x) {
-                    key[m] = x | y << 21 | z << 42;
-                    val[m++] = (uint32_t)p;
-                }
-    }
+    size_t m = st ? 0 : cell_keys(box, big, np, glo, h, key, val);
     if (!st && sk__sort_u64_u32(key, val, m))
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (!st) {
@@ -285,18 +295,7 @@ sk_status sk__patch_box_pairs(const sk_patch_set *set, uint64_t **pairs, size_t 
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;
     }
-    size_t m = 0;
-    for (size_t p = 0; p < np; ++p) {
-        if (big[p])
-            continue;
-        cell_range(box + 6 * p, glo, h, lo, hi);
-        for (uint64_t z = lo[2]; z <= hi[2]; ++z)
-            for (uint64_t y = lo[1]; y <= hi[1]; ++y)
-                for (uint64_t x = lo[0]; x <= hi[0]; ++x) {
-                    key[m] = x | y << 21 | z << 42;
-                    val[m++] = (uint32_t)p;
-                }
-    }
+    size_t m = cell_keys(box, big, np, glo, h, key, val);
     if (sk__sort_u64_u32(key, val, m)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         goto done;

@@ -590,6 +590,15 @@ void cli_help(const cli_spec *spec, FILE *fp)
 
 /* --- triangle input ------------------------------------------------------------------------- */
 
+/* Every face a triangle: the soup is its own triangulation (no copy of a million-face soup). */
+static bool only_triangles(const sk_soup *s)
+{
+    for (size_t f = 0; f < s->num_faces; ++f)
+        if (sk_soup_face_size(s, f) != 3)
+            return false;
+    return true;
+}
+
 sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out,
                              sk_triangulate_stats *tri, sk_error *err)
 {
@@ -599,9 +608,9 @@ sk_status cli_read_triangles(const char *path, bool keep_polygons, sk_mesh **out
     *out = NULL;
     sk_soup *soup = NULL, *tris = NULL;
     sk_status st = sk_soup_read(path, NULL, &soup, err);
-    if (st == SK_OK)
+    if (st == SK_OK && !only_triangles(soup))
         st = sk_soup_triangulate(soup, &tris, tri, err);
-    if (st == SK_OK && (st = sk_mesh_from_soup(tris, out, err)) != SK_OK) {
+    if (st == SK_OK && (st = sk_mesh_from_soup(tris ? tris : soup, out, err)) != SK_OK) {
         /* name the file, as sk_mesh_read does: "NAME: what is wrong" */
         const char *slash = strrchr(path, '/');
         char msg[sizeof err->message];

@@ -1,7 +1,8 @@
 /* Building a half-edge mesh from indexed faces.
  *
- * Corners (face, position) are keyed by their undirected edge and radix-sorted; each group of one
- * or two corners becomes an edge with half-edges 2e and 2e+1. Groups of three or more (non-manifold
+ * Corners (face, position) are keyed by their undirected edge (lo, hi) and sorted by it: a counting
+ * sort by lo, then each vertex's few corners by hi; each group of one or two corners becomes an edge
+ * with half-edges 2e and 2e+1. Groups of three or more (non-manifold
  * edges), two corners in the same direction (orientation conflict), a vertex with two boundary
  * gaps or two separate fans (non-manifold vertex) stop the build with an error naming the
  * elements. sk_soup_validate gives the full report of such input. */
@@ -12,8 +13,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-
 
 static sk_status check_faces(size_t nv, const double *pos, size_t nf, const uint32_t *off,
                              const uint32_t *idx, sk_error *err)
@@ -40,6 +39,66 @@ static sk_status check_faces(size_t nv, const double *pos, size_t nf, const uint
     return SK_OK;
 }
 
+/* Corner c of a face runs from idx[c] to the face's next corner's vertex. */
+static inline uint32_t corner_head(const uint32_t *off, const uint32_t *idx, size_t f, uint32_t c)
+{
+    return idx[c + 1 < off[f + 1] ? c + 1 : off[f]];
+}
+
+/* Sorts the n pairs (hi, corner) by hi, stably: the corners of one edge stay in their order. */
+static sk_status sort_bucket(uint64_t *hi, uint32_t *corner, size_t n)
+{
+    if (n > 32)
+        return sk__sort_u64_u32(hi, corner, n);
+    for (size_t i = 1; i < n; ++i) {
+        uint64_t k = hi[i];
+        uint32_t c = corner[i];
+        size_t j = i;
+        for (; j > 0 && hi[j - 1] > k; --j) {
+            hi[j] = hi[j - 1];
+            corner[j] = corner[j - 1];
+        }
+        hi[j] = k;
+        corner[j] = c;
+    }
+    return SK_OK;
+}
+
+/* keys[i] = lo << 32 | hi of the undirected edge of corner[i], ascending, corners of one edge in
+ * increasing order: the order of a stable sort of all corners by that key, made as a counting
+ * sort by lo and a sort of each lo's corners by hi (a vertex has few). */
+static sk_status sort_corners_by_edge(size_t nv, size_t nf, const uint32_t *off,
+                                      const uint32_t *idx, uint64_t *keys, uint32_t *corner)
+{
+    uint32_t *start = sk__calloc_array(nv + 1, sizeof *start);
+    if (!start)
+        return SK_ERR_NOMEM;
+    for (size_t f = 0; f < nf; ++f)
+        for (uint32_t c = off[f]; c < off[f + 1]; ++c) {
+            uint32_t a = idx[c], b = corner_head(off, idx, f, c);
+            start[(a < b ? a : b) + 1]++;
+        }
+    for (size_t v = 0; v < nv; ++v)
+        start[v + 1] += start[v];
+    for (size_t f = 0; f < nf; ++f) /* keys holds hi until the buckets are sorted */
+        for (uint32_t c = off[f]; c < off[f + 1]; ++c) {
+            uint32_t a = idx[c], b = corner_head(off, idx, f, c);
+            uint32_t slot = start[a < b ? a : b]++;
+            keys[slot] = a < b ? b : a;
+            corner[slot] = c;
+        }
+    sk_status st = SK_OK;
+    for (size_t v = nv, end = off[nf]; v-- > 0 && !st;) { /* bucket v ends at start[v] now */
+        size_t b = v ? start[v - 1] : 0;
+        st = sort_bucket(keys + b, corner + b, end - b);
+        for (size_t i = b; i < end; ++i)
+            keys[i] |= (uint64_t)v << 32;
+        end = b;
+    }
+    sk__free(start);
+    return st;
+}
+
 sk_status sk_mesh_from_faces(size_t nv, const double *pos, size_t nf, const uint32_t *off,
                              const uint32_t *idx, sk_mesh **out, sk_error *err)
 {
@@ -61,16 +120,10 @@ sk_status sk_mesh_from_faces(size_t nv, const double *pos, size_t nf, const uint
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the mesh");
         goto done;
     }
-    for (size_t f = 0; f < nf; ++f) {
-        for (uint32_t c = off[f]; c < off[f + 1]; ++c) {
-            uint32_t a = idx[c], b = idx[c + 1 < off[f + 1] ? c + 1 : off[f]];
-            uint64_t lo = a < b ? a : b, hi = a < b ? b : a;
-            keys[c] = lo << 32 | hi;
-            corner[c] = c;
+    for (size_t f = 0; f < nf; ++f)
+        for (uint32_t c = off[f]; c < off[f + 1]; ++c)
             cface[c] = (uint32_t)f;
-        }
-    }
-    if (sk__sort_u64_u32(keys, corner, nc)) {
+    if (sort_corners_by_edge(nv, nf, off, idx, keys, corner)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the mesh");
         goto done;
     }

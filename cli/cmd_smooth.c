@@ -529,6 +529,8 @@ static void write_tol_report(FILE *fp, const void *ctx)
     json_kstr(&j, "input", x->in);
     json_kstr(&j, "scheme", "vc1");
     json_kstr(&j, "normals", x->normals_src);
+    json_kuint(&j, "crease_edges", x->s->num_creases);
+    json_kuint(&j, "g0_crease_edges", r->crease_edges);
     json_triangulated(&j, &x->tri);
     json_knum(&j, "tolerance", t->tolerance);
     json_knum(&j, "tolerance_rel", t->tolerance / diag);
@@ -587,6 +589,10 @@ static void write_tol_report(FILE *fp, const void *ctx)
         } else {
             json_kuint(&j, "patches", e->patches);
             json_knum(&j, "max_deviation", e->max_deviation);
+            /* what the check measured (sk_tolerance_try.max_deviation): within T only bounded;
+             * a level the search found beyond T: the first distances beyond T it met */
+            json_kstr(&j, "max_deviation_is",
+                      e->met ? "upper_bound" : e->refined ? "exact" : "lower_bound");
             json_kuint(&j, "singular_patches", e->singular);
             json_kbool(&j, "met", e->met);
             if (e->refined) {

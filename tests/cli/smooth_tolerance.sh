@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # `surfkit smooth --tolerance-rel/--tolerance`: the sphere within 1e-2 of its diagonal with fewer
 # patches than triangles (STEP and a tessellation written; JSON figures consistent: met, the
-# deviation within T, G1); `surfkit deviation` of the written tessellation gives the same
-# two-sided deviation; an absolute tolerance gives the same run; an unreachable tolerance exits
-# 4 and still writes the file; usage errors exit 2.
+# deviation within T, G1, what each tried surface's max_deviation is); `surfkit deviation` of
+# the written tessellation gives the same two-sided deviation; an absolute tolerance gives the
+# same run; an unreachable tolerance exits 4 and still writes the file; usage errors exit 2.
 set -u
 bin=$1 src=$2 tmp=$4
 rm -rf "$tmp"; mkdir -p "$tmp"
@@ -27,6 +27,20 @@ awk -v g="$(val max_normal_jump_deg "$tmp/s.json")" 'BEGIN { exit !(g < 0.5) }' 
 tried=$(val levels_tried "$tmp/s.json") levels=$(val hierarchy_levels "$tmp/s.json")
 [ "$tried" -lt "$levels" ] || fail "$tried of $levels levels tried: a scan, not a search"
 grep -q '"stage_seconds": {' "$tmp/s.json" || fail "no stage_seconds"
+# every surface tried says what its max_deviation is: within T an upper bound, a level the
+# search left at its first distances beyond T a lower bound, a refinement round beyond T exact
+python3 - "$tmp/s.json" <<'PY' || fail "tried[].max_deviation_is"
+import json, sys
+r = json.load(open(sys.argv[1]))
+t = r["tolerance"]
+assert r["crease_edges"] == r["g0_crease_edges"] == 0, "creases on the sphere"
+for e in r["tried"]:
+    if "vc1" in e:
+        continue
+    want = "upper_bound" if e["met"] else "exact" if e["kind"] == "round" else "lower_bound"
+    assert e["max_deviation_is"] == want, e
+    assert (e["max_deviation"] <= t) == e["met"], e
+PY
 
 # the tessellation, measured again by `surfkit deviation` (the same samples)
 "$bin" smooth "$sphere" -o "$tmp/s.obj" --tolerance-rel 1e-2 -q || fail "obj"

@@ -1,11 +1,11 @@
 /* Building a half-edge mesh from indexed faces.
  *
- * Corners (face, position) are keyed by their undirected edge (lo, hi) and sorted by it: a counting
- * sort by lo, then each vertex's few corners by hi; each group of one or two corners becomes an edge
- * with half-edges 2e and 2e+1. Groups of three or more (non-manifold
- * edges), two corners in the same direction (orientation conflict), a vertex with two boundary
- * gaps or two separate fans (non-manifold vertex) stop the build with an error naming the
- * elements. sk_soup_validate gives the full report of such input. */
+ * Corners (face, position) are keyed by their undirected edge (lo, hi) and sorted by it: a
+ * counting sort by lo, then each vertex's few corners by hi; each group of one or two corners
+ * becomes an edge with half-edges 2e and 2e+1. Groups of three or more (non-manifold edges), two
+ * corners in the same direction (orientation conflict), a vertex with two boundary gaps or two
+ * separate fans (non-manifold vertex) stop the build with an error naming the elements.
+ * sk_soup_validate gives the full report of such input. */
 #include "surfkit/mesh.h"
 #include "core/internal.h"
 #include "mesh/mesh_internal.h"

@@ -115,6 +115,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "angle_violations", s->stats.angle_violations);
     json_kuint(&j, "singular_before_repair", s->stats.singular_before_repair);
     json_kuint(&j, "repaired_vertices", s->stats.repaired_vertices);
+    json_kuint(&j, "rerouted_rounds", s->stats.rerouted_rounds);
     json_kuint(&j, "fair_steps", s->stats.fair_steps);
     json_kuint(&j, "failed_vertices", s->stats.failed_vertices);
     json_key(&j, "problem_vertices");
@@ -245,6 +246,7 @@ static const char *const unit_names[] = {"mm", "cm", "m", "um", "in", "ft"};
 typedef struct smooth_args {
     const char *in, *out, *patches, *layout, *render, *zebra, *patch_map, *report;
     unsigned tess;
+    unsigned reroute_rounds;
     bool quiet, json, freeform, allow_fail, keep_polygons, no_creases;
     cad_kind cad;
     sk_tolerance_opts to; /* --tolerance / --tolerance-rel: the coarse-level route */
@@ -258,6 +260,7 @@ static int parse_args(int argc, char **argv, smooth_args *a)
 {
     unsigned units = 0, triangles = 0;
     a->tess = 4;
+    a->reroute_rounds = 6;
     const cli_opt opts[] = {
         OPT_FILE("-o", a->out, "OUT",
                  "by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
@@ -312,6 +315,11 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_FLAG("--parity-flips", a->so.parity_flips,
                  "vc1: also flip edges that make even vertices odd where the shape and the\n"
                  "normal agreement are kept: fewer deleted edges (parity_flipped_edges)"),
+        OPT_INT("--reroute-rounds", a->reroute_rounds, 0, 64, "K",
+                "vc1: where patches stay singular after the regularity repair, build again\n"
+                "up to K times (default 6, 0: never) with the edge deletion changed near them\n"
+                "and their slivers flipped, keeping a build with fewer (rerouted_rounds;\n"
+                "not in the --tolerance search, which refines at singular patches itself)"),
         OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
                    "vc1: free tangent control points by least squares to the wire frame\n"
                    "moved to lower the patches' bending energy (fair, default), or the\n"
@@ -443,6 +451,7 @@ int cmd_smooth(int argc, char **argv)
         return rc == CLI_HELP ? EXIT_OK : rc;
     if (a.no_creases)
         a.so.crease_angle_deg = -1.0; /* no detection, no G0 construction */
+    a.so.reroute_rounds = a.reroute_rounds ? (int)a.reroute_rounds : -1;
     if (a.tolerance)
         return smooth_tolerance(&a);
     double t0 = sk_seconds();

@@ -113,6 +113,9 @@ typedef struct sk_smooth_opts {
                                   where that keeps the shape and the normal agreement (fewer
                                   deleted edges; off by default, no effect with keep_triangulation) */
     sk_free_points free_points; /* VC1: how the free tangent control points are chosen */
+    int reroute_rounds;        /* VC1: builds again with the edge deletion re-routed (and slivers
+                                  flipped) near the patches still singular after the repair, at
+                                  most this many times: 0 = 6, negative = none */
     sk_progress_fn progress;
     void *progress_user;
     double crease_angle_deg;   /* crease detection (sk_mesh_crease_edges): 0 = 40 degrees,
@@ -137,6 +140,9 @@ typedef struct sk_smooth_stats {
     size_t singular_before_repair; /* patches the regularity test found singular before ... */
     size_t repaired_vertices;  /* ... vertex systems were re-solved with varied targets to make
                                   their patches regular (the VC1 property is kept exactly) */
+    size_t singular_after_repair; /* patches still singular after the repair (and after the
+                                     rounds of re-routed deletions that try to lower them) */
+    size_t rerouted_rounds;    /* builds again with the deletion re-routed at singular patches */
     double seconds_repair;
     size_t fair_steps;         /* vertex steps of the fair free points (all sweeps) */
     double seconds_fair;

@@ -266,6 +266,7 @@ typedef struct ed_state {
     size_t nv, ne, nf;
     uint8_t *even, *bnd; /* per vertex: even interior vertex, boundary vertex (or crease vertex) */
     const uint8_t *crease; /* per edge: a crease edge, kept (NULL = none) */
+    const uint8_t *avoid;  /* per edge: not to be deleted (NULL = none), as forbid */
     uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
     uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
     uint32_t *comp, *queue, *pred, *partner;
@@ -362,7 +363,7 @@ static void find_even_vertices(ed_state *S)
     double cos_max = cos(SK_MAX_QUAD_CORNER_DEG * (3.14159265358979323846 / 180.0));
     for (uint32_t e = 0; e < S->ne; ++e)
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, e))
-            S->forbid[e] = deletion_forbidden(m, e, cos_max);
+            S->forbid[e] = deletion_forbidden(m, e, cos_max) || (S->avoid && S->avoid[e]);
     for (size_t i = 0; i < S->nrem; ++i) {
         uint32_t v = S->remaining[i], h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
         double best_c = 1e300;
@@ -1337,12 +1338,13 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
                                     uint32_t **deleted_out, sk_edge_deletion_stats *stats,
                                     sk_error *err)
 {
-    return sk__edge_deletion_hinted(m, crease, NULL, 0, out, deleted_out, stats, err);
+    return sk__edge_deletion_hinted(m, crease, NULL, 0, NULL, out, deleted_out, stats, err);
 }
 
 sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
-                                   size_t nhint, sk_mesh **out, uint32_t **deleted_out,
-                                   sk_edge_deletion_stats *stats, sk_error *err)
+                                   size_t nhint, const uint8_t *avoid, sk_mesh **out,
+                                   uint32_t **deleted_out, sk_edge_deletion_stats *stats,
+                                   sk_error *err)
 {
     *out = NULL;
     if (deleted_out)
@@ -1353,7 +1355,7 @@ sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, cons
                             "edge deletion needs a triangle mesh, face %zu has %zu sides", f,
                             sk_mesh_face_size(m, (uint32_t)f));
     ed_state S = {.m = m, .nv = m->num_vertices, .ne = sk_num_edges(m), .nf = m->num_faces,
-                  .crease = crease};
+                  .crease = crease, .avoid = avoid};
     sk_status st = ed_alloc(&S, err);
     if (st == SK_OK) {
         find_even_vertices(&S);

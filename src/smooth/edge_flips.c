@@ -341,3 +341,17 @@ void sk__flip_edge(sk_mesh *m, uint32_t h)
 {
     flip(m, h);
 }
+
+bool sk__flip_edge_if_valid(sk_mesh *m, uint32_t h, const uint8_t *keep)
+{
+    uint32_t e = sk_edge(h);
+    if (sk_is_boundary_e(m, e) || (keep && keep[e]))
+        return false;
+    flip_quad q;
+    flip_quad_of(m, h, &q);
+    if (q.c == q.d || !enough_faces(m, q.a) || !enough_faces(m, q.b) || !(q.s3 > 0.0) ||
+        !(q.s4 > 0.0) || has_edge(m, q.c, q.d))
+        return false;
+    flip(m, h);
+    return true;
+}

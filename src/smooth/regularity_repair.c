@@ -450,8 +450,22 @@ static void mark_around_singular(const sk_smooth *s, const sk_mesh *m, const uin
  * and their neighbours with the same variants, then (after the pair round) with the wide grid */
 #define REPAIR_ROUNDS 3
 
+/* the ids of the patches still singular (s->stats.singular_after_repair of them) */
+static sk_status list_singular(sk_smooth *s, const uint8_t *sing, uint32_t **out, sk_error *err)
+{
+    size_t n = s->stats.singular_after_repair, k = 0;
+    if (!out || n == 0)
+        return SK_OK;
+    if (!(*out = sk__malloc_array(n, sizeof **out)))
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the regularity repair");
+    for (size_t p = 0; p < s->surface.count && k < n; ++p)
+        if (sing[p])
+            (*out)[k++] = (uint32_t)p;
+    return SK_OK;
+}
+
 sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
-                                    const uint8_t *known, sk_error *err)
+                                    const uint8_t *known, uint32_t **singular, sk_error *err)
 {
     const sk_mesh *m = W->m;
     size_t np = s->surface.count, nv = m->num_vertices;
@@ -498,6 +512,8 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
                 repair_vertex(&R, v, round == 2);
     }
     s->stats.repaired_vertices = R.repaired;
+    s->stats.singular_after_repair = R.nsing;
+    st = list_singular(s, sing, singular, err);
 done:
     sk__free(cand);
     sk__free(R.sing);

@@ -59,10 +59,13 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
  * earlier deletion over a mesh that agrees with m away from a few vertex splits deleted): the
  * hinted edges that may be deleted are kept where they leave no triangle with two deleted edges,
  * and only the vertices whose parity they leave wrong are paired (so the result changes only
- * near where m differs; it is an edge deletion, not the near-minimal one of m alone). */
+ * near where m differs; it is an edge deletion, not the near-minimal one of m alone). avoid (per
+ * edge of m, may be NULL): edges the paths do not delete (as those making a quad corner too
+ * wide; an even vertex with all its edges avoided still keeps one). */
 sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
-                                   size_t nhint, sk_mesh **out, uint32_t **deleted,
-                                   sk_edge_deletion_stats *stats, sk_error *err);
+                                   size_t nhint, const uint8_t *avoid, sk_mesh **out,
+                                   uint32_t **deleted, sk_edge_deletion_stats *stats,
+                                   sk_error *err);
 /* sk_smooth_build with the edge deletion warm-started from hint (sk__edge_deletion_hinted; NULL:
  * sk_smooth_build), nhint pairs of the mesh's vertex ids */
 sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opts,
@@ -206,6 +209,10 @@ size_t sk__fold_normals(const sk_mesh *m, double *normals, const uint8_t *skip, 
 /* Flips the interior edge of half-edge h of a triangle mesh (edge_flips.c): the two triangles
  * abc, bad become cdb... the edge joins the two opposite vertices instead, its id kept. */
 void sk__flip_edge(sk_mesh *m, uint32_t h);
+/* sk__flip_edge where the flip is valid: an interior edge, not flagged in keep (may be NULL),
+ * whose new edge is not an edge yet and whose new triangles are not degenerate, each end keeping
+ * three faces; returns whether it flipped. */
+bool sk__flip_edge_if_valid(sk_mesh *m, uint32_t h, const uint8_t *keep);
 
 /* A vertex with exactly two crease edges has both crease tangents on one line, so a sector of
  * one face between them would be a patch with a 180-degree corner: the edge opposite the vertex

@@ -233,7 +233,7 @@ static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *stat
  * points (unless LSQ), patches, regularity repair, exactness check (failed_v: the vertex named
  * when a vertex system fails, SK_ERR_NUMERIC). G0 at the creases of s->crease_edge. */
 static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_points free_points,
-                           uint32_t *failed_v, sk_error *err)
+                           uint32_t *failed_v, uint32_t **singular, sk_error *err)
 {
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
@@ -295,7 +295,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     }
     clock_since(t2, &s->stats.seconds_fair, &s->stats.cpu_fair);
     clock_now(t3);
-    if ((st = sk__vc1_repair_regularity(s, &W, status, sing, err)) != SK_OK)
+    if ((st = sk__vc1_repair_regularity(s, &W, status, sing, singular, err)) != SK_OK)
         goto done;
     clock_since(t3, &s->stats.seconds_repair, &s->stats.cpu_repair);
     st = vc1_problems(s, &W, status, failed_v, err);
@@ -473,8 +473,7 @@ static sk_status refit_hinge_ends(sk_smooth *s, const sk_mesh *m, double *normal
     return SK_OK;
 }
 
-/* Back to the state before a build round: no configuration, surface or creases. */
-static void forget_build(sk_smooth *s, const sk_smooth_stats *saved)
+void sk__vc1_forget_build(sk_smooth *s, const sk_smooth_stats *saved)
 {
     sk_mesh_destroy(&s->config);
     sk_patch_set_free(&s->surface);
@@ -489,30 +488,27 @@ static void forget_build(sk_smooth *s, const sk_smooth_stats *saved)
     s->stats = *saved;
 }
 
-/* Edge deletion and the VC1 construction over base, with the creases keep (may be NULL); crease
- * lines whose sectors cannot be built are dropped from keep and the round is done again (at most
- * SK_CREASE_ROUNDS times). */
-static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *base,
-                              uint8_t *keep, bool file_normals, double alpha, double max_nu,
-                              const sk_smooth_opts *opts, const uint32_t *hint, size_t nhint,
-                              double t0[2], sk_error *err)
+sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
+                                const uint32_t *hint, size_t nhint, const uint8_t *avoid,
+                                uint32_t **singular, double t0[2], sk_error *err)
 {
     sk_status st = SK_OK;
     sk_smooth_stats saved = s->stats;
     for (int round = 0;; ++round) {
-        if ((st = sk__edge_deletion_hinted(base, keep, hint, nhint, &s->config, &s->deleted,
-                                           &s->stats.deletion, err)) != SK_OK)
+        if ((st = sk__edge_deletion_hinted(c->base, keep, hint, nhint, avoid, &s->config,
+                                           &s->deleted, &s->stats.deletion, err)) != SK_OK)
             return st;
-        if (keep && (st = sk__crease_setup(s->config, s->normals, base, keep,
-                                           file_normals ? mesh : NULL, &s->crease_edge,
+        if (keep && (st = sk__crease_setup(s->config, s->normals, c->base, keep,
+                                           c->file_normals ? c->mesh : NULL, &s->crease_edge,
                                            &s->corner_normals, err)) != SK_OK)
             return st;
         s->num_deleted = s->stats.deletion.deleted_edges;
         clock_since(t0, &s->stats.seconds_deletion, &s->stats.cpu_deletion);
-        if (round == 0 && (st = sk__progress(opts->progress, opts->progress_user, 0.3, err)) != SK_OK)
+        if (round == 0 &&
+            (st = sk__progress(c->opts->progress, c->opts->progress_user, 0.3, err)) != SK_OK)
             return st;
         uint32_t failed_v = SK_INVALID;
-        st = vc1_build(s, alpha, max_nu, opts->free_points, &failed_v, err);
+        st = vc1_build(s, c->alpha, c->max_nu, c->opts->free_points, &failed_v, singular, err);
         if (st != SK_OK && st != SK_ERR_NUMERIC)
             return st;
         /* creases whose sectors cannot be built (a vertex system that fails or misses its angle
@@ -521,19 +517,30 @@ static sk_status build_rounds(sk_smooth *s, const sk_mesh *mesh, const sk_mesh *
         size_t dropped = 0;
         if (keep && round < SK_CREASE_ROUNDS) {
             if (st == SK_ERR_NUMERIC && failed_v != SK_INVALID)
-                dropped += sk__crease_drop_at(base, keep, failed_v);
+                dropped += sk__crease_drop_at(c->base, keep, failed_v);
             for (size_t i = 0; st == SK_OK && i < s->num_problems; ++i)
-                dropped += sk__crease_drop_at(base, keep, s->problems[i]);
+                dropped += sk__crease_drop_at(c->base, keep, s->problems[i]);
         }
-        if (dropped == 0) {
-            if (st != SK_OK)
-                return st;
-            break;
-        }
-        forget_build(s, &saved);
+        if (dropped == 0)
+            return st;
+        sk__free(*singular);
+        *singular = NULL;
+        sk__vc1_forget_build(s, &saved);
         clock_now(t0);
     }
-    return SK_OK;
+}
+
+/* The build (sk__vc1_build_creases), then the re-routed rounds where patches stay singular. */
+static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c, const uint32_t *hint,
+                              size_t nhint, double t0[2], sk_error *err)
+{
+    sk_smooth_stats fresh = s->stats;
+    uint32_t *singular = NULL;
+    sk_status st = sk__vc1_build_creases(s, c, c->keep, hint, nhint, NULL, &singular, t0, err);
+    if (st == SK_OK)
+        st = sk__vc1_reroute_singular(s, c, &fresh, &singular, err);
+    sk__free(singular);
+    return st;
 }
 
 sk_status sk_smooth_build(const sk_mesh *mesh, const sk_smooth_opts *opts_in, sk_smooth **out,
@@ -646,9 +653,11 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
         sk__crease_validate(base, keep);
     s->normals = normals;
     normals = NULL;
-    if ((st = build_rounds(s, mesh, base, keep, file_normals, alpha, max_nu, &opts, hint, nhint, t0,
-                           err)) !=
-        SK_OK)
+    sk__build_ctx ctx = {.mesh = mesh, .base = base,
+                         .flippable = opts.keep_triangulation ? NULL : work, .keep = keep,
+                         .file_normals = file_normals, .alpha = alpha, .max_nu = max_nu,
+                         .opts = &opts};
+    if ((st = build_rounds(s, &ctx, hint, nhint, t0, err)) != SK_OK)
         goto fail;
     sk__free(keep);
     sk__free(hinge_end);

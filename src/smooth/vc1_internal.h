@@ -1,6 +1,7 @@
 /* Internal pieces of the VC1 construction (Cottin & van Damme, section 4) shared by its files:
  * vertex_targets.c (the vertex systems (8) set up from the wire frame targets, with target
- * blending), patch_assembly.c (system (4) and the patches), regularity_repair.c, vc1.c (driver). */
+ * blending), patch_assembly.c (system (4) and the patches), regularity_repair.c, reroute.c (the
+ * re-routed deletion at patches still singular), vc1.c (driver). */
 #ifndef SK_VC1_INTERNAL_H
 #define SK_VC1_INTERNAL_H
 
@@ -82,10 +83,11 @@ void sk__vc1_assemble_patch(const sk__vc1_work *W, uint32_t f, double *b);
 /* The regularity repair: re-solves the vertex systems at the corners of singular patches with
  * varied targets and keeps a variant that leaves fewer singular patches; updates status (the
  * codes of sk__vc1_solve_vertex) and s->stats. known (may be NULL): the regularity test of each
- * patch as it stands (0 or 1), SK_SING_UNKNOWN where it has to be done. */
+ * patch as it stands (0 or 1), SK_SING_UNKNOWN where it has to be done. singular (may be NULL):
+ * a new array of the patches still singular (s->stats.singular_after_repair; NULL when none). */
 #define SK_SING_UNKNOWN 2
 sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
-                                    const uint8_t *known, sk_error *err);
+                                    const uint8_t *known, uint32_t **singular, sk_error *err);
 
 /* Fair free points (fair_points.c): up to `sweeps` block Gauss-Seidel sweeps, starting from the
  * vertices around the patches of s->surface (assembled from W) that are singular or stray far
@@ -106,5 +108,33 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
  * the energy of one control net with them (corners 3 or 4). */
 void sk__fair_energy_matrices(double qt[15 * 15], double qq[16 * 16]);
 double sk__fair_patch_energy(const double *qt, const double *qq, int corners, const double *b);
+
+/* The build of a VC1 surface over a triangulation (vc1.c), and what the re-routed rounds of
+ * reroute.c need to run it again. */
+typedef struct sk__build_ctx {
+    const sk_mesh *mesh;  /* the input */
+    const sk_mesh *base;  /* the triangulation the edge deletion runs on */
+    sk_mesh *flippable;   /* base when its edges may be flipped (not with keep_triangulation) */
+    uint8_t *keep;        /* crease flags per edge of base (NULL: no creases) */
+    bool file_normals;
+    double alpha, max_nu;
+    const sk_smooth_opts *opts;
+} sk__build_ctx;
+
+/* Edge deletion (sk__edge_deletion_hinted with hint and avoid) and the VC1 construction over
+ * c->base, with the creases keep (may be NULL); crease lines whose sectors cannot be built are
+ * dropped from keep and the round is done again (at most SK_CREASE_ROUNDS times). singular: the
+ * patches still singular after the regularity repair (see sk__vc1_repair_regularity). */
+sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
+                                const uint32_t *hint, size_t nhint, const uint8_t *avoid,
+                                uint32_t **singular, double t0[2], sk_error *err);
+/* Back to the state before a build: no configuration, surface or creases; stats = *saved. */
+void sk__vc1_forget_build(sk_smooth *s, const sk_smooth_stats *saved);
+/* Rounds of re-routed deletions (reroute.c) while patches stay singular after the build in s
+ * (*singular: their ids, replaced by those of the build kept); fresh: the stats before the
+ * build. */
+sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
+                                   const sk_smooth_stats *fresh, uint32_t **singular,
+                                   sk_error *err);
 
 #endif

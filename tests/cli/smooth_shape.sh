@@ -54,5 +54,18 @@ assert fair["max_overshoot"] <= 0.5 < lsq["max_overshoot"], (fair, lsq)
 assert fair["singular_patches"] < lsq["singular_patches"], (fair, lsq)
 assert fair["fair_steps"] > 0 and lsq["fair_steps"] == 0, (fair, lsq)
 PY
+# the pig renumbered (bench/renumber.py, seed 1): without the re-routed rounds its repair leaves
+# singular patches and the report fails (exit 4, nothing written); with them (the default) none
+python3 "$(dirname "$0")/../../bench/renumber.py" "$m/pig.off" "$tmp/pig1.off" 1 || fail "renumber"
+"$bin" smooth "$tmp/pig1.off" --reroute-rounds 0 --json -o "$tmp/p0.obj" -q > "$tmp/p0.json" 2>/dev/null
+[ $? -eq 4 ] && [ ! -e "$tmp/p0.obj" ] || fail "pig1 without rounds: not a failed report"
+"$bin" smooth "$tmp/pig1.off" --json -o "$tmp/p6.obj" -q > "$tmp/p6.json" || fail "pig1 exit $?"
+python3 - "$tmp/p0.json" "$tmp/p6.json" <<'PY' || fail "pig1 re-routed rounds"
+import json, sys
+off, on = (json.load(open(f)) for f in sys.argv[1:3])
+assert off["singular_patches"] > 0 and off["rerouted_rounds"] == 0, off
+assert on["singular_patches"] == 0 and on["rerouted_rounds"] >= 1, on
+assert on["max_normal_jump_deg"] < 1e-7 and on["max_vertex_error"] == 0, on
+PY
 "$bin" smooth "$m/sphere.off" --zebra 2>/dev/null; [ $? -eq 2 ] || fail "--zebra without a file"
 echo ok

@@ -242,7 +242,7 @@ static void test_hinted_local(void **state)
         uint32_t *d0 = NULL, *d1 = NULL, *d2 = NULL, *d3 = NULL;
         assert_int_equal(sk_edge_deletion(m, &c, &d0, &st0, NULL), SK_OK);
         sk_mesh_destroy(&c);
-        assert_int_equal(sk__edge_deletion_hinted(m, NULL, d0, st0.deleted_edges, &c, &d1, &st1,
+        assert_int_equal(sk__edge_deletion_hinted(m, NULL, d0, st0.deleted_edges, NULL, &c, &d1, &st1,
                                                   NULL), SK_OK);
         check_config(c);
         sk_mesh_destroy(&c);
@@ -263,7 +263,7 @@ static void test_hinted_local(void **state)
         }
         assert_true(h != SK_INVALID);
         sk__flip_edge(m, h);
-        assert_int_equal(sk__edge_deletion_hinted(m, NULL, d0, st0.deleted_edges, &c, &d2, &st2,
+        assert_int_equal(sk__edge_deletion_hinted(m, NULL, d0, st0.deleted_edges, NULL, &c, &d2, &st2,
                                                   NULL), SK_OK);
         check_config(c);
         sk_mesh_destroy(&c);

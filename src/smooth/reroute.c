@@ -1,0 +1,267 @@
+/* Re-routed edge deletion at the patches still singular after the regularity repair of the VC1
+ * construction.
+ *
+ * The repair (regularity_repair.c) varies the vertex systems on a fixed configuration; where
+ * patches stay singular, the configuration itself is the trouble: which edges the deletion took
+ * and, at slivers, the triangulation. Both came out of order-dependent choices (the flips' work
+ * stack, the deletion's matching and searches), so a renumbered input can leave singular patches
+ * where the input order left none (the cow: 0 to 10). Here the build is done again with the
+ * deletion changed only near those patches (reroute_hint) and the slivers among them flipped
+ * (flip_slivers), kept when it leaves fewer singular patches. */
+#include "smooth/vc1_internal.h"
+#include "core/internal.h"
+#include "core/vec.h"
+
+#include <math.h>
+#include <string.h>
+
+/* A build's results in s (the configuration and what sits on it), moved out and back. */
+typedef struct built {
+    sk_mesh *config;
+    sk_patch_set surface;
+    uint32_t *deleted, *problems;
+    uint8_t *crease_edge;
+    double *corner_normals;
+    size_t num_deleted, num_problems;
+    sk_smooth_stats stats;
+} built;
+
+static void move_build_out(sk_smooth *s, built *b, const sk_smooth_stats *fresh)
+{
+    *b = (built){s->config, s->surface, s->deleted, s->problems, s->crease_edge,
+                 s->corner_normals, s->num_deleted, s->num_problems, s->stats};
+    s->config = NULL;
+    s->surface = (sk_patch_set){0};
+    s->deleted = s->problems = NULL;
+    s->crease_edge = NULL;
+    s->corner_normals = NULL;
+    s->num_deleted = s->num_problems = 0;
+    s->stats = *fresh;
+}
+
+static void move_build_in(sk_smooth *s, built *b)
+{
+    sk__vc1_forget_build(s, &b->stats);
+    s->config = b->config;
+    s->surface = b->surface;
+    s->deleted = b->deleted;
+    s->problems = b->problems;
+    s->crease_edge = b->crease_edge;
+    s->corner_normals = b->corner_normals;
+    s->num_deleted = b->num_deleted;
+    s->num_problems = b->num_problems;
+}
+
+/* marks the vertices one ring around the marked ones (in mark) too; scratch: nv bytes */
+static void grow_ring(const sk_mesh *m, uint8_t *mark, uint8_t *scratch)
+{
+    size_t nv = m->num_vertices;
+    memcpy(scratch, mark, nv);
+    for (uint32_t v = 0; v < nv; ++v) {
+        uint32_t h0 = m->v_halfedge[v], h = h0;
+        if (!scratch[v] || h0 == SK_INVALID)
+            continue;
+        do {
+            mark[sk_to(m, h)] = 1;
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+}
+
+/* the side of triangle c (from c[j] to c[j + 1]) that is the (rank + 1)-th longest */
+static int side_by_length(const sk_mesh *m, const uint32_t c[3], int rank)
+{
+    double len[3];
+    for (int j = 0; j < 3; ++j)
+        len[j] = sk__dist3(m->positions + 3 * (size_t)c[j],
+                           m->positions + 3 * (size_t)c[(j + 1) % 3]);
+    int order[3] = {0, 1, 2};
+    for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j)
+            if (len[order[j]] > len[order[i]]) {
+                int t = order[i];
+                order[i] = order[j];
+                order[j] = t;
+            }
+    return order[rank];
+}
+
+/* Re-routed deletion of round r around the patches still singular (singular, per patch of s),
+ * as a hint and avoided edges for sk__edge_deletion_hinted: first one side of each singular
+ * triangle, to be deleted (the triangle joins a quad: its longest side in rounds 0, 3, ..., the
+ * second longest in rounds 1, 4, ..., the shortest in 2, 5, ...), then the deleted edges of s
+ * that are more than r rings away from every corner of a singular patch (kept as they are); the
+ * sides and diagonals of a singular quad are avoided (it falls apart into triangles). So only the
+ * deletion within r rings of those patches changes, more of it in each round. */
+static sk_status reroute_hint(const sk_smooth *s, const sk_mesh *base, const uint32_t *singular,
+                              int round, uint32_t **hint, size_t *nhint, uint8_t **avoid,
+                              sk_error *err)
+{
+    size_t nv = base->num_vertices, ns = s->stats.singular_after_repair, n = 0;
+    uint8_t *near = sk__calloc_array(2 * nv + 1, 1);
+    *avoid = sk__calloc_array(sk_num_edges(base) + 1, 1);
+    *hint = sk__malloc_array(2 * (s->num_deleted + ns) + 1, sizeof **hint);
+    if (!near || !*avoid || !*hint) {
+        sk__free(near);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory re-routing the edge deletion");
+    }
+    for (size_t i = 0; i < ns; ++i) {
+        const sk_patch *p = &s->surface.patches[singular[i]];
+        const uint32_t *c = p->corner_ids;
+        unsigned k = sk_patch_num_corners(p);
+        if (k == 3) {
+            int j = side_by_length(base, c, round % 3);
+            (*hint)[2 * n] = c[j];
+            (*hint)[2 * n++ + 1] = c[(j + 1) % 3];
+        }
+        for (unsigned a = 0; a < k; ++a) {
+            near[c[a]] = 1;
+            for (unsigned b = a + 1; b < k && k == 4; ++b) {
+                uint32_t h = sk__find_halfedge(base, c[a], c[b]);
+                if (h != SK_INVALID)
+                    (*avoid)[sk_edge(h)] = 1;
+            }
+        }
+    }
+    for (int r = 0; r < round; ++r)
+        grow_ring(base, near, near + nv);
+    for (size_t i = 0; i < s->num_deleted; ++i) {
+        uint32_t a = s->deleted[2 * i], b = s->deleted[2 * i + 1];
+        if (!near[a] && !near[b]) {
+            (*hint)[2 * n] = a;
+            (*hint)[2 * n++ + 1] = b;
+        }
+    }
+    *nhint = n;
+    sk__free(near);
+    return SK_OK;
+}
+
+static void free_built(built *b)
+{
+    sk_mesh_destroy(&b->config);
+    sk_patch_set_free(&b->surface);
+    sk__free(b->deleted);
+    sk__free(b->problems);
+    sk__free(b->crease_edge);
+    sk__free(b->corner_normals);
+}
+
+/* the largest corner angle of triangle c (radians) and the side opposite it (c[j] to c[j + 1]) */
+static double largest_angle(const sk_mesh *m, const uint32_t c[3], int *side)
+{
+    double best = -1.0;
+    for (int k = 0; k < 3; ++k) {
+        const double *x = m->positions + 3 * (size_t)c[k];
+        double u[3], v[3], w[3];
+        sk__sub3(u, m->positions + 3 * (size_t)c[(k + 1) % 3], x);
+        sk__sub3(v, m->positions + 3 * (size_t)c[(k + 2) % 3], x);
+        sk__cross3(w, u, v);
+        double a = atan2(sk__norm3(w), sk__dot3(u, v));
+        if (a > best) {
+            best = a;
+            *side = (k + 1) % 3;
+        }
+    }
+    return best;
+}
+
+/* The singular triangles with a corner above SK_REROUTE_SLIVER_DEG get their longest edge
+ * flipped in c->flippable (where valid: sk__flip_edge_if_valid); the flipped half-edges go to
+ * flipped (one per singular patch at most), their number to *nflipped. */
+#define SK_REROUTE_SLIVER_DEG 150.0
+
+static void flip_slivers(const sk_smooth *s, const sk__build_ctx *c, const uint32_t *singular,
+                         const uint8_t *keep, uint32_t *flipped, size_t *nflipped)
+{
+    *nflipped = 0;
+    for (size_t i = 0; c->flippable && i < s->stats.singular_after_repair; ++i) {
+        const sk_patch *p = &s->surface.patches[singular[i]];
+        int j = 0;
+        if (sk_patch_num_corners(p) != 3 ||
+            largest_angle(c->base, p->corner_ids, &j) < SK_REROUTE_SLIVER_DEG * M_PI / 180.0)
+            continue;
+        uint32_t h = sk__find_halfedge(c->base, p->corner_ids[j], p->corner_ids[(j + 1) % 3]);
+        if (h != SK_INVALID && sk__flip_edge_if_valid(c->flippable, h, keep))
+            flipped[(*nflipped)++] = h;
+    }
+}
+
+/* Round round of the re-routed deletion: the slivers flipped (flip_slivers), the build again
+ * with reroute_hint, kept when it leaves fewer patches singular and no more problem vertices;
+ * else the build before it and the flipped edges are put back (*kept_flips counts the kept). */
+static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_smooth_stats *fresh,
+                               uint32_t **singular, int round, size_t *kept_flips, sk_error *err)
+{
+    uint32_t *hint = NULL, *again = NULL;
+    uint8_t *avoid = NULL;
+    size_t nhint = 0, nflip = 0, before = s->stats.singular_after_repair;
+    size_t ne = sk_num_edges(c->base);
+    /* the round's own crease flags: a crease line it drops stays if the round is not kept */
+    uint8_t *keep = c->keep ? sk__malloc_array(ne + 1, 1) : NULL;
+    uint32_t *flipped = sk__malloc_array(before + 1, sizeof *flipped);
+    if ((c->keep && !keep) || !flipped) {
+        sk__free(keep);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory re-routing the edge deletion");
+    }
+    if (c->keep)
+        memcpy(keep, c->keep, ne);
+    flip_slivers(s, c, *singular, keep, flipped, &nflip);
+    sk_status st = reroute_hint(s, c->base, *singular, round, &hint, &nhint, &avoid, err);
+    if (st == SK_OK) {
+        built prev;
+        double t0[2] = {sk_seconds(), sk_cpu_seconds()};
+        move_build_out(s, &prev, fresh);
+        st = sk__vc1_build_creases(s, c, keep, hint, nhint, avoid, &again, t0, err);
+        bool gain = st == SK_OK && s->stats.singular_after_repair < before &&
+                    s->num_problems <= prev.num_problems;
+        if (st == SK_ERR_NUMERIC)
+            st = SK_OK; /* a vertex system of the re-routed build failed: the one before stands */
+        if (gain) {
+            free_built(&prev);
+            sk__free(*singular);
+            *singular = again;
+            *kept_flips += nflip;
+            if (c->keep)
+                memcpy(c->keep, keep, ne);
+            nflip = 0;
+        } else {
+            move_build_in(s, &prev);
+            sk__free(again);
+        }
+    }
+    while (nflip > 0) /* not kept: flipping again restores the edges */
+        sk__flip_edge(c->flippable, flipped[--nflip]);
+    sk__free(hint);
+    sk__free(avoid);
+    sk__free(keep);
+    sk__free(flipped);
+    return st;
+}
+
+/* Rounds of the re-routed deletion (reroute_round; at most opts->reroute_rounds, default
+ * SK_REROUTE_ROUNDS) while patches stay singular after the regularity repair, whose variants of
+ * the vertex systems cannot change the configuration. Each round is a whole build again; their
+ * time is counted as the repair's. Measured on the cow in 8 random orders (singular patches in
+ * all): 34 without rounds; with the singular triangles' sides avoided instead of hinted, 16; as
+ * here without the sliver flips, 6 with 4 rounds and 4 with 6; with them, 3 (bench/smooth_orders.sh
+ * has the table over 9 orders and 8 meshes). */
+#define SK_REROUTE_ROUNDS 6
+
+sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
+                                   const sk_smooth_stats *fresh, uint32_t **singular,
+                                   sk_error *err)
+{
+    double wall = sk_seconds(), cpu = sk_cpu_seconds();
+    double repair_wall = s->stats.seconds_repair, repair_cpu = s->stats.cpu_repair;
+    sk_status st = SK_OK;
+    size_t rounds = 0, flips = 0;
+    int most = c->opts->reroute_rounds ? c->opts->reroute_rounds : SK_REROUTE_ROUNDS;
+    for (; st == SK_OK && *singular && (int)rounds < most; ++rounds)
+        st = reroute_round(s, c, fresh, singular, (int)rounds, &flips, err);
+    s->stats.rerouted_rounds = rounds;
+    s->stats.flipped_edges += flips; /* the kept build's stats start from fresh */
+    s->stats.seconds_repair = repair_wall + (sk_seconds() - wall);
+    s->stats.cpu_repair = repair_cpu + (sk_cpu_seconds() - cpu);
+    return st;
+}

@@ -79,6 +79,13 @@ void sk__out_uint(sk__out *o, uint64_t v);
 void sk__out_flush(sk__out *o);
 void sk__out_printf(sk__out *o, const char *fmt, ...) SK__PRINTF(2, 3);
 void sk__out_free(sk__out *o);
+/* Writes rows 0..n-1 in order, row(o, i, ctx) writing row i: the same bytes as that loop (which
+ * it is below 32768 rows, or when no thread can be started). Above, the rows go in rounds whose
+ * second half a second thread formats into a private memory buffer, appended after the first
+ * half; its SK_ERR_NOMEM becomes o's. row may only read ctx and what it points to, and write to
+ * the o it is given. Stops at the first failure of o. */
+typedef void (*sk__row_fn)(sk__out *o, size_t i, const void *ctx);
+void sk__out_rows(sk__out *o, size_t n, sk__row_fn row, const void *ctx);
 /* Writes the whole (unattached) buffer to path through the atomic writer. */
 sk_status sk__out_write_file(const sk__out *o, const char *path, sk_error *err);
 

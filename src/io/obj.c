@@ -370,14 +370,29 @@ done:
     return SK_OK;
 }
 
-static void put_vec(sk__out *o, const char *kw, const double *x, int n)
+/* One `kw x y [z]` line per row of an array of dim doubles per element. */
+typedef struct vec_rows {
+    const char *kw;
+    const double *x;
+    int dim;
+} vec_rows;
+
+static void vec_row(sk__out *o, size_t i, const void *ctx)
 {
-    sk__out_str(o, kw);
-    for (int k = 0; k < n; ++k) {
+    const vec_rows *r = ctx;
+    const double *x = r->x + (size_t)r->dim * i;
+    sk__out_str(o, r->kw);
+    for (int k = 0; k < r->dim; ++k) {
         sk__out_char(o, ' ');
         sk__out_double(o, x[k]);
     }
     sk__out_char(o, '\n');
+}
+
+static void put_vecs(sk__out *o, const char *kw, const double *x, int dim, size_t n)
+{
+    vec_rows r = {kw, x, dim};
+    sk__out_rows(o, n, vec_row, &r);
 }
 
 /* Writes the index of corner c's attribute (per corner, else the position's) 1-based. */
@@ -396,44 +411,51 @@ static bool face_has(const uint32_t *corner, uint32_t a, uint32_t b)
     return true;
 }
 
+/* The `f` lines: corner uvs / normals per corner (cuv, cn) or per vertex (NULL). */
+typedef struct face_rows {
+    const sk_soup *s;
+    const uint32_t *cuv, *cn;
+    bool normals, uvs;
+} face_rows;
+
+static void face_row(sk__out *o, size_t f, const void *ctx)
+{
+    const face_rows *r = ctx;
+    uint32_t a = r->s->face_offsets[f], b = r->s->face_offsets[f + 1];
+    /* a face with a corner lacking a per-corner value is written without that attribute */
+    bool fu = r->uvs && face_has(r->cuv, a, b), fn = r->normals && face_has(r->cn, a, b);
+    sk__out_char(o, 'f');
+    for (uint32_t k = a; k < b; ++k) {
+        uint64_t i = (uint64_t)r->s->face_indices[k] + 1;
+        sk__out_char(o, ' ');
+        sk__out_uint(o, i);
+        if (fu || fn) {
+            sk__out_char(o, '/');
+            if (fu)
+                put_attr(o, r->cuv, k, i);
+            if (fn) {
+                sk__out_char(o, '/');
+                put_attr(o, r->cn, k, i);
+            }
+        }
+    }
+    sk__out_char(o, '\n');
+}
+
 void sk__write_obj(sk__out *o, const sk_soup *s, bool normals, bool uvs)
 {
     /* per-corner values win over per-vertex ones: vt / vn get their own index spaces */
-    const uint32_t *cuv = uvs ? s->corner_uv : NULL, *cn = normals ? s->corner_normal : NULL;
+    face_rows fr = {s, uvs ? s->corner_uv : NULL, normals ? s->corner_normal : NULL, normals,
+                    uvs};
     sk__out_str(o, "# written by surfkit\n");
-    for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
-        put_vec(o, "v", s->positions + 3 * v, 3);
-    if (cuv)
-        for (size_t i = 0; i < s->num_wedge_uvs && !o->failed; ++i)
-            put_vec(o, "vt", s->wedge_uvs + 2 * i, 2);
+    put_vecs(o, "v", s->positions, 3, s->num_vertices);
+    if (fr.cuv)
+        put_vecs(o, "vt", s->wedge_uvs, 2, s->num_wedge_uvs);
     else if (uvs)
-        for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
-            put_vec(o, "vt", s->uvs + 2 * v, 2);
-    if (cn)
-        for (size_t i = 0; i < s->num_wedge_normals && !o->failed; ++i)
-            put_vec(o, "vn", s->wedge_normals + 3 * i, 3);
+        put_vecs(o, "vt", s->uvs, 2, s->num_vertices);
+    if (fr.cn)
+        put_vecs(o, "vn", s->wedge_normals, 3, s->num_wedge_normals);
     else if (normals)
-        for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
-            put_vec(o, "vn", s->normals + 3 * v, 3);
-    for (size_t f = 0; f < s->num_faces && !o->failed; ++f) {
-        uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
-        /* a face with a corner lacking a per-corner value is written without that attribute */
-        bool fu = uvs && face_has(cuv, a, b), fn = normals && face_has(cn, a, b);
-        sk__out_char(o, 'f');
-        for (uint32_t k = a; k < b; ++k) {
-            uint64_t i = (uint64_t)s->face_indices[k] + 1;
-            sk__out_char(o, ' ');
-            sk__out_uint(o, i);
-            if (fu || fn) {
-                sk__out_char(o, '/');
-                if (fu)
-                    put_attr(o, cuv, k, i);
-                if (fn) {
-                    sk__out_char(o, '/');
-                    put_attr(o, cn, k, i);
-                }
-            }
-        }
-        sk__out_char(o, '\n');
-    }
+        put_vecs(o, "vn", s->normals, 3, s->num_vertices);
+    sk__out_rows(o, s->num_faces, face_row, &fr);
 }

@@ -265,6 +265,45 @@ sk_status sk__read_off(const void *data, size_t size, const char *name, sk_soup 
     return SK_OK;
 }
 
+/* A vertex line: x y z [nx ny nz] [s t]. */
+typedef struct vertex_rows {
+    const sk_soup *s;
+    bool normals, uvs;
+} vertex_rows;
+
+static void put_values(sk__out *o, const double *x, int n)
+{
+    for (int k = 0; k < n; ++k) {
+        sk__out_char(o, ' ');
+        sk__out_double(o, x[k]);
+    }
+}
+
+static void vertex_row(sk__out *o, size_t v, const void *ctx)
+{
+    const vertex_rows *r = ctx;
+    sk__out_double(o, r->s->positions[3 * v]);
+    put_values(o, r->s->positions + 3 * v + 1, 2);
+    if (r->normals)
+        put_values(o, r->s->normals + 3 * v, 3);
+    if (r->uvs)
+        put_values(o, r->s->uvs + 2 * v, 2);
+    sk__out_char(o, '\n');
+}
+
+/* A face line: n i0 i1 ... (0-based). */
+static void face_row(sk__out *o, size_t f, const void *ctx)
+{
+    const sk_soup *s = ctx;
+    uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
+    sk__out_uint(o, b - a);
+    for (uint32_t k = a; k < b; ++k) {
+        sk__out_char(o, ' ');
+        sk__out_uint(o, s->face_indices[k]);
+    }
+    sk__out_char(o, '\n');
+}
+
 void sk__write_off(sk__out *o, const sk_soup *s, bool normals, bool uvs)
 {
     sk__out_str(o, uvs ? "ST" : "");
@@ -273,32 +312,7 @@ void sk__write_off(sk__out *o, const sk_soup *s, bool normals, bool uvs)
     sk__out_char(o, ' ');
     sk__out_uint(o, s->num_faces);
     sk__out_str(o, " 0\n");
-    for (size_t v = 0; v < s->num_vertices && !o->failed; ++v) {
-        const double *p = s->positions + 3 * v;
-        for (int k = 0; k < 3; ++k) {
-            if (k)
-                sk__out_char(o, ' ');
-            sk__out_double(o, p[k]);
-        }
-        if (normals)
-            for (int k = 0; k < 3; ++k) {
-                sk__out_char(o, ' ');
-                sk__out_double(o, s->normals[3 * v + (size_t)k]);
-            }
-        if (uvs)
-            for (int k = 0; k < 2; ++k) {
-                sk__out_char(o, ' ');
-                sk__out_double(o, s->uvs[2 * v + (size_t)k]);
-            }
-        sk__out_char(o, '\n');
-    }
-    for (size_t f = 0; f < s->num_faces && !o->failed; ++f) {
-        uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
-        sk__out_uint(o, b - a);
-        for (uint32_t k = a; k < b; ++k) {
-            sk__out_char(o, ' ');
-            sk__out_uint(o, s->face_indices[k]);
-        }
-        sk__out_char(o, '\n');
-    }
+    vertex_rows vr = {s, normals, uvs};
+    sk__out_rows(o, s->num_vertices, vertex_row, &vr);
+    sk__out_rows(o, s->num_faces, face_row, s);
 }

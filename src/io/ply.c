@@ -740,64 +740,80 @@ static void put_texcoord(sk__out *o, const sk_soup *s, uint32_t a, uint32_t b, b
             put_f64(o, s->wedge_uvs[2 * (size_t)s->corner_uv[k] + (size_t)j], ascii, false);
 }
 
-void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool ascii)
+/* What the writer's header announced, shared by the rows. */
+typedef struct ply_rows {
+    const sk_soup *s;
+    const uint32_t *cuv; /* per-corner uvs as the face list `texcoord`, or NULL */
+    bool normals, vuv;   /* per-vertex nx ny nz, s t */
+    bool wide_count, wide_index;
+} ply_rows;
+
+static void put_header(sk__out *o, const ply_rows *r, bool ascii)
 {
-    size_t max_face = 0;
-    for (size_t f = 0; f < s->num_faces; ++f)
-        if (sk_soup_face_size(s, f) > max_face)
-            max_face = sk_soup_face_size(s, f);
-    /* per-corner uvs as MeshLab's face list `texcoord` (u v per corner), doubles so that a round
-     * trip keeps every bit; a face with a corner lacking one gets an empty list */
-    const uint32_t *cuv = uvs ? s->corner_uv : NULL;
-    bool vuv = uvs && s->uvs;
-    bool wide_count = max_face > (cuv ? 127 : 255);
-    bool wide_index = s->num_vertices > INT32_MAX;
     sk__out_str(o, "ply\n");
     sk__out_str(o, ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n");
     sk__out_str(o, "comment written by surfkit\nelement vertex ");
-    sk__out_uint(o, s->num_vertices);
+    sk__out_uint(o, r->s->num_vertices);
     sk__out_str(o, "\nproperty double x\nproperty double y\nproperty double z\n");
-    if (normals)
+    if (r->normals)
         sk__out_str(o, "property double nx\nproperty double ny\nproperty double nz\n");
-    if (vuv)
+    if (r->vuv)
         sk__out_str(o, "property double s\nproperty double t\n");
     sk__out_str(o, "element face ");
-    sk__out_uint(o, s->num_faces);
-    sk__out_str(o, wide_count ? "\nproperty list uint " : "\nproperty list uchar ");
-    sk__out_str(o, wide_index ? "uint vertex_indices\n" : "int vertex_indices\n");
-    if (cuv)
-        sk__out_str(o, wide_count ? "property list uint double texcoord\n"
-                                  : "property list uchar double texcoord\n");
+    sk__out_uint(o, r->s->num_faces);
+    sk__out_str(o, r->wide_count ? "\nproperty list uint " : "\nproperty list uchar ");
+    sk__out_str(o, r->wide_index ? "uint vertex_indices\n" : "int vertex_indices\n");
+    if (r->cuv)
+        sk__out_str(o, r->wide_count ? "property list uint double texcoord\n"
+                                     : "property list uchar double texcoord\n");
     sk__out_str(o, "end_header\n");
-    for (size_t v = 0; v < s->num_vertices && !o->failed; ++v) {
+}
+
+/* One vertex's values (ascii: separated by blanks, without the line end). */
+static void put_vertex(sk__out *o, const ply_rows *r, size_t v, bool ascii)
+{
+    const sk_soup *s = r->s;
+    for (int k = 0; k < 3; ++k)
+        put_f64(o, s->positions[3 * v + (size_t)k], ascii, k == 0);
+    if (r->normals)
         for (int k = 0; k < 3; ++k)
-            put_f64(o, s->positions[3 * v + (size_t)k], ascii, k == 0);
-        if (normals)
-            for (int k = 0; k < 3; ++k)
-                put_f64(o, s->normals[3 * v + (size_t)k], ascii, false);
-        if (vuv)
-            for (int k = 0; k < 2; ++k)
-                put_f64(o, s->uvs[2 * v + (size_t)k], ascii, false);
-        if (ascii)
-            sk__out_char(o, '\n');
+            put_f64(o, s->normals[3 * v + (size_t)k], ascii, false);
+    if (r->vuv)
+        for (int k = 0; k < 2; ++k)
+            put_f64(o, s->uvs[2 * v + (size_t)k], ascii, false);
+}
+
+static void ascii_vertex_row(sk__out *o, size_t v, const void *ctx)
+{
+    put_vertex(o, ctx, v, true);
+    sk__out_char(o, '\n');
+}
+
+static void ascii_face_row(sk__out *o, size_t f, const void *ctx)
+{
+    const ply_rows *r = ctx;
+    uint32_t a = r->s->face_offsets[f], b = r->s->face_offsets[f + 1];
+    sk__out_uint(o, b - a);
+    for (uint32_t k = a; k < b; ++k) {
+        sk__out_char(o, ' ');
+        sk__out_uint(o, r->s->face_indices[k]);
     }
+    if (r->cuv)
+        put_texcoord(o, r->s, a, b, true, r->wide_count);
+    sk__out_char(o, '\n');
+}
+
+static void write_binary(sk__out *o, const ply_rows *r)
+{
+    const sk_soup *s = r->s;
+    for (size_t v = 0; v < s->num_vertices && !o->failed; ++v)
+        put_vertex(o, r, v, false);
     for (size_t f = 0; f < s->num_faces && !o->failed; ++f) {
         uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
-        if (ascii) {
-            sk__out_uint(o, b - a);
-            for (uint32_t k = a; k < b; ++k) {
-                sk__out_char(o, ' ');
-                sk__out_uint(o, s->face_indices[k]);
-            }
-            if (cuv)
-                put_texcoord(o, s, a, b, true, wide_count);
-            sk__out_char(o, '\n');
-            continue;
-        }
         if (!sk__out_room(o, 4 + 4 * (size_t)(b - a)))
             return;
         unsigned char *q = (unsigned char *)o->buf + o->len;
-        if (wide_count) {
+        if (r->wide_count) {
             sk__put_le32(q, b - a);
             q += 4;
         } else {
@@ -806,7 +822,27 @@ void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool as
         for (uint32_t k = a; k < b; ++k, q += 4)
             sk__put_le32(q, s->face_indices[k]);
         o->len = (size_t)((char *)q - o->buf);
-        if (cuv)
-            put_texcoord(o, s, a, b, false, wide_count);
+        if (r->cuv)
+            put_texcoord(o, s, a, b, false, r->wide_count);
     }
+}
+
+void sk__write_ply(sk__out *o, const sk_soup *s, bool normals, bool uvs, bool ascii)
+{
+    size_t max_face = 0;
+    for (size_t f = 0; f < s->num_faces; ++f)
+        if (sk_soup_face_size(s, f) > max_face)
+            max_face = sk_soup_face_size(s, f);
+    /* per-corner uvs as MeshLab's face list `texcoord` (u v per corner), doubles so that a round
+     * trip keeps every bit; a face with a corner lacking one gets an empty list */
+    ply_rows r = {.s = s, .cuv = uvs ? s->corner_uv : NULL, .normals = normals,
+                  .vuv = uvs && s->uvs, .wide_index = s->num_vertices > INT32_MAX};
+    r.wide_count = max_face > (r.cuv ? 127 : 255);
+    put_header(o, &r, ascii);
+    if (!ascii) {
+        write_binary(o, &r);
+        return;
+    }
+    sk__out_rows(o, s->num_vertices, ascii_vertex_row, &r);
+    sk__out_rows(o, s->num_faces, ascii_face_row, &r);
 }

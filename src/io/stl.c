@@ -360,22 +360,35 @@ static void put_xyz(sk__out *o, const char *kw, const double *x)
     sk__out_char(o, '\n');
 }
 
-void sk__write_stl(sk__out *o, const sk_soup *s, bool ascii)
+/* The facets of face f (a fan from its first corner) as text. */
+static void ascii_face_row(sk__out *o, size_t f, const void *ctx)
 {
-    uint64_t ntri = 0;
-    for (size_t f = 0; f < s->num_faces; ++f)
-        ntri += sk_soup_face_size(s, f) - 2;
-    if (ascii) {
-        sk__out_str(o, "solid surfkit\n");
-    } else {
-        char header[STL_HEADER];
-        memset(header, ' ', sizeof header);
-        memcpy(header, "binary STL written by surfkit", 29);
-        sk__out_bytes(o, header, sizeof header);
-        unsigned char c[4];
-        sk__put_le32(c, (uint32_t)ntri);
-        sk__out_bytes(o, c, 4);
+    const sk_soup *s = ctx;
+    uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
+    const double *p0 = s->positions + 3 * (size_t)s->face_indices[a];
+    for (uint32_t k = a + 1; k + 1 < b; ++k) {
+        const double *p1 = s->positions + 3 * (size_t)s->face_indices[k];
+        const double *p2 = s->positions + 3 * (size_t)s->face_indices[k + 1];
+        double n[3];
+        facet_normal(p0, p1, p2, n);
+        put_xyz(o, "  facet normal", n);
+        sk__out_str(o, "    outer loop\n");
+        put_xyz(o, "      vertex", p0);
+        put_xyz(o, "      vertex", p1);
+        put_xyz(o, "      vertex", p2);
+        sk__out_str(o, "    endloop\n  endfacet\n");
     }
+}
+
+static void write_binary(sk__out *o, const sk_soup *s, uint64_t ntri)
+{
+    char header[STL_HEADER];
+    memset(header, ' ', sizeof header);
+    memcpy(header, "binary STL written by surfkit", 29);
+    sk__out_bytes(o, header, sizeof header);
+    unsigned char c[4];
+    sk__put_le32(c, (uint32_t)ntri);
+    sk__out_bytes(o, c, 4);
     for (size_t f = 0; f < s->num_faces && !o->failed; ++f) {
         uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
         const double *p0 = s->positions + 3 * (size_t)s->face_indices[a];
@@ -384,26 +397,29 @@ void sk__write_stl(sk__out *o, const sk_soup *s, bool ascii)
             const double *p2 = s->positions + 3 * (size_t)s->face_indices[k + 1];
             double n[3];
             facet_normal(p0, p1, p2, n);
-            if (ascii) {
-                put_xyz(o, "  facet normal", n);
-                sk__out_str(o, "    outer loop\n");
-                put_xyz(o, "      vertex", p0);
-                put_xyz(o, "      vertex", p1);
-                put_xyz(o, "      vertex", p2);
-                sk__out_str(o, "    endloop\n  endfacet\n");
-                continue;
-            }
             if (!sk__out_room(o, STL_RECORD))
                 return;
             unsigned char *q = (unsigned char *)o->buf + o->len;
             const double *v[4] = {n, p0, p1, p2};
             for (int r = 0; r < 4; ++r)
-                for (int c = 0; c < 3; ++c)
-                    put_f32(q + 12 * r + 4 * c, v[r][c]);
+                for (int j = 0; j < 3; ++j)
+                    put_f32(q + 12 * r + 4 * j, v[r][j]);
             q[48] = q[49] = 0;
             o->len += STL_RECORD;
         }
     }
-    if (ascii)
-        sk__out_str(o, "endsolid surfkit\n");
+}
+
+void sk__write_stl(sk__out *o, const sk_soup *s, bool ascii)
+{
+    if (!ascii) {
+        uint64_t ntri = 0;
+        for (size_t f = 0; f < s->num_faces; ++f)
+            ntri += sk_soup_face_size(s, f) - 2;
+        write_binary(o, s, ntri);
+        return;
+    }
+    sk__out_str(o, "solid surfkit\n");
+    sk__out_rows(o, s->num_faces, ascii_face_row, s);
+    sk__out_str(o, "endsolid surfkit\n");
 }

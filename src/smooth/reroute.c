@@ -139,12 +139,9 @@ static sk_status reroute_hint(const sk_smooth *s, const sk_mesh *base, const uin
 
 static void free_built(built *b)
 {
-    sk_mesh_destroy(&b->config);
-    sk_patch_set_free(&b->surface);
-    sk__free(b->deleted);
-    sk__free(b->problems);
-    sk__free(b->crease_edge);
-    sk__free(b->corner_normals);
+    sk_smooth t = {0}; /* the one place that frees a build: sk__vc1_forget_build */
+    move_build_in(&t, b);
+    sk__vc1_forget_build(&t, &t.stats);
 }
 
 /* the largest corner angle of triangle c (radians) and the side opposite it (c[j] to c[j + 1]) */

@@ -133,19 +133,26 @@ static void flip_quad_of(const sk_mesh *m, uint32_t h, flip_quad *q)
     q->s3 = tri_normal(q->A, q->D, q->C, q->n3), q->s4 = tri_normal(q->B, q->C, q->D, q->n4);
 }
 
+/* The flip of q is possible: the new edge joins two vertices, its ends keep enough faces, the new
+ * triangles are not degenerate (whether cd is an edge yet, the dearest test, comes last: see
+ * want_flip) */
+static bool flip_possible(const sk_mesh *m, const flip_quad *q)
+{
+    return q->c != q->d && enough_faces(m, q->a) && enough_faces(m, q->b) && q->s3 > 0.0 &&
+           q->s4 > 0.0;
+}
+
 /* Should the interior edge of half-edge h be flipped? */
 static bool want_flip(const sk_mesh *m, const double *N, uint32_t h)
 {
     flip_quad q;
     flip_quad_of(m, h, &q);
     uint32_t a = q.a, b = q.b, c = q.c, d = q.d;
-    if (c == d || !enough_faces(m, a) || !enough_faces(m, b))
+    if (!flip_possible(m, &q))
         return false;
     const double *A = q.A, *B = q.B, *C = q.C, *D = q.D;
     const double *n1 = q.n1, *n2 = q.n2, *n3 = q.n3, *n4 = q.n4;
     double s1 = q.s1, s2 = q.s2;
-    if (!(q.s3 > 0.0 && q.s4 > 0.0))
-        return false;
     double old_agree = fmin(normal_agreement(N, a, b, c, n1), normal_agreement(N, b, a, d, n2));
     double new_agree = fmin(normal_agreement(N, a, d, c, n3), normal_agreement(N, b, c, d, n4));
     bool old_ok = s1 > 0.0 && s2 > 0.0;
@@ -349,8 +356,7 @@ bool sk__flip_edge_if_valid(sk_mesh *m, uint32_t h, const uint8_t *keep)
         return false;
     flip_quad q;
     flip_quad_of(m, h, &q);
-    if (q.c == q.d || !enough_faces(m, q.a) || !enough_faces(m, q.b) || !(q.s3 > 0.0) ||
-        !(q.s4 > 0.0) || has_edge(m, q.c, q.d))
+    if (!flip_possible(m, &q) || has_edge(m, q.c, q.d))
         return false;
     flip(m, h);
     return true;

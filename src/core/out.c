@@ -10,8 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SK__OUT_FLUSH (1u << 20)
-
 /* sk__out_rows: fewer rows than this are formatted on the caller's thread alone (a thread costs
  * tens of microseconds, a row about a hundred nanoseconds); more go in rounds of SK__ROWS_ROUND
  * rows, whose second half a second thread formats, so that the private buffer stays small (a

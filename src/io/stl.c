@@ -360,24 +360,52 @@ static void put_xyz(sk__out *o, const char *kw, const double *x)
     sk__out_char(o, '\n');
 }
 
-/* The facets of face f (a fan from its first corner) as text. */
-static void ascii_face_row(sk__out *o, size_t f, const void *ctx)
+/* Calls fn for each facet of face f (a fan from its first corner) with its normal and corners. */
+typedef void (*facet_fn)(sk__out *o, const double *n, const double *p0, const double *p1,
+                         const double *p2);
+
+static void face_facets(sk__out *o, const sk_soup *s, size_t f, facet_fn fn)
 {
-    const sk_soup *s = ctx;
     uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
     const double *p0 = s->positions + 3 * (size_t)s->face_indices[a];
-    for (uint32_t k = a + 1; k + 1 < b; ++k) {
+    for (uint32_t k = a + 1; k + 1 < b && !o->failed; ++k) {
         const double *p1 = s->positions + 3 * (size_t)s->face_indices[k];
         const double *p2 = s->positions + 3 * (size_t)s->face_indices[k + 1];
         double n[3];
         facet_normal(p0, p1, p2, n);
-        put_xyz(o, "  facet normal", n);
-        sk__out_str(o, "    outer loop\n");
-        put_xyz(o, "      vertex", p0);
-        put_xyz(o, "      vertex", p1);
-        put_xyz(o, "      vertex", p2);
-        sk__out_str(o, "    endloop\n  endfacet\n");
+        fn(o, n, p0, p1, p2);
     }
+}
+
+static void ascii_facet(sk__out *o, const double *n, const double *p0, const double *p1,
+                        const double *p2)
+{
+    put_xyz(o, "  facet normal", n);
+    sk__out_str(o, "    outer loop\n");
+    put_xyz(o, "      vertex", p0);
+    put_xyz(o, "      vertex", p1);
+    put_xyz(o, "      vertex", p2);
+    sk__out_str(o, "    endloop\n  endfacet\n");
+}
+
+/* The facets of face f as text (a row of sk__out_rows). */
+static void ascii_face_row(sk__out *o, size_t f, const void *ctx)
+{
+    face_facets(o, ctx, f, ascii_facet);
+}
+
+static void binary_facet(sk__out *o, const double *n, const double *p0, const double *p1,
+                         const double *p2)
+{
+    if (!sk__out_room(o, STL_RECORD))
+        return;
+    unsigned char *q = (unsigned char *)o->buf + o->len;
+    const double *v[4] = {n, p0, p1, p2};
+    for (int r = 0; r < 4; ++r)
+        for (int j = 0; j < 3; ++j)
+            put_f32(q + 12 * r + 4 * j, v[r][j]);
+    q[48] = q[49] = 0;
+    o->len += STL_RECORD;
 }
 
 static void write_binary(sk__out *o, const sk_soup *s, uint64_t ntri)
@@ -389,25 +417,8 @@ static void write_binary(sk__out *o, const sk_soup *s, uint64_t ntri)
     unsigned char c[4];
     sk__put_le32(c, (uint32_t)ntri);
     sk__out_bytes(o, c, 4);
-    for (size_t f = 0; f < s->num_faces && !o->failed; ++f) {
-        uint32_t a = s->face_offsets[f], b = s->face_offsets[f + 1];
-        const double *p0 = s->positions + 3 * (size_t)s->face_indices[a];
-        for (uint32_t k = a + 1; k + 1 < b; ++k) {
-            const double *p1 = s->positions + 3 * (size_t)s->face_indices[k];
-            const double *p2 = s->positions + 3 * (size_t)s->face_indices[k + 1];
-            double n[3];
-            facet_normal(p0, p1, p2, n);
-            if (!sk__out_room(o, STL_RECORD))
-                return;
-            unsigned char *q = (unsigned char *)o->buf + o->len;
-            const double *v[4] = {n, p0, p1, p2};
-            for (int r = 0; r < 4; ++r)
-                for (int j = 0; j < 3; ++j)
-                    put_f32(q + 12 * r + 4 * j, v[r][j]);
-            q[48] = q[49] = 0;
-            o->len += STL_RECORD;
-        }
-    }
+    for (size_t f = 0; f < s->num_faces && !o->failed; ++f)
+        face_facets(o, s, f, binary_facet);
 }
 
 void sk__write_stl(sk__out *o, const sk_soup *s, bool ascii)

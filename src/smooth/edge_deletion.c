@@ -281,6 +281,10 @@ typedef struct ed_state {
     cand *cands;
     size_t nc, cap_c;
     path_store ps;
+    bool try_all; /* the cycle exchanges try every even vertex in order (no pre-pass) */
+    uint32_t *trace; /* when tracing: the vertex of every exchange applied, in order */
+    size_t ntrace, cap_trace;
+    bool tracing, trace_nomem;
     sk_edge_deletion_stats st;
 } ed_state;
 
@@ -361,9 +365,13 @@ static void find_even_vertices(ed_state *S)
     }
     S->st.even_vertices = S->nrem;
     double cos_max = cos(SK_MAX_QUAD_CORNER_DEG * (3.14159265358979323846 / 180.0));
-    for (uint32_t e = 0; e < S->ne; ++e)
-        if (!m->e_deleted[e] && !sk_is_boundary_e(m, e))
-            S->forbid[e] = deletion_forbidden(m, e, cos_max) || (S->avoid && S->avoid[e]);
+    long ne = (long)S->ne;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+    for (long e = 0; e < ne; ++e)
+        if (!m->e_deleted[e] && !sk_is_boundary_e(m, (uint32_t)e))
+            S->forbid[e] = deletion_forbidden(m, (uint32_t)e, cos_max) || (S->avoid && S->avoid[e]);
     for (size_t i = 0; i < S->nrem; ++i) {
         uint32_t v = S->remaining[i], h0 = m->v_halfedge[v], h = h0, best = SK_INVALID;
         double best_c = 1e300;
@@ -991,7 +999,15 @@ typedef struct shortcut_ctx {
     uint32_t cur_walk[SK_SHORTCUT_MAX_WALK];
     walk_set w1, w2;
     uint32_t list[4 * SK_SHORTCUT_MAX_WALK];
+    size_t nlist; /* edges in list (the last exchange evaluated) */
 } shortcut_ctx;
+
+/* the best exchange found from one vertex: walk i of w1, z, walk j of w2 (SIZE_MAX: none), u */
+typedef struct shortcut_move {
+    long gain;
+    size_t i, j;
+    uint32_t z, u;
+} shortcut_move;
 
 /* the edge may join D by an exchange */
 static bool shortcut_allowed(const ed_state *S, uint32_t e)
@@ -1089,6 +1105,7 @@ static long exchange(shortcut_ctx *C, size_t i, uint32_t z, size_t j, uint32_t u
         C->list[n++] = sk_edge(C->w2.h[j][k]);
     for (uint32_t v = u; C->bx.pred[v] != SK_INVALID; v = sk_from(m, C->bx.pred[v]))
         C->list[n++] = sk_edge(C->bx.pred[v]);
+    C->nlist = n;
     for (size_t k = 0; k < n; ++k)
         C->etog[C->list[k]] ^= 1u;
     long gain = 0;
@@ -1104,111 +1121,209 @@ static long exchange(shortcut_ctx *C, size_t i, uint32_t z, size_t j, uint32_t u
     return gain;
 }
 
-/* one pass over the even vertices; returns the deleted edges saved */
-static size_t shortcut_pass(shortcut_ctx *C)
+/* The best exchange from x on the current D (gain 0: none), read-only on S. *reach: a bound on
+ * the hop distance from x of every vertex whose edges the search read (walk lengths plus ball
+ * radii), so the answer stays the same while D keeps every edge within reach + 1 of x. */
+static shortcut_move best_exchange(shortcut_ctx *C, uint32_t x, uint32_t *reach)
+{
+    const ed_state *S = C->S;
+    shortcut_move b = {0, 0, SIZE_MAX, SK_INVALID, SK_INVALID};
+    uint32_t r = SK_SHORTCUT_RADIUS;
+    shortcut_ball(S, &C->bx, x);
+    collect_walks(C, &C->w1, x);
+    for (size_t i = 0; i < C->w1.n; ++i) {
+        uint32_t y = C->w1.end[i];
+        shortcut_ball(S, &C->by, y);
+        r = r > C->w1.len[i] + SK_SHORTCUT_RADIUS ? r : C->w1.len[i] + SK_SHORTCUT_RADIUS;
+        /* W2 and Q1 empty: Q2 from y */
+        if (C->bx.stamp[y] == C->bx.cur && (long)C->w1.len[i] - (long)C->bx.dist[y] > b.gain) {
+            long g = exchange(C, i, y, SIZE_MAX, y, false);
+            if (g > b.gain)
+                b = (shortcut_move){g, i, SIZE_MAX, y, y};
+        }
+        for (size_t q = 0; q < C->by.n; ++q) {
+            uint32_t z = C->by.queue[q];
+            if (!has_deleted_edge(S, z))
+                continue;
+            collect_walks(C, &C->w2, z);
+            for (size_t j = 0; j < C->w2.n; ++j) {
+                uint32_t u = C->w2.end[j], rz = C->w1.len[i] + C->by.dist[z] + C->w2.len[j];
+                r = r > rz ? r : rz;
+                if (C->bx.stamp[u] != C->bx.cur)
+                    continue;
+                long est = (long)C->w1.len[i] + (long)C->w2.len[j] - (long)C->by.dist[z] -
+                           (long)C->bx.dist[u];
+                if (est <= b.gain)
+                    continue;
+                long g = exchange(C, i, z, j, u, false);
+                if (g > b.gain)
+                    b = (shortcut_move){g, i, j, z, u};
+            }
+        }
+    }
+    *reach = r;
+    return b;
+}
+
+/* after an exchange: near[v] = min(near[v], hops from v to an end of a toggled edge), up to
+ * SK_SHORTCUT_NEAR (the largest reach + 1); queue: nv entries */
+#define SK_SHORTCUT_NEAR (2 * SK_SHORTCUT_MAX_WALK + SK_SHORTCUT_RADIUS + 1)
+static void mark_near(const shortcut_ctx *C, uint8_t *near, uint32_t *queue)
+{
+    const sk_mesh *m = C->S->m;
+    size_t qh = 0, qt = 0;
+    for (size_t k = 0; k < C->nlist; ++k)
+        for (int end = 0; end < 2; ++end) {
+            uint32_t v = end ? sk_to(m, 2 * C->list[k]) : sk_from(m, 2 * C->list[k]);
+            if (near[v] != 0) {
+                near[v] = 0;
+                queue[qt++] = v;
+            }
+        }
+    while (qh < qt) {
+        uint32_t v = queue[qh++], h0 = m->v_halfedge[v], h = h0;
+        if (near[v] >= SK_SHORTCUT_NEAR)
+            continue;
+        do {
+            uint32_t w = sk_to(m, h);
+            if (near[w] > near[v] + 1) {
+                near[w] = (uint8_t)(near[v] + 1);
+                queue[qt++] = w;
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+    }
+}
+
+/* One pass over the even vertices in order, each tried again after an exchange of its own, later
+ * vertices seeing the earlier exchanges; returns the deleted edges saved. First, in parallel, the
+ * best exchange of every even vertex on D as it is (pre[x]: reach, 0x80 when it gains); then in
+ * order only the vertices that gained there or that an applied exchange came within their reach
+ * of (for any other vertex the in-order search would read the same D and find nothing): the same
+ * exchanges, in the same order, as trying every vertex in order. */
+static size_t shortcut_pass(shortcut_ctx *C, const uint8_t *pre, uint8_t *near)
 {
     ed_state *S = C->S;
     size_t saved = 0;
     for (uint32_t x = 0; x < S->nv; ++x) {
-        if (!S->even[x])
+        if (!S->even[x] ||
+            (!S->try_all && !(pre[x] & 0x80u) && near[x] > (pre[x] & 0x7fu) + 1))
             continue;
         for (;;) {
-            shortcut_ball(S, &C->bx, x);
-            collect_walks(C, &C->w1, x);
-            long best = 0;
-            size_t bi = 0, bj = SIZE_MAX;
-            uint32_t bz = SK_INVALID, bu = SK_INVALID;
-            for (size_t i = 0; i < C->w1.n; ++i) {
-                uint32_t y = C->w1.end[i];
-                shortcut_ball(S, &C->by, y);
-                /* W2 and Q1 empty: Q2 from y */
-                if (C->bx.stamp[y] == C->bx.cur &&
-                    (long)C->w1.len[i] - (long)C->bx.dist[y] > best) {
-                    long g = exchange(C, i, y, SIZE_MAX, y, false);
-                    if (g > best) {
-                        best = g;
-                        bi = i, bz = y, bj = SIZE_MAX, bu = y;
-                    }
-                }
-                for (size_t q = 0; q < C->by.n; ++q) {
-                    uint32_t z = C->by.queue[q];
-                    if (!has_deleted_edge(S, z))
-                        continue;
-                    collect_walks(C, &C->w2, z);
-                    for (size_t j = 0; j < C->w2.n; ++j) {
-                        uint32_t u = C->w2.end[j];
-                        if (C->bx.stamp[u] != C->bx.cur)
-                            continue;
-                        long est = (long)C->w1.len[i] + (long)C->w2.len[j] -
-                                   (long)C->by.dist[z] - (long)C->bx.dist[u];
-                        if (est <= best)
-                            continue;
-                        long g = exchange(C, i, z, j, u, false);
-                        if (g > best) {
-                            best = g;
-                            bi = i, bz = z, bj = j, bu = u;
-                        }
-                    }
-                }
-            }
-            if (best <= 0)
+            uint32_t reach;
+            shortcut_move b = best_exchange(C, x, &reach);
+            if (b.gain <= 0)
                 break;
-            /* the winner's Q1 is in the ball of its own y: rebuild it */
-            shortcut_ball(S, &C->by, C->w1.end[bi]);
-            if (bj != SIZE_MAX)
-                collect_walks(C, &C->w2, bz);
-            exchange(C, bi, bz, bj, bu, true);
-            saved += (size_t)best;
+            /* the winner's Q1 is in the ball of its own y, its W2 in the walks from z: rebuild */
+            shortcut_ball(S, &C->by, C->w1.end[b.i]);
+            if (b.j != SIZE_MAX)
+                collect_walks(C, &C->w2, b.z);
+            exchange(C, b.i, b.z, b.j, b.u, true);
+            mark_near(C, near, S->queue); /* S->queue is free by now */
+            saved += (size_t)b.gain;
             S->st.shortcuts++;
+            if (S->tracing && !S->trace_nomem) {
+                if (S->ntrace == S->cap_trace) {
+                    size_t cap = S->cap_trace ? 2 * S->cap_trace : 64;
+                    uint32_t *t = sk__realloc_array(S->trace, cap, sizeof *t);
+                    S->trace_nomem = t == NULL;
+                    S->trace = t ? t : S->trace;
+                    S->cap_trace = t ? cap : S->cap_trace;
+                }
+                if (!S->trace_nomem)
+                    S->trace[S->ntrace++] = x;
+            }
         }
     }
     S->st.shortcut_savings += saved;
     return saved;
 }
 
-static sk_status delete_even_edges(ed_state *S, sk_error *err);
-
-/* One pass of cycle exchanges over the even vertices (each vertex tried again after an exchange
- * of its own, later vertices see the earlier exchanges; a second pass saved nothing more on the
- * shared meshes), then case (2b) when some applied. */
-static sk_status shortcut_paths(ed_state *S, sk_error *err)
+static void shortcut_ctx_free(shortcut_ctx *C)
 {
-    size_t nv = S->nv;
-    shortcut_ctx *C = sk__calloc_array(1, sizeof *C);
-    bfs_ball *balls[2] = {C ? &C->bx : NULL, C ? &C->by : NULL};
-    bool ok = C != NULL;
-    for (int k = 0; ok && k < 2; ++k) {
-        balls[k]->stamp = sk__calloc_array(nv + 1, sizeof *balls[k]->stamp);
-        balls[k]->dist = sk__malloc_array(nv + 1, sizeof *balls[k]->dist);
-        balls[k]->pred = sk__malloc_array(nv + 1, sizeof *balls[k]->pred);
-        balls[k]->queue = sk__malloc_array(nv + 1, sizeof *balls[k]->queue);
-        ok = balls[k]->stamp && balls[k]->dist && balls[k]->pred && balls[k]->queue;
-    }
-    if (ok) {
-        C->S = S;
-        C->onwalk = sk__calloc_array(nv + 1, 1);
-        C->etog = sk__calloc_array(S->ne + 1, 1);
-        ok = C->onwalk && C->etog;
-    }
-    sk_status st = SK_OK;
-    if (!ok) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
-        goto done;
-    }
-    if (shortcut_pass(C) > 0)
-        st = delete_even_edges(S, err);
-done:
-    for (int k = 0; C && k < 2; ++k) {
+    if (!C)
+        return;
+    bfs_ball *balls[2] = {&C->bx, &C->by};
+    for (int k = 0; k < 2; ++k) {
         sk__free(balls[k]->stamp);
         sk__free(balls[k]->dist);
         sk__free(balls[k]->pred);
         sk__free(balls[k]->queue);
     }
-    if (C) {
-        sk__free(C->onwalk);
-        sk__free(C->etog);
-    }
+    sk__free(C->onwalk);
+    sk__free(C->etog);
     sk__free(C);
+}
+
+/* one searcher's scratch (NULL when out of memory) */
+static shortcut_ctx *shortcut_ctx_create(ed_state *S)
+{
+    size_t nv = S->nv;
+    shortcut_ctx *C = sk__calloc_array(1, sizeof *C);
+    if (!C)
+        return NULL;
+    C->S = S;
+    bfs_ball *balls[2] = {&C->bx, &C->by};
+    bool ok = true;
+    for (int k = 0; k < 2; ++k) {
+        balls[k]->stamp = sk__calloc_array(nv + 1, sizeof *balls[k]->stamp);
+        balls[k]->dist = sk__malloc_array(nv + 1, sizeof *balls[k]->dist);
+        balls[k]->pred = sk__malloc_array(nv + 1, sizeof *balls[k]->pred);
+        balls[k]->queue = sk__malloc_array(nv + 1, sizeof *balls[k]->queue);
+        ok = ok && balls[k]->stamp && balls[k]->dist && balls[k]->pred && balls[k]->queue;
+    }
+    C->onwalk = sk__calloc_array(nv + 1, 1);
+    C->etog = sk__calloc_array(S->ne + 1, 1);
+    if (!ok || !C->onwalk || !C->etog) {
+        shortcut_ctx_free(C);
+        return NULL;
+    }
+    return C;
+}
+
+/* the pre-pass of shortcut_pass, one searcher per thread; false when out of memory */
+static bool shortcut_prescreen(ed_state *S, uint8_t *pre)
+{
+    long nv = (long)S->nv;
+    int failed = 0;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel reduction(| : failed)
+#endif
+    {
+        shortcut_ctx *C = shortcut_ctx_create(S);
+        failed = C == NULL;
+#ifdef SK_HAVE_OPENMP
+#pragma omp for schedule(dynamic, 4096)
+#endif
+        for (long x = 0; x < nv; ++x) {
+            uint32_t reach = 0;
+            if (C && S->even[x]) {
+                shortcut_move b = best_exchange(C, (uint32_t)x, &reach);
+                pre[x] = (uint8_t)(reach | (b.gain > 0 ? 0x80u : 0u));
+            }
+        }
+        shortcut_ctx_free(C);
+    }
+    return !failed;
+}
+
+/* One pass of cycle exchanges (shortcut_pass; a second pass saved nothing more on the shared
+ * meshes), then case (2b) when some applied. */
+static sk_status shortcut_paths(ed_state *S, sk_error *err)
+{
+    uint8_t *pre = sk__calloc_array(S->nv + 1, 1), *near = sk__malloc_array(S->nv + 1, 1);
+    shortcut_ctx *C = pre && near ? shortcut_ctx_create(S) : NULL;
+    sk_status st = SK_OK;
+    if (!C || (!S->try_all && !shortcut_prescreen(S, pre))) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
+    } else {
+        memset(near, 0xff, S->nv + 1);
+        if (shortcut_pass(C, pre, near) > 0)
+            st = delete_even_edges(S, err);
+    }
+    shortcut_ctx_free(C);
+    sk__free(pre);
+    sk__free(near);
     return st;
 }
 
@@ -1341,10 +1456,10 @@ sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_
     return sk__edge_deletion_hinted(m, crease, NULL, 0, NULL, out, deleted_out, stats, err);
 }
 
-sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
-                                   size_t nhint, const uint8_t *avoid, sk_mesh **out,
-                                   uint32_t **deleted_out, sk_edge_deletion_stats *stats,
-                                   sk_error *err)
+static sk_status run_deletion(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
+                              size_t nhint, const uint8_t *avoid, bool try_all, uint32_t **trace,
+                              size_t *ntrace, sk_mesh **out, uint32_t **deleted_out,
+                              sk_edge_deletion_stats *stats, sk_error *err)
 {
     *out = NULL;
     if (deleted_out)
@@ -1355,7 +1470,7 @@ sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, cons
                             "edge deletion needs a triangle mesh, face %zu has %zu sides", f,
                             sk_mesh_face_size(m, (uint32_t)f));
     ed_state S = {.m = m, .nv = m->num_vertices, .ne = sk_num_edges(m), .nf = m->num_faces,
-                  .crease = crease, .avoid = avoid};
+                  .crease = crease, .avoid = avoid, .try_all = try_all, .tracing = trace != NULL};
     sk_status st = ed_alloc(&S, err);
     if (st == SK_OK) {
         find_even_vertices(&S);
@@ -1377,11 +1492,37 @@ sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, cons
         st = verify_odd(&S, err);
     if (st == SK_OK)
         st = build_config(&S, out, deleted_out, err);
+    if (st == SK_OK && S.trace_nomem)
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     if (st == SK_OK) {
         if (stats)
             *stats = S.st;
+        if (trace) {
+            *trace = S.trace;
+            *ntrace = S.ntrace;
+            S.trace = NULL;
+        }
         sk__ok(err);
     }
+    sk__free(S.trace);
     ed_free(&S);
     return st;
+}
+
+sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, const uint32_t *hint,
+                                   size_t nhint, const uint8_t *avoid, sk_mesh **out,
+                                   uint32_t **deleted_out, sk_edge_deletion_stats *stats,
+                                   sk_error *err)
+{
+    return run_deletion(m, crease, hint, nhint, avoid, false, NULL, NULL, out, deleted_out, stats,
+                        err);
+}
+
+sk_status sk__edge_deletion_traced(const sk_mesh *m, bool try_all, uint32_t **trace,
+                                   size_t *ntrace, sk_mesh **out, sk_edge_deletion_stats *stats,
+                                   sk_error *err)
+{
+    *trace = NULL;
+    *ntrace = 0;
+    return run_deletion(m, NULL, NULL, 0, NULL, try_all, trace, ntrace, out, NULL, stats, err);
 }

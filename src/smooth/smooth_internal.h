@@ -66,6 +66,13 @@ sk_status sk__edge_deletion_hinted(const sk_mesh *m, const uint8_t *crease, cons
                                    size_t nhint, const uint8_t *avoid, sk_mesh **out,
                                    uint32_t **deleted, sk_edge_deletion_stats *stats,
                                    sk_error *err);
+/* sk_edge_deletion that also returns the vertex of every cycle exchange applied, in order
+ * (*trace, *ntrace; free() it); try_all: the exchanges' ordered pass tries every even vertex
+ * instead of only those its parallel pre-pass (or an exchange nearby) selects. For the tests:
+ * both must apply the same exchanges in the same order. */
+sk_status sk__edge_deletion_traced(const sk_mesh *m, bool try_all, uint32_t **trace,
+                                   size_t *ntrace, sk_mesh **out, sk_edge_deletion_stats *stats,
+                                   sk_error *err);
 /* sk_smooth_build with the edge deletion warm-started from hint (sk__edge_deletion_hinted; NULL:
  * sk_smooth_build), nhint pairs of the mesh's vertex ids */
 sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opts,

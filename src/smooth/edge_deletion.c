@@ -1446,7 +1446,6 @@ static void apply_hint(ed_state *S, const uint32_t *hint, size_t nhint)
         if (S->even[v])
             S->remaining[S->nrem++] = v;
     }
-    S->st.lower_bound = (S->nrem + 1) / 2;
 }
 
 sk_status sk__edge_deletion_creases(const sk_mesh *m, const uint8_t *crease, sk_mesh **out,

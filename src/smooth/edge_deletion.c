@@ -1195,6 +1195,24 @@ static void mark_near(const shortcut_ctx *C, uint8_t *near, uint32_t *queue)
     }
 }
 
+/* sk__edge_deletion_traced: one more exchange applied at x (trace_nomem when out of memory) */
+static void trace_push(ed_state *S, uint32_t x)
+{
+    if (S->trace_nomem)
+        return;
+    if (S->ntrace == S->cap_trace) {
+        size_t cap = S->cap_trace ? 2 * S->cap_trace : 64;
+        uint32_t *t = sk__realloc_array(S->trace, cap, sizeof *t);
+        if (!t) {
+            S->trace_nomem = true;
+            return;
+        }
+        S->trace = t;
+        S->cap_trace = cap;
+    }
+    S->trace[S->ntrace++] = x;
+}
+
 /* One pass over the even vertices in order, each tried again after an exchange of its own, later
  * vertices seeing the earlier exchanges; returns the deleted edges saved. First, in parallel, the
  * best exchange of every even vertex on D as it is (pre[x]: reach, 0x80 when it gains); then in
@@ -1222,17 +1240,8 @@ static size_t shortcut_pass(shortcut_ctx *C, const uint8_t *pre, uint8_t *near)
             mark_near(C, near, S->queue); /* S->queue is free by now */
             saved += (size_t)b.gain;
             S->st.shortcuts++;
-            if (S->tracing && !S->trace_nomem) {
-                if (S->ntrace == S->cap_trace) {
-                    size_t cap = S->cap_trace ? 2 * S->cap_trace : 64;
-                    uint32_t *t = sk__realloc_array(S->trace, cap, sizeof *t);
-                    S->trace_nomem = t == NULL;
-                    S->trace = t ? t : S->trace;
-                    S->cap_trace = t ? cap : S->cap_trace;
-                }
-                if (!S->trace_nomem)
-                    S->trace[S->ntrace++] = x;
-            }
+            if (S->tracing)
+                trace_push(S, x);
         }
     }
     S->st.shortcut_savings += saved;

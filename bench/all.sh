@@ -184,10 +184,10 @@ done
 # --- atlas (bench/atlas.sh with its machine-readable rows)
 arows=$S/atlas-rows.txt
 : > "$arows"
-SK_ATLAS_SCRATCH=$S/atlas SK_BENCH_ROWS=$arows bench/atlas.sh $(for m in $ATLAS; do echo "$M/$m.off"; done) > "$S/atlas.txt" 2>&1 ||
+SK_BUILD_DIR=$B SK_ATLAS_SCRATCH=$S/atlas SK_BENCH_ROWS=$arows bench/atlas.sh $(for m in $ATLAS; do echo "$M/$m.off"; done) > "$S/atlas.txt" 2>&1 ||
   echo "# bench/atlas.sh failed: $(tail -1 "$S/atlas.txt")"
 if [ $quick = 0 ]; then # the 0.8M closed mesh: Blender only (xatlas-web takes it only in pieces, for hours)
-  SK_ATLAS_SCRATCH=$S/atlas SK_BENCH_ROWS=$arows SK_ATLAS_PEERS=blender bench/atlas.sh "$CLOSED" >> "$S/atlas.txt" 2>&1 || true
+  SK_BUILD_DIR=$B SK_ATLAS_SCRATCH=$S/atlas SK_BENCH_ROWS=$arows SK_ATLAS_PEERS=blender bench/atlas.sh "$CLOSED" >> "$S/atlas.txt" 2>&1 || true
 fi
 awk '$3 == "surfkit" { s[$2] = $0 } $3 != "surfkit" && ($2 in s) {
   split(s[$2], a, " ")
@@ -197,8 +197,8 @@ awk '$3 == "surfkit" { s[$2] = $0 } $3 != "surfkit" && ($2 in s) {
 
 # --- VC1 build and report
 if timed "$BB/bench_smooth" "$CLOSED"; then
-  b=$(sed -n 's/^| total build *| *\([0-9.]*\) |/\1/p' "$S/out.txt")
-  br=$(sed -n 's/^| build + report *| *\([0-9.]*\) |/\1/p' "$S/out.txt")
+  b=$(sed -n 's/^| total build *| *\([0-9.]*\) |.*/\1/p' "$S/out.txt")
+  br=$(sed -n 's/^| build + report *| *\([0-9.]*\) |.*/\1/p' "$S/out.txt")
   jump=$(sed -n 's/^max normal jump \([^ ]*\) deg.*singular patches \([0-9]*\).*/max normal jump \1 deg, singular patches \2/p' "$S/out.txt")
   row "vc1 build" "$(basename "$CLOSED")" "$(faces_of "$CLOSED")" "$b" "$MB" "(no peer)" - - "$jump"
   row "vc1 build + report" "$(basename "$CLOSED")" "$(faces_of "$CLOSED")" "$br" "$MB" "(no peer)" - - ""

@@ -92,7 +92,8 @@ static int side_by_length(const sk_mesh *m, const uint32_t c[3], int rank)
  * second longest in rounds 1, 4, ..., the shortest in 2, 5, ...), then the deleted edges of s
  * that are more than r rings away from every corner of a singular patch (kept as they are); the
  * sides and diagonals of a singular quad are avoided (it falls apart into triangles). So only the
- * deletion within r rings of those patches changes, more of it in each round. */
+ * deletion within r rings of those patches changes, more of it in each round. r counts the rounds
+ * since the last kept one (see sk__vc1_reroute_singular). */
 static sk_status reroute_hint(const sk_smooth *s, const sk_mesh *base, const uint32_t *singular,
                               int round, uint32_t **hint, size_t *nhint, uint8_t **avoid,
                               sk_error *err)
@@ -185,10 +186,12 @@ static void flip_slivers(const sk_smooth *s, const sk__build_ctx *c, const uint3
 }
 
 /* Round round of the re-routed deletion: the slivers flipped (flip_slivers), the build again
- * with reroute_hint, kept when it leaves fewer patches singular and no more problem vertices;
- * else the build before it and the flipped edges are put back (*kept_flips counts the kept). */
+ * with reroute_hint, kept when it leaves fewer patches singular and no more problem vertices
+ * (*kept); else the build before it and the flipped edges are put back (*kept_flips counts the
+ * kept). */
 static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_smooth_stats *fresh,
-                               uint32_t **singular, int round, size_t *kept_flips, sk_error *err)
+                               uint32_t **singular, int round, size_t *kept_flips, bool *kept,
+                               sk_error *err)
 {
     uint32_t *hint = NULL, *again = NULL;
     uint8_t *avoid = NULL;
@@ -214,6 +217,7 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
                     s->num_problems <= prev.num_problems;
         if (st == SK_ERR_NUMERIC)
             st = SK_OK; /* a vertex system of the re-routed build failed: the one before stands */
+        *kept = gain;
         if (gain) {
             free_built(&prev);
             sk__free(*singular);
@@ -242,7 +246,14 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
  * time is counted as the repair's. Measured on the cow in 8 random orders (singular patches in
  * all): 34 without rounds; with the singular triangles' sides avoided instead of hinted, 16; as
  * here without the sliver flips, 6 with 4 rounds and 4 with 6; with them, 3 (bench/smooth_orders.sh
- * has the table over 9 orders and 8 meshes). */
+ * has the table over 9 orders and 8 meshes).
+ *
+ * The rings (and the side of a singular triangle) start again after a kept round: a kept round
+ * can move the singular patches away from the first ones. On test_reroute_orders' cow order 1
+ * (with the breadth-first Initialise of edge_deletion.c), round 2 left one singular triangle in
+ * place of five; counting on, rounds 3 to 5 freed 3 to 5 rings around it, which took in the first
+ * five's region, whose deletion came back as it was and the five with it (1 left after 6 rounds).
+ * Starting again, 1 ring around the new triangle cleared it (0 after 5 rounds). */
 #define SK_REROUTE_ROUNDS 6
 
 sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
@@ -253,9 +264,12 @@ sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
     double repair_wall = s->stats.seconds_repair, repair_cpu = s->stats.cpu_repair;
     sk_status st = SK_OK;
     size_t rounds = 0, flips = 0;
-    int most = c->opts->reroute_rounds ? c->opts->reroute_rounds : SK_REROUTE_ROUNDS;
-    for (; st == SK_OK && *singular && (int)rounds < most; ++rounds)
-        st = reroute_round(s, c, fresh, singular, (int)rounds, &flips, err);
+    int most = c->opts->reroute_rounds ? c->opts->reroute_rounds : SK_REROUTE_ROUNDS, since = 0;
+    for (; st == SK_OK && *singular && (int)rounds < most; ++rounds) {
+        bool kept = false;
+        st = reroute_round(s, c, fresh, singular, since, &flips, &kept, err);
+        since = kept ? 0 : since + 1;
+    }
     s->stats.rerouted_rounds = rounds;
     s->stats.flipped_edges += flips; /* the kept build's stats start from fresh */
     s->stats.seconds_repair = repair_wall + (sk_seconds() - wall);

@@ -83,26 +83,34 @@ static void test_disks(void **state)
 }
 
 /* Deleted edges against the lower bound #even / 2, per mesh (measured with the matching of
- * adjacent even vertices, Initialise's 0-1 search and the cycle exchanges, plus about 1% slack;
- * before the exchanges cow 1.232, pig 1.248, lion-head 1.262, three_peaks 1.103, bunny00 1.089,
- * armadillo 1.169). On the scans the bound cannot be met: the exact minimum T-join of the input
+ * adjacent even vertices, Initialise's breadth-first 0-1 search and the cycle exchanges, plus about
+ * 1% slack: cow 1.164, pig 1.188, lion-head 1.243, three_peaks 1.079, bunny00 1.080, armadillo
+ * 1.159; with the depth-first search pig 1.222, lion-head 1.247, three_peaks 1.094, bunny00 1.084,
+ * armadillo 1.161). On the scans the bound cannot be met: the exact minimum T-join of the input
  * (bench/tjoin_lemon.cpp, no forbidden edges) is already cow 899 (1.055 x the bound), pig 120
  * (1.026), lion-head 2460 (1.087), three_peaks 559 (1.029), bunny00 10460 (1.028), armadillo 6828
  * (1.049); keeping to the allowed edges (quad corner <= 160 degrees) costs more: an even vertex none
  * of whose even neighbours is free across an allowed edge costs an edge of its own. The second
- * check: within 8% of #even - (matched pairs), the size that bound has for the matching found. */
+ * check: within 8% of #even - (matched pairs), the size that bound has for the matching found.
+ * The cycle exchanges apply on the scans marked (cow 63, lion-head 18, bunny00 15, armadillo 38
+ * exchanges). (Until the breadth-first search the check was "above 1.1 x the bound, some
+ * exchange applies", and the pig met it with 2; its breadth-first configuration, 4 edges fewer
+ * before the exchanges than the depth-first one after them, leaves none to apply.) */
 static void test_near_minimal(void **state)
 {
     (void)state;
     static const struct {
         const char *name;
         double max_ratio;
+        bool exchanges; /* some cycle exchange applies */
     } cases[] = {
-        {"sphere.off", 1.0},       {"knot1.off", 1.002},    {"mushroom.off", 1.002},
-        {"cylinder.off", 1.0},     {"mech-holes-shark.off", 1.0}, {"paraboloid-patch.off", 1.0},
-        {"nefertiti.off", 1.06},   {"three_peaks.off", 1.10}, {"cow.off", 1.175},
-        {"pig.off", 1.235},        {"lion-head.off", 1.26}, {"bunny00.off", 1.095},
-        {"armadillo.off", 1.172},
+        {"sphere.off", 1.0, false},         {"knot1.off", 1.002, false},
+        {"mushroom.off", 1.002, false},     {"cylinder.off", 1.0, false},
+        {"mech-holes-shark.off", 1.0, false}, {"paraboloid-patch.off", 1.0, false},
+        {"nefertiti.off", 1.06, false},     {"three_peaks.off", 1.09, false},
+        {"cow.off", 1.175, true},           {"pig.off", 1.20, false},
+        {"lion-head.off", 1.255, true},     {"bunny00.off", 1.09, true},
+        {"armadillo.off", 1.17, true},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         if (getenv("SK_TEST_QUICK") && (strcmp(cases[i].name, "bunny00.off") == 0 ||
@@ -125,10 +133,38 @@ static void test_near_minimal(void **state)
         assert_true(st.adjacent_pairs <= st.pairs);
         /* every exchange saves at least one edge; on the scans with paths some apply */
         assert_true(st.shortcut_savings >= st.shortcuts);
-        if (ratio > 1.1 && st.shortcuts == 0)
+        if (cases[i].exchanges && st.shortcuts == 0)
             fail_msg("%s: %.4f x the bound and no cycle exchange", cases[i].name, ratio);
         sk_mesh_destroy(&c);
         sk_mesh_destroy(&m);
+    }
+}
+
+/* Initialise on Loop-subdivided scans (once), where almost every vertex is even and matched, so
+ * most of the mesh is at distance 0 from the sources through alternating paths: the search
+ * finishes each distance level first in, first out, so every source gets a share of it and a
+ * round pairs most of them. Measured: cow 3 rounds (5 depth first), lion-head 3 (7), three_peaks
+ * 3 (8), and within 0.4% of the bound (cow 5218 / 5205, lion-head 14805 / 14760, three_peaks
+ * 3265 / 3261); a valid configuration each. */
+static void test_loop_rounds(void **state)
+{
+    (void)state;
+    const char *names[] = {"cow.off", "lion-head.off", "three_peaks.off"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        sk_mesh *p = skt_read_mesh(skt_shared_mesh(names[i])), *m = NULL, *c = NULL;
+        sk_error err = {0};
+        assert_int_equal(sk_mesh_subdivide(p, NULL, &m, &err), SK_OK);
+        sk_edge_deletion_stats st;
+        if (sk_edge_deletion(m, &c, NULL, &st, &err) != SK_OK)
+            fail_msg("%s Loop: %s", names[i], err.message);
+        check_config(c);
+        print_message("%s Loop x1: even %zu, %zu deleted (bound %zu), %zu rounds\n", names[i],
+                      st.even_vertices, st.deleted_edges, st.lower_bound, st.initialise_rounds);
+        assert_true(st.initialise_rounds <= 3);
+        assert_true((double)st.deleted_edges <= 1.004 * (double)st.lower_bound);
+        sk_mesh_destroy(&c);
+        sk_mesh_destroy(&m);
+        sk_mesh_destroy(&p);
     }
 }
 
@@ -342,6 +378,7 @@ int main(void)
         cmocka_unit_test(test_closed_even),
         cmocka_unit_test(test_disks),
         cmocka_unit_test(test_near_minimal),
+        cmocka_unit_test(test_loop_rounds),
         cmocka_unit_test(test_shortcut_prepass_exact),
         cmocka_unit_test(test_odd_closed_refused),
         cmocka_unit_test(test_quads_refused),

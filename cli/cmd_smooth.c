@@ -117,6 +117,8 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "repaired_vertices", s->stats.repaired_vertices);
     json_kuint(&j, "rerouted_rounds", s->stats.rerouted_rounds);
     json_kuint(&j, "fair_steps", s->stats.fair_steps);
+    json_kuint(&j, "fit_points", s->stats.fit_points);
+    json_kuint(&j, "fit_undone", s->stats.fit_undone);
     json_kuint(&j, "failed_vertices", s->stats.failed_vertices);
     json_key(&j, "problem_vertices");
     json_arr_open(&j);
@@ -324,6 +326,13 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                    "vc1: free tangent control points by least squares to the wire frame\n"
                    "moved to lower the patches' bending energy (fair, default), or the\n"
                    "least-squares fit alone (lsq); both exactly VC1"),
+        OPT_DOUBLE("--fit-weight", a->so.fit_weight, 0, 0, 0, "W",
+                   "vc1: after the regularity repair, fit the free tangent control points to\n"
+                   "the mesh: W times the squared distances of its vertices and 4 points per\n"
+                   "triangle to their foot points on the surface (and of points inside each\n"
+                   "patch to the mesh) added to the fair points' energy, every vertex swept,\n"
+                   "3 rounds; still exactly VC1, no patch made singular (default 0: off; with\n"
+                   "--tolerance every build fits to the input)"),
         OPT_DOUBLE("--crease-angle", a->so.crease_angle_deg, 0, 180, CLI_LO_OPEN, "DEG",
                    "sharp edges (dihedral angle >= DEG, default 40) become G0 creases: patch\n"
                    "boundaries with one normal per side, G1 elsewhere (crease_edges and\n"

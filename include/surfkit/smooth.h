@@ -120,6 +120,18 @@ typedef struct sk_smooth_opts {
     void *progress_user;
     double crease_angle_deg;   /* crease detection (sk_mesh_crease_edges): 0 = 40 degrees,
                                   negative = none */
+    double fit_weight;         /* VC1: > 0 fits the free tangent control points to fit_mesh after
+                                  the regularity repair (src/smooth/fit_data.c): sweeps over every
+                                  vertex lowering the fair points' energy plus fit_weight *
+                                  sum_i |S(u_i) - p_i|^2 over its vertices and 4 points per
+                                  triangle (u_i: their foot points on the surface) and over 3 (9)
+                                  points inside each triangle (quad) patch paired with the nearest
+                                  point of fit_mesh; 3 rounds, the foot points found again each
+                                  round; a patch the fit makes singular gets its corners back. The
+                                  surface stays exactly VC1 and interpolating, with no more
+                                  singular patches. 0 = none (the default; the measurements and
+                                  why it is not on in the tolerance route: CHANGELOG.md) */
+    const sk_mesh *fit_mesh;   /* the scan fitted with fit_weight (NULL = the input mesh) */
 } sk_smooth_opts;
 
 typedef struct sk_smooth_stats {
@@ -148,6 +160,11 @@ typedef struct sk_smooth_stats {
     double seconds_fair;
     double fair_energy_before; /* bending energy (Miao et al.) of all patches before and after */
     double fair_energy_after;  /* the fair free points (after: from the model they minimise) */
+    size_t fit_points;         /* points of the fit to the scan (opts.fit_weight; 0 without) */
+    double seconds_fit, cpu_fit; /* the fit: foot points, sweeps, guard (after the repair) */
+    size_t fit_steps;          /* vertex steps of the fit to the scan (all rounds) */
+    size_t fit_undone;         /* patches the fit made singular or farther from their points,
+                                  whose corners it gave back (summed over the guard's rounds) */
     /* CPU seconds (sk_cpu_seconds: all threads) of the stages timed by the seconds_ fields */
     double cpu_normals, cpu_flips, cpu_deletion, cpu_systems, cpu_patches, cpu_fair, cpu_repair;
 } sk_smooth_stats;

@@ -145,6 +145,8 @@ static sk_status setup(tol_run *t, const sk_mesh *mesh, sk_error *err)
      * collapses at singular patches, and with the rounds bunny00 at 1e-3 took 30.9 s instead of
      * 6.3 s (cow: 10 -> 3 singular patches, T missed either way, 1.0 -> 4.4 s) */
     t->c.so.reroute_rounds = -1;
+    if (!t->c.so.fit_mesh) /* the fit to the scan (smooth.fit_weight) fits the input */
+        t->c.so.fit_mesh = mesh;
     t->c.n = t->o.face_samples ? t->o.face_samples : 2;
     t->c.tess = t->o.tess ? t->o.tess : 4;
     t->c.incremental = !t->o.full_checks && t->c.tess <= 8 && t->c.n <= 4;

@@ -44,6 +44,11 @@
  * the steps; bounding the steps against p0 instead changed the steps and raised max_overshoot
  * from 0.28 to 0.34, with the same singular count.)
  *
+ * The fit to the scan (sk_smooth_opts.fit_weight, fit_data.c) adds W * sum_i |S(u_i) - p_i|^2
+ * over points p_i with fixed patch parameters u_i: S(u_i) = sum_c B_c(u_i) b_c is affine in the
+ * D too, so the term is another quadratic (data_hessian: constant, as the u_i are fixed;
+ * data_gradient: from the nets as they stand), and the sweeps then start from every vertex.
+ *
  * The energy matrices are built from Bernstein integrals by Gauss quadrature (exact: the
  * integrands are polynomials of degree 4 on the triangle, 2 x 6 on the square), not from the
  * printed formulas (which divide by zero at n = 4, see the papers' errata). For the triangle the
@@ -412,6 +417,7 @@ typedef struct fair_model {
     size_t nslots, capslots;
     uint32_t *var_of; /* per vertex: its unknown, FAIR_NO_VAR for none, SK_INVALID not yet */
     double energy_before;
+    const sk__fit_data *fit; /* the data term (NULL: none) */
 } fair_model;
 
 /* p (*cap elements of size sz) grown to hold at least need; NULL when out of memory (p is then
@@ -570,6 +576,66 @@ static bool model_reserve(fair_model *M, size_t nregion, size_t edges)
     return slots != NULL;
 }
 
+/* The data term's part of an unknown's Hessian (lower triangle, as face_rows) from its rows in
+ * face f: at a point with basis B the surface moves by s_cb = sum_rows B_row r[cb] along e_ra per
+ * unit of a = (ra, cb); the foot points are fixed, so this is constant. */
+static void data_hessian(const fair_model *M, uint32_t f, int corners, const fair_row *rows,
+                         size_t nrows, double H[4][4])
+{
+    const sk__fit_data *fit = M->fit;
+    double K[2][2] = {{0, 0}, {0, 0}}, B[16];
+    for (size_t j = fit->first[f]; j < fit->first[f + 1]; ++j) {
+        sk__fit_basis(corners, fit->uv[2 * j], fit->uv[2 * j + 1], B);
+        double sc[2] = {0, 0};
+        for (size_t ri = 0; ri < nrows; ++ri) {
+            sc[0] += B[rows[ri].row] * rows[ri].r[0];
+            sc[1] += B[rows[ri].row] * rows[ri].r[1];
+        }
+        K[0][0] += sc[0] * sc[0];
+        K[1][0] += sc[1] * sc[0];
+        K[1][1] += sc[1] * sc[1];
+    }
+    for (int ra = 0; ra < 2; ++ra) {
+        H[2 * ra][2 * ra] += fit->weight * K[0][0];
+        H[2 * ra + 1][2 * ra] += fit->weight * K[1][0];
+        H[2 * ra + 1][2 * ra + 1] += fit->weight * K[1][1];
+    }
+}
+
+/* The data term's part of an unknown's gradient G (half of it, as the bending part) from the
+ * nets as they stand: for each face its rows move, sum over its points of
+ * W s_cb (S(u_i) - p_i) . e_ra. */
+static void data_gradient(const fair_model *M, const fair_var *var, double G[4])
+{
+    const sk__fit_data *fit = M->fit;
+    double B[16];
+    for (size_t i = var->first; i < var->first + var->nrows;) {
+        size_t end = i;
+        uint32_t sl = M->rows[i].slot;
+        while (end < var->first + var->nrows && M->rows[end].slot == sl)
+            ++end;
+        const fair_slot *slot = &M->slots[sl];
+        int nc = slot->corners == 3 ? 15 : 16;
+        for (size_t j = fit->first[slot->face]; j < fit->first[slot->face + 1]; ++j) {
+            sk__fit_basis(slot->corners, fit->uv[2 * j], fit->uv[2 * j + 1], B);
+            double res[3];
+            for (int x = 0; x < 3; ++x)
+                res[x] = -fit->p[3 * j + x];
+            for (int c = 0; c < nc; ++c)
+                sk__axpy3(res, res, B[c], slot->net + 3 * c);
+            double sc[2] = {0, 0};
+            for (size_t r = i; r < end; ++r) {
+                sc[0] += B[M->rows[r].row] * M->rows[r].r[0];
+                sc[1] += B[M->rows[r].row] * M->rows[r].r[1];
+            }
+            double g[2] = {sk__dot3(res, var->e[0]), sk__dot3(res, var->e[1])};
+            for (int a = 0; a < 4; ++a)
+                G[a] += fit->weight * sc[a & 1] * g[a >> 1];
+        }
+        i = end;
+    }
+}
+
 /* Adds v as an unknown of the model (when its star fits); false when out of memory. */
 static bool model_add(fair_model *M, const sk_smooth *s, sk__vc1_work *W, const double *qt,
                       const double *qq, uint32_t v, fair_scratch *S)
@@ -594,9 +660,13 @@ static bool model_add(fair_model *M, const sk_smooth *s, sk__vc1_work *W, const 
     memcpy(M->p + M->np, p, 2 * (size_t)n * sizeof(double));
     M->np += 2 * (size_t)n;
     memcpy(var->e, e, sizeof var->e);
-    for (size_t i = 0; i < S->nfaces; ++i)
+    for (size_t i = 0; i < S->nfaces; ++i) {
+        size_t r0 = M->nrows;
         if (!face_rows(M, S, i, e[0], qt, qq, var->H))
             return false;
+        if (M->fit && M->nrows > r0)
+            data_hessian(M, S->faces[i], S->corners[i], M->rows + r0, M->nrows - r0, var->H);
+    }
     var->nrows = M->nrows - var->first;
     const double *V = W->m->positions + 3 * (size_t)v;
     for (int k = 0; k < n; ++k) {
@@ -672,6 +742,8 @@ static double model_step(fair_model *M, size_t k, const double *qt, const double
         for (int a = 0; a < 4; ++a)
             G[a] += r->r[a & 1] * g[a >> 1];
     }
+    if (M->fit)
+        data_gradient(M, var, G);
     for (int a = 0; a < 4; ++a) {
         G[a] = -G[a];
         memcpy(H[a], var->H[a], sizeof H[a]);
@@ -898,13 +970,13 @@ static void model_free(fair_model *M)
 }
 
 sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
-                              int sweeps, uint8_t *sing, size_t *moved, double energy[2],
-                              sk_error *err)
+                              int sweeps, const sk__fit_data *fit, uint8_t *sing, uint8_t *before,
+                              size_t *moved, double energy[2], sk_error *err)
 {
     const sk_mesh *m = W->m;
     size_t nv = m->num_vertices, nf = m->num_faces;
     sk_status st = SK_OK;
-    fair_model M = {0};
+    fair_model M = {.fit = fit};
     fair_scratch *S = sk__calloc_array(1, sizeof *S);
     double *qt = sk__malloc_array(15 * 15 + 16 * 16, sizeof(double));
     /* active, next, region (per vertex), bad (per patch) */
@@ -920,6 +992,8 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     double *qq = qt + 15 * 15;
     sk__fair_energy_matrices(qt, qq);
     seed_vertices(s, status, active, bad, sing, qt, qq, pe);
+    if (fit) /* the fit to the scan: every vertex */
+        memset(active, 1, nv);
     memcpy(region, active, nv);
     grow(m, region, next, FAIR_REGION_RINGS);
     memset(M.slot_of, 0xff, (nf + 1) * sizeof(uint32_t));
@@ -941,6 +1015,8 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     if (count == SIZE_MAX)
         goto nomem;
     memset(next, 0, nv);
+    if (before)
+        memcpy(before, sing, s->surface.count);
     model_write(&M, W, next, sing);
     if (moved)
         *moved = count;

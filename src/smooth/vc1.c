@@ -229,12 +229,133 @@ static sk_status vc1_problems(sk_smooth *s, sk__vc1_work *W, const uint8_t *stat
 /* Sweeps of the fair free points (fair_points.c; measured: more gained little) */
 #define VC1_FAIR_SWEEPS 10
 
+/* Rounds of the fit to the scan: foot points, sweeps (measured: see docs) */
+#ifndef VC1_FIT_ROUNDS
+#define VC1_FIT_ROUNDS 3
+#endif
+
+/* Rounds of the guard after the fit to the scan (see fit_guard) before it undoes the whole fit */
+#define VC1_FIT_GUARD_ROUNDS 4
+
+/* v's tangents back to P0 (mark: v and its neighbours, whose system (4) is to be solved again) */
+static void undo_vertex(sk__vc1_work *W, const double *P0, uint32_t v, uint8_t *mark)
+{
+    const sk_mesh *m = W->m;
+    uint32_t h0 = m->v_halfedge[v], h = h0;
+    mark[v] = 1;
+    do {
+        memcpy(W->P + 3 * (size_t)h, P0 + 3 * (size_t)h, 3 * sizeof(double));
+        mark[sk_to(m, h)] = 1;
+        h = sk_cw_out(m, h);
+    } while (h != h0);
+}
+
+/* The fit to the scan makes no patch singular (sing: SK_SING_UNKNOWN for the patches the sweeps
+ * moved, assembled again; before: the test before the sweeps): the tangents at the corners of a
+ * patch it made singular go back to P0 (those before the sweeps), from the second round also
+ * their neighbours', system (4) is solved again around them and their patches assembled and
+ * tested again; after VC1_FIT_GUARD_ROUNDS rounds the whole fit is undone. The corners of a
+ * moved patch that was singular before and still is go back too, once (in the first round),
+ * for the regularity repair: on the cow it repaired all of them without the fit, and left one
+ * when the fit had moved them. Every state is exactly VC1 (the tangents of each vertex are those
+ * of a solution of (8), system (4) solved again). */
+static sk_status fit_guard(sk_smooth *s, sk__vc1_work *W, const double *P0, const uint8_t *before,
+                           uint8_t *sing, sk_error *err)
+{
+    const sk_mesh *m = W->m;
+    size_t nf = m->num_faces, nv = m->num_vertices;
+    uint8_t *mark = sk__calloc_array(nv + 1, 1), *bad = sk__calloc_array(nf + 1, 1);
+    if (!mark || !bad) {
+        sk__free(mark);
+        sk__free(bad);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+    }
+    for (int round = 0;; ++round) {
+        long nfl = (long)nf;
+        size_t nnew = 0, nold = 0;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : nnew, nold)
+#endif
+        for (long f = 0; f < nfl; ++f) { /* 1: made singular by the fit, 2: singular before */
+            bad[f] = sing[f] == SK_SING_UNKNOWN && sk__patch_singular(s, (size_t)f, NULL)
+                         ? (before[f] ? 2 : 1)
+                         : 0;
+            nnew += bad[f] == 1;
+            nold += bad[f] == 2;
+        }
+        if (!nnew && (round > 0 || !nold))
+            break;
+        s->stats.fit_undone += nnew + (round == 0 ? nold : 0);
+        if (round == VC1_FIT_GUARD_ROUNDS) { /* the whole fit undone */
+            memcpy(W->P, P0, m->num_halfedges * 3 * sizeof(double));
+            memset(mark, 1, nv);
+        } else {
+            for (uint32_t f = 0; f < nf; ++f) {
+                if (!(bad[f] == 1 || (bad[f] == 2 && round == 0)))
+                    continue;
+                uint32_t h0 = m->f_halfedge[f], h = h0;
+                do {
+                    uint32_t v = sk_from(m, h);
+                    undo_vertex(W, P0, v, mark);
+                    if (round > 0) {
+                        uint32_t g0 = m->v_halfedge[v], g = g0;
+                        do {
+                            undo_vertex(W, P0, sk_to(m, g), mark);
+                            g = sk_cw_out(m, g);
+                        } while (g != g0);
+                    }
+                    h = m->h_next[h];
+                } while (h != h0);
+            }
+        }
+        for (uint32_t v = 0; v < nv; ++v) {
+            if (!mark[v] || m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID) {
+                mark[v] = 0;
+                continue;
+            }
+            sk__vc1_interior_points(W, v);
+            mark[v] = 0;
+            uint32_t h0 = m->v_halfedge[v], h = h0;
+            do {
+                uint32_t f = m->h_face[h];
+                if (f != SK_INVALID)
+                    sk__vc1_assemble_patch(W, f, sk_patch_cp(&s->surface, f));
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+        if (round == VC1_FIT_GUARD_ROUNDS)
+            break;
+    }
+    sk__free(mark);
+    sk__free(bad);
+    return SK_OK;
+}
+
+/* The patches of *singular (s->stats.singular_after_repair of them) that the fit to the scan
+ * made regular taken out of the list (it moves no patch into it: fit_guard) */
+static void drop_regular(sk_smooth *s, uint32_t **singular)
+{
+    size_t n = s->stats.singular_after_repair, k = 0;
+    if (!singular || !*singular)
+        return;
+    for (size_t i = 0; i < n; ++i)
+        if (sk__patch_singular(s, (*singular)[i], NULL))
+            (*singular)[k++] = (*singular)[i];
+    s->stats.singular_after_repair = k;
+    if (k == 0) {
+        sk__free(*singular);
+        *singular = NULL;
+    }
+}
+
 /* The construction on s->config: targets and ratios, vertex systems, interior points, fair free
  * points (unless LSQ), patches, regularity repair, exactness check (failed_v: the vertex named
  * when a vertex system fails, SK_ERR_NUMERIC). G0 at the creases of s->crease_edge. */
 static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_points free_points,
-                           uint32_t *failed_v, uint32_t **singular, sk_error *err)
+                           const sk_mesh *fit_mesh, double fit_weight, uint32_t *failed_v,
+                           uint32_t **singular, sk_error *err)
 {
+    sk__fit_data fit = {0};
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
     sk_status st = SK_OK;
@@ -245,7 +366,8 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     W.w1 = sk__malloc_array(nh, sizeof(double));
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
-    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL;
+    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL, *before = NULL;
+    double *P0 = NULL;
     uint8_t *crease_v = s->crease_edge ? sk__calloc_array(nv ? nv : 1, 1) : NULL;
     if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status ||
         (s->crease_edge && !crease_v)) {
@@ -284,7 +406,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
             goto done;
         }
         double energy[2];
-        if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, sing,
+        if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, NULL, sing, NULL,
                                       &s->stats.fair_steps, energy, err)) != SK_OK)
             goto done;
         s->stats.fair_energy_before = energy[0];
@@ -298,8 +420,42 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     if ((st = sk__vc1_repair_regularity(s, &W, status, sing, singular, err)) != SK_OK)
         goto done;
     clock_since(t3, &s->stats.seconds_repair, &s->stats.cpu_repair);
+    if (fit_weight > 0.0) { /* the fit to the scan, from the surface as it stands */
+        double t4[2];
+        clock_now(t4);
+        if ((!sing && !(sing = sk__malloc_array(nf + 1, 1))) ||
+            !(before = sk__malloc_array(nf + 1, 1)) ||
+            !(P0 = sk__malloc_array(nh + 1, 3 * sizeof(double)))) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+            goto done;
+        }
+        s->stats.fit_steps = 0;
+        s->stats.fit_undone = 0;
+        for (int round = 0; round < VC1_FIT_ROUNDS; ++round) {
+            sk__fit_data_free(&fit);
+            if ((st = sk__vc1_fit_data(s, fit_mesh, fit_weight, &fit, err)) != SK_OK)
+                goto done;
+            s->stats.fit_points = fit.count;
+            memcpy(P0, W.P, nh * 3 * sizeof(double));
+            size_t steps = 0;
+            if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, &fit, sing, before,
+                                          &steps, NULL, err)) != SK_OK)
+                goto done;
+            s->stats.fit_steps += steps;
+            for (uint32_t f = 0; f < nf; ++f) /* the patches the fit may have moved */
+                if (sing[f] == SK_SING_UNKNOWN)
+                    sk__vc1_assemble_patch(&W, f, sk_patch_cp(&s->surface, f));
+            if ((st = fit_guard(s, &W, P0, before, sing, err)) != SK_OK)
+                goto done;
+        }
+        drop_regular(s, singular);
+        clock_since(t4, &s->stats.seconds_fit, &s->stats.cpu_fit);
+    }
     st = vc1_problems(s, &W, status, failed_v, err);
 done:
+    sk__fit_data_free(&fit);
+    sk__free(before);
+    sk__free(P0);
     sk__free(target);
     sk__free(r);
     sk__free(W.P);
@@ -508,7 +664,9 @@ sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
             (st = sk__progress(c->opts->progress, c->opts->progress_user, 0.3, err)) != SK_OK)
             return st;
         uint32_t failed_v = SK_INVALID;
-        st = vc1_build(s, c->alpha, c->max_nu, c->opts->free_points, &failed_v, singular, err);
+        st = vc1_build(s, c->alpha, c->max_nu, c->opts->free_points,
+                       c->opts->fit_mesh ? c->opts->fit_mesh : c->mesh, c->opts->fit_weight,
+                       &failed_v, singular, err);
         if (st != SK_OK && st != SK_ERR_NUMERIC)
             return st;
         /* creases whose sectors cannot be built (a vertex system that fails or misses its angle

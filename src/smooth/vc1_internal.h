@@ -98,9 +98,31 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
  * SK_SING_UNKNOWN for the patches the sweeps may have moved (to be assembled again; for
  * sk__vc1_repair_regularity). energy (may be NULL): the bending energy of all patches before
  * (summed from s->surface) and after (the change from the quadratic model the sweeps run on). */
+/* The data term of the fit to the scan (fit_data.c): weight W of W * sum_i |S(u_i) - p_i|^2,
+ * and the points p_i with their foot-point parameters u_i, grouped by patch (face of the
+ * config): points first[f] .. first[f + 1] - 1 lie on patch f. */
+typedef struct sk__fit_data {
+    double weight;
+    size_t *first; /* per patch + 1 */
+    double *uv;    /* 2 per point: the patch parameters of its foot point */
+    double *p;     /* 3 per point */
+    size_t count;
+} sk__fit_data;
+/* The points of `fine` (every vertex and 4 points inside every triangle) and their foot points on
+ * the patches of s->surface (as assembled). */
+sk_status sk__vc1_fit_data(const sk_smooth *s, const sk_mesh *fine, double weight,
+                           sk__fit_data *out, sk_error *err);
+void sk__fit_data_free(sk__fit_data *d);
+/* The Bernstein basis of a quartic triangle (corners 3: 15 values in sk_tri_index order, with
+ * (a, b) the parameters of sk_patch_eval) or a bicubic (16, sk_tensor_index) at (a, b). */
+void sk__fit_basis(int corners, double a, double b, double B[16]);
+/* fit (may be NULL): the data term added to the energy (the fit to the scan); the sweeps then
+ * start from every vertex (not only around the patches that are singular or stray). before (may
+ * be NULL): the regularity test of every patch before the sweeps (sing before SK_SING_UNKNOWN is
+ * set). */
 sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t *status,
-                              int sweeps, uint8_t *sing, size_t *moved, double energy[2],
-                              sk_error *err);
+                              int sweeps, const sk__fit_data *fit, uint8_t *sing, uint8_t *before,
+                              size_t *moved, double energy[2], sk_error *err);
 
 /* The bending-energy matrices of Miao et al. (integral of |b_ss|^2 + 2 |b_st|^2 + |b_tt|^2 over
  * the parameter domain) of the quartic triangle (15 x 15, in sk_tri_index order, the mean over

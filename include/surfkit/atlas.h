@@ -62,6 +62,14 @@ typedef struct sk_atlas_opts {
      * (sk_mips_opts.area_theta), kept when it stays flip-free and overlap-free and lowers the
      * chart's area distortion. 0 = the default (0.5); negative = off (plain MIPS / LSCM). */
     double area_theta;
+    /* Bound the area distortion, minimize the angle distortion: an accepted chart whose refined
+     * layout (area_theta) is within area_bound, measured as max_stretch (exp of the 3D-area-
+     * weighted mean |log(area scale / chart's mean)|), is laid out instead by the first of plain
+     * MIPS and the area terms 1/8, 1/4 (below area_theta) that keeps it within area_bound,
+     * flip-free and overlap-free, at a lower angle distortion; the decisions on the charts
+     * (splits, merges) are those of the refined layout. 0 = the default (1.08); 1 or less (or
+     * negative) = off (area_theta on every chart). */
+    double area_bound;
     /* Charts follow sharp edges: the first charts are the regions of faces joined across edges
      * whose dihedral angle (between the face normals) is below crease_angle degrees, a region
      * with less than 2% of its component's area (the scattered sharp edges of a scan) merged into
@@ -102,6 +110,8 @@ typedef struct sk_atlas_stats {
     size_t lscm_charts;      /* charts laid out by LSCM (the others by hierarchical MIPS) */
     size_t merges;           /* pairs of charts merged for max_charts */
     size_t area_refinements; /* charts the area term refined (kept or not), final or split later */
+    size_t area_bounded;     /* accepted chart layouts (final or merged later) that area_bound
+                                gave a smaller area term */
     size_t crease_regions;   /* first charts: the crease regions (the components when no crease
                                 cuts them) */
     size_t pack_cuts;        /* charts cut in two for a tighter packing (no_pack_cuts) */

@@ -306,22 +306,19 @@ static sk_status chart_overlaps(const sk_mesh *chart, const double *cuv, size_t 
     return st;
 }
 
-/* Parametrizes the disk chart into *cuv (reallocated) and decides whether it must be split: it
- * failed or flipped, its layout overlaps itself, or it exceeds a distortion bound (counted in
- * s). With lscm_first, LSCM's layout is kept when it is flip-free, overlap-free and within the
- * bounds (on bunny00 it is, for charts where MIPS's free boundary lets the area scale drift past
- * the stretch bound: 58 charts instead of 148, area-log mean 0.120 instead of 0.163, seams 15
- * instead of 28 x sqrt(area), at 40% of the CPU time); else the chart gets the hierarchical MIPS.
- * Errors are out of memory, cancellation, or a single triangle that cannot be laid out. */
 /* The area term on a flip-free, overlap-free layout (area_theta > 0): MIPS with the area factor
  * from cuv, kept when it is flip-free, overlap-free, lowers the chart's area distortion and keeps
- * the angle distortion within max_conf (or no worse than before), else cuv and q stay. */
+ * the angle distortion within max_conf (or no worse than before), else cuv and q stay. start
+ * (optional, 2 * vertices) receives the layout it started from, for bound_area. */
 static sk_status refine_area(const sk_mesh *chart, uint32_t seed, double area_theta,
-                             double max_conf, double *cuv, sk__chart_quality *q, sk_error *err)
+                             double max_conf, double *cuv, sk__chart_quality *q, double *start,
+                             sk_error *err)
 {
     if (!(area_theta > 0) || chart->num_faces < 2)
         return SK_OK;
     size_t n2 = 2 * chart->num_vertices;
+    if (start)
+        memcpy(start, cuv, n2 * sizeof(double));
     double *keep = sk__malloc_array(n2, sizeof(double));
     if (!keep)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
@@ -342,21 +339,70 @@ static sk_status refine_area(const sk_mesh *chart, uint32_t seed, double area_th
     return st;
 }
 
-static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf,
-                            double max_stretch, bool lscm_first, double area_theta, double **cuv,
-                            sk__chart_quality *q, bool *split, sk_atlas_stats *s, sk_error *err)
+/* The smaller area terms bound_area tries, in this order, below the atlas's theta. */
+static const double AREA_LADDER[] = {0.0, 0.125, 0.25};
+
+/* The layout an accepted chart keeps (area_bound > 0): bound the area distortion, minimize the
+ * angle distortion (issue 11). q is the chart's quality after refine_area at area_theta (the
+ * layout in cuv), on which every decision on the chart was taken (split, merge: the charts are
+ * those of area_theta alone). The chart takes instead the first of plain MIPS (theta 0) and the
+ * area terms 1/8, 1/4, each run from start (its layout before refine_area: LSCM or the
+ * hierarchical MIPS), that is flip-free and overlap-free, keeps the area distortion
+ * (area_log_dev) within area_bound and lowers the angle distortion (conformal_mean) below q's.
+ * Smaller thetas only raise the area distortion, so a chart already above the bound at
+ * area_theta keeps its layout without a try. Why: a fixed theta trades the two distortions the
+ * same way on every chart, and at 0.5 most charts end far inside any useful area bound (blobby:
+ * area-log mean 0.036, the peers 0.108 and 0.123) while their MIPS stays above plain MIPS's on
+ * the same charts (2.0010 against 2.0004); the bound gives the angle distortion back where the
+ * area distortion has room (docs/param.md). A chart merged later is laid out again as part of
+ * its union. Errors are out of memory and cancellation only. */
+static sk_status bound_area(const sk_mesh *chart, uint32_t seed, double area_theta,
+                            double area_bound, const double *start, double *cuv,
+                            const sk__chart_quality *q, sk_atlas_stats *s, sk_error *err)
+{
+    if (!start || !(area_bound > 0) || !(q->area_log_dev <= area_bound))
+        return SK_OK;
+    size_t n2 = 2 * chart->num_vertices;
+    double *uv = sk__malloc_array(n2, sizeof(double));
+    if (!uv)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    sk_status st = SK_OK;
+    for (size_t k = 0; k < sizeof AREA_LADDER / sizeof AREA_LADDER[0]; ++k) {
+        if (!(AREA_LADDER[k] < area_theta))
+            break;
+        memcpy(uv, start, n2 * sizeof(double));
+        sk__chart_quality q2;
+        bool ok = false;
+        size_t ov = 0;
+        if ((st = sk__chart_area(chart, seed, AREA_LADDER[k], uv, &q2, &ok, err)))
+            break;
+        if (!ok || q2.area_log_dev > area_bound || !(q2.conformal_mean < q->conformal_mean))
+            continue;
+        if ((st = chart_overlaps(chart, uv, &ov, err)))
+            break;
+        if (ov)
+            continue;
+        memcpy(cuv, uv, n2 * sizeof(double));
+        s->area_bounded++;
+        break;
+    }
+    sk__free(uv);
+    return st;
+}
+
+/* judge_disk's layout and decision (cuv holds 2 * vertices). */
+static sk_status judge_layout(const sk_mesh *chart, uint32_t seed, double max_conf,
+                              double max_stretch, bool lscm_first, double area_theta, double *cuv,
+                              double *start, sk__chart_quality *q, bool *split, sk_atlas_stats *s,
+                              sk_error *err)
 {
     size_t n = chart->num_faces;
-    sk__free(*cuv);
-    *cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
-    if (!*cuv)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
     /* the area term lowers LSCM's area distortion several times (cow: area-log mean 0.099 to
      * 0.026): the stretch prediction then allows more */
     double stretch_margin = area_theta > 0 ? AREA_PREDICT_MARGIN : PREDICT_MARGIN;
     if (n >= 2 && (lscm_first || n >= PREDICT_MIN_FACES)) {
         bool ok = false;
-        sk_status st = sk__chart_predict(chart, *cuv, q, &ok, err);
+        sk_status st = sk__chart_predict(chart, cuv, q, &ok, err);
         if (st)
             return st;
         if (ok && n >= PREDICT_MIN_FACES &&
@@ -371,12 +417,12 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
         if (ok && lscm_first && (max_conf <= 0 || q->conformal_mean <= max_conf) &&
             (max_stretch <= 0 || area_theta > 0 || q->area_log_dev <= log(max_stretch))) {
             size_t ov = 0;
-            if ((st = chart_overlaps(chart, *cuv, &ov, err)))
+            if ((st = chart_overlaps(chart, cuv, &ov, err)))
                 return st;
             if (ov == 0 && area_theta > 0 && n >= 2)
                 s->area_refinements++;
             if (ov == 0 &&
-                (st = refine_area(chart, seed, area_theta, max_conf, *cuv, q, err)))
+                (st = refine_area(chart, seed, area_theta, max_conf, cuv, q, start, err)))
                 return st;
             if (ov == 0 && (max_stretch <= 0 || q->area_log_dev <= log(max_stretch))) {
                 s->lscm_charts++;
@@ -392,7 +438,7 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
         }
     }
     sk_error perr = {0};
-    sk_status ps = sk__chart_param(chart, seed, *cuv, q, &perr);
+    sk_status ps = sk__chart_param(chart, seed, cuv, q, &perr);
     if (ps == SK_ERR_NOMEM || ps == SK_ERR_CANCELLED || ((ps != SK_OK || q->flipped) && n < 2)) {
         sk_status st = ps ? ps : SK_ERR_NUMERIC;
         if (err)
@@ -407,7 +453,7 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
         return SK_OK;
     }
     size_t ov = 0; /* every chart is checked for self-overlap with exact tests */
-    sk_status st = chart_overlaps(chart, *cuv, &ov, err);
+    sk_status st = chart_overlaps(chart, cuv, &ov, err);
     if (st)
         return st;
     /* above the angle bound it is split whatever the area term does (that raises the angle
@@ -415,7 +461,8 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
     bool angle_split = n >= MIN_ANGLE_SPLIT_FACES && max_conf > 0 && q->conformal_mean > max_conf;
     if (!ov && !angle_split && area_theta > 0 && n >= 2)
         s->area_refinements++;
-    if (!ov && !angle_split && (st = refine_area(chart, seed, area_theta, max_conf, *cuv, q, err)))
+    if (!ov && !angle_split &&
+        (st = refine_area(chart, seed, area_theta, max_conf, cuv, q, start, err)))
         return st;
     if (ov) {
         *split = true;
@@ -426,6 +473,38 @@ static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf
         s->splits_distortion++;
     }
     return SK_OK;
+}
+
+/* Parametrizes the disk chart into *cuv (reallocated) and decides whether it must be split: it
+ * failed or flipped, its layout overlaps itself, or it exceeds a distortion bound (counted in
+ * s). With lscm_first, LSCM's layout is kept when it is flip-free, overlap-free and within the
+ * bounds (on bunny00 it is, for charts where MIPS's free boundary lets the area scale drift past
+ * the stretch bound: 58 charts instead of 148, area-log mean 0.120 instead of 0.163, seams 15
+ * instead of 28 x sqrt(area), at 40% of the CPU time); else the chart gets the hierarchical MIPS.
+ * An accepted chart then gets its final layout from bound_area. Errors are out of memory,
+ * cancellation, or a single triangle that cannot be laid out. */
+static sk_status judge_disk(const sk_mesh *chart, uint32_t seed, double max_conf,
+                            double max_stretch, bool lscm_first, double area_theta,
+                            double area_bound, double **cuv, sk__chart_quality *q, bool *split,
+                            sk_atlas_stats *s, sk_error *err)
+{
+    size_t n = chart->num_faces;
+    sk__free(*cuv);
+    *cuv = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
+    if (!*cuv)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    double *start = NULL; /* the layout before refine_area, for bound_area */
+    if (area_bound > 0 && area_theta > 0 && n >= 2) {
+        start = sk__malloc_array(2 * chart->num_vertices, sizeof(double));
+        if (!start)
+            return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    sk_status st = judge_layout(chart, seed, max_conf, max_stretch, lscm_first, area_theta,
+                                *cuv, start, q, split, s, err);
+    if (st == SK_OK && !*split)
+        st = bound_area(chart, seed, area_theta, area_bound, start, *cuv, q, s, err);
+    sk__free(start);
+    return st;
 }
 
 /* A disk chart waiting for its parametrization: the charts of one wave are independent (disjoint
@@ -472,7 +551,7 @@ static int cmp_u64(const void *x, const void *y)
  * threads inside each, then the others in parallel over charts (each solve then on one thread:
  * tiny parallel regions inside every chart's solver cost more than they give). */
 static void param_wave(pending *b, size_t nb, double max_conf, double max_stretch, bool lscm_first,
-                       double area_theta, uint64_t seed)
+                       double area_theta, double area_bound, uint64_t seed)
 {
     /* largest charts first, so that no large solve starts last while the other threads idle
      * (each chart's result depends only on the chart, not on the order or the threads: the
@@ -495,15 +574,15 @@ static void param_wave(pending *b, size_t nb, double max_conf, double max_stretc
     for (size_t i = 0; i < solo; ++i) {
         pending *p = b + (uint32_t)order[i];
         p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, area_theta,
-                           &p->cuv, &p->q, &p->split, &p->s, &p->err);
+                           area_bound, &p->cuv, &p->q, &p->split, &p->s, &p->err);
     }
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(dynamic, 1) if (nb - solo > 1)
 #endif
     for (long i = (long)solo; i < (long)nb; ++i) {
         pending *p = b + (uint32_t)order[i];
-        p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, area_theta, &p->cuv,
-                           &p->q, &p->split, &p->s, &p->err);
+        p->st = judge_disk(p->chart, seed + p->stamp, max_conf, max_stretch, lscm_first, area_theta,
+                           area_bound, &p->cuv, &p->q, &p->split, &p->s, &p->err);
     }
     sk__blas_serial_end(blas);
 }
@@ -576,7 +655,8 @@ static size_t list_pairs(const sk_mesh *m, const sk_atlas *a, merger *g)
  * alive says which ids remain; *live counts them. */
 static sk_status merge_charts(const sk_mesh *m, sk__chart_work *w, accepted *acc, sk_atlas *a,
                               size_t target, double max_conf, double max_stretch, bool lscm_first,
-                              double area_theta, uint64_t seed, uint32_t *stamp, uint32_t *pf, pending *wave,
+                              double area_theta, double area_bound, uint64_t seed, uint32_t *stamp,
+                              uint32_t *pf, pending *wave,
                               size_t wave_cap, merger *g, size_t *live, sk_atlas_stats *s,
                               sk_error *err)
 {
@@ -653,7 +733,7 @@ static sk_status merge_charts(const sk_mesh *m, sk__chart_work *w, accepted *acc
                 wave[nd++] = wave[i];
                 wave[i] = t;
             }
-        param_wave(wave, nd, max_conf, max_stretch, lscm_first, area_theta, seed);
+        param_wave(wave, nd, max_conf, max_stretch, lscm_first, area_theta, area_bound, seed);
         for (size_t i = 0; i < nb; ++i) {
             pending *p = wave + i;
             if (p->st) {
@@ -664,6 +744,7 @@ static sk_status merge_charts(const sk_mesh *m, sk__chart_work *w, accepted *acc
             }
             uint32_t c0 = p->pair[0], c1 = p->pair[1];
             s->area_refinements += p->s.area_refinements;
+            s->area_bounded += p->s.area_bounded;
             if (!p->split) {
                 if (acc->charts + 1 > g->cap) {
                     size_t cap = 2 * (acc->charts + 1);
@@ -766,7 +847,7 @@ typedef struct deferred {
  * range's faces), the wave of disks to parametrize together, and the charts accepted so far. */
 typedef struct builder {
     const sk_mesh *m;
-    double max_conf, max_stretch, area_theta;
+    double max_conf, max_stretch, area_theta, area_bound;
     sk__chart_work w;
     accepted acc;
     sk_atlas *a;
@@ -982,6 +1063,7 @@ static sk_status settle_wave(builder *b, sk_error *err)
         b->s.splits_distortion += p->s.splits_distortion;
         b->s.splits_predicted += p->s.splits_predicted;
         b->s.area_refinements += p->s.area_refinements;
+        b->s.area_bounded += p->s.area_bounded;
         size_t n = p->r.hi - p->r.lo;
         if (!p->split) {
             st = accept_chart(&b->acc, b->m, b->faces + p->r.lo, n, p->chart, p->cuv,
@@ -1021,7 +1103,8 @@ static sk_status merge_to(builder *b, const sk_atlas_opts *o, size_t target, siz
     else {
         memset(g.alive, 1, b->acc.charts);
         st = merge_charts(m, &b->w, &b->acc, b->a, target, b->max_conf, b->max_stretch,
-                          !o->mips_only, b->area_theta, o->seed, &b->stamp, b->faces, b->wave, b->wave_cap, &g,
+                          !o->mips_only, b->area_theta, b->area_bound, o->seed, &b->stamp, b->faces,
+                          b->wave, b->wave_cap, &g,
                           &live, &b->s, err);
     }
     if (!st)
@@ -1055,7 +1138,7 @@ static sk_status make_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
             continue;
         double tq = sk_seconds();
         param_wave(b->wave, b->nb, b->max_conf, b->max_stretch, !o->mips_only, b->area_theta,
-                   o->seed);
+                   b->area_bound, o->seed);
         tp += sk_seconds() - tq;
         if ((st = settle_wave(b, err)))
             return st;
@@ -1114,6 +1197,9 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     b.max_conf = o.max_distortion == 0 ? SK__ATLAS_MAX_DISTORTION : o.max_distortion;
     b.max_stretch = o.max_stretch == 0 ? SK__ATLAS_MAX_STRETCH : o.max_stretch;
     b.area_theta = o.area_theta == 0 ? SK__ATLAS_AREA_THETA : o.area_theta < 0 ? 0 : o.area_theta;
+    /* the bound as a stretch (exp of area_log_dev, as max_stretch) */
+    double ab = o.area_bound == 0 ? SK__ATLAS_AREA_BOUND : o.area_bound;
+    b.area_bound = ab > 1.0 ? log(ab) : 0.0;
     sk_atlas_stats *s = &b.s;
     double crease = o.crease_angle == 0 ? SK__ATLAS_CREASE_ANGLE : o.crease_angle;
     if ((st = builder_init(&b, m, crease, err)) || (st = make_charts(&b, &o, err)))

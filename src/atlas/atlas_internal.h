@@ -125,6 +125,8 @@ sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__c
 #define SK__ATLAS_MAX_DISTORTION 1.05
 #define SK__ATLAS_MAX_STRETCH 1.15
 #define SK__ATLAS_AREA_THETA 0.5
+/* sk_atlas_opts.area_bound's default: see bound_area in atlas.c and docs/param.md. */
+#define SK__ATLAS_AREA_BOUND 1.08
 
 /* MIPS with the area term (sk_mips_opts.area_theta = theta, free boundary) from the layout in uv,
  * scaled and measured into q; *ok false (uv then undefined) when it failed or flipped. Errors are

@@ -95,6 +95,17 @@ awk -v a="$(val seam_length_rel "$TMP/p.json")" -v b="$(val seam_length_rel "$TM
     || fail "cube --crease-angle -1"
 [ "$(val crease_regions "$TMP/cube1.json")" = 1 ] || fail "--crease-angle -1 cut"
 [ "$(val charts "$TMP/cube1.json")" -lt 6 ] || fail "--crease-angle -1: still 6 charts"
+# --area-bound: the default lays charts out again under the bound (sphere: MIPS mean 2.002195,
+# below the area term's 2.002494), 1 (or less) is off: the area term alone, the same charts
+"$BIN" param "$M/sphere.off" -o "$TMP/ab.obj" --report "$TMP/ab.json" -q || fail "area bound run"
+"$BIN" param "$M/sphere.off" -o "$TMP/ab1.obj" --area-bound 1 --report "$TMP/ab1.json" -q \
+    || fail "--area-bound 1 run"
+[ "$(val area_bounded "$TMP/ab.json")" -gt 0 ] || fail "default: no chart under the area bound"
+[ "$(val area_bounded "$TMP/ab1.json")" = 0 ] || fail "--area-bound 1: charts bounded"
+[ "$(val charts "$TMP/ab.json")" = "$(val charts "$TMP/ab1.json")" ] \
+    || fail "--area-bound: other charts"
+awk -v a="$(val mips_mean "$TMP/ab.json")" -v b="$(val mips_mean "$TMP/ab1.json")" \
+    'BEGIN { exit !(a < b) }' || fail "--area-bound: MIPS mean not lower"
 # usage errors and refusals
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --atlas --method floater 2>/dev/null; [ $? = 2 ] || fail "--atlas with floater"
 "$BIN" param "$M/cow.off" -o "$TMP/x.obj" --max-stretch 0.5 2>/dev/null; [ $? = 2 ] || fail "bad --max-stretch"

@@ -197,29 +197,33 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         sk_hparam_level *lv = &s.levels[l];
         if (l > 0) {
             /* section 3: insert the new vertices at rho p0 + sigma pi + tau pi+1 */
-            if ((st = sk_hierarchy_prolong(hier, l - 1, cur, 2, next, err)) ||
-                (st = sk_hierarchy_split(hier, l - 1, m, err)))
+            if ((st = sk_hierarchy_prolong(hier, l - 1, cur, 2, next, err)))
+                goto done;
+            /* the input level is the input mesh (the same oriented triangles on the same vertex
+             * numbers, in the input's order): no split there */
+            if (l + 1 < L && (st = sk_hierarchy_split(hier, l - 1, m, err)))
                 goto done;
             double *t = cur;
             cur = next;
             next = t;
         }
-        size_t nv = m->num_vertices;
+        const sk_mesh *lm = l > 0 && l + 1 == L ? mesh : m; /* level l */
+        size_t nv = lm->num_vertices;
         if (c.fixed)
             for (size_t v = 0; v < nv; ++v)
                 memcpy(level_fixed + 2 * v, fixed_uv + 2 * (size_t)finest_id[l][v], 2 * sizeof(double));
         if (l == 0)
             st = sk__mips_linear_start(m, &bo, c.fixed ? level_fixed : NULL, cur, err);
         else
-            st = repair_level(m, &c, &bo, level_fixed, cur, &lv->repaired, &s.fallbacks, err);
+            st = repair_level(lm, &c, &bo, level_fixed, cur, &lv->repaired, &s.fallbacks, err);
         if (st)
             goto done;
         s.repaired += lv->repaired;
         sk_mips_stats ms;
-        if ((st = optimize_level(m, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
+        if ((st = optimize_level(lm, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
             goto done;
         lv->vertices = nv;
-        lv->faces = m->num_faces;
+        lv->faces = lm->num_faces - lm->num_deleted_faces;
         lv->steps = ms.steps;
         lv->sweeps = ms.sweeps;
         lv->energy = ms.energy;
@@ -233,8 +237,8 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     }
     memcpy(uv, cur, 2 * nfine * sizeof(double));
     s.energy = s.levels[L - 1].energy;
-    if (m->num_faces - m->num_deleted_faces > 0) {
-        double two_t = 2.0 * (double)(m->num_faces - m->num_deleted_faces);
+    if (s.levels[L - 1].faces > 0) {
+        double two_t = 2.0 * (double)s.levels[L - 1].faces;
         s.gap_bound = (s.energy - two_t) / two_t;
     }
     s.total_seconds = sk_seconds() - t0;

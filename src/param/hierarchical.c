@@ -10,6 +10,10 @@
 #include <string.h>
 
 
+/* Above this many faces the input level's optimizer context is built beside the hierarchy (on
+ * the second thread: the hierarchy build is serial) */
+#define SK__HPARAM_BESIDE_MIN 50000
+
 /* The options with their defaults filled in. */
 typedef struct schedule {
     size_t sweeps_cap, gsteps, gmax, gsweeps, max_steps, finest_sweeps;
@@ -63,10 +67,11 @@ static sk_status finest_ids(const sk_hierarchy *hier, size_t L, uint32_t **fines
 /* MIPS on level l of L (nv vertices, nfine on the input): the sweep schedule, global steps on
  * small levels, the step budget (the coarser levels together use at most half of it, so that the
  * input level is always optimized however small the budget), and the skipping of levels that
- * grew too little. *last_opt is the vertex count of the last optimized level. */
-static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, size_t L,
-                                size_t nfine, size_t steps_so_far, size_t *last_opt, double *uv,
-                                sk_mips_stats *ms, sk_error *err)
+ * grew too little. *last_opt is the vertex count of the last optimized level. built (may be
+ * NULL): the optimizer's context of m, taken over. */
+static sk_status optimize_level(const sk_mesh *m, sk__mips_ctx *built, const schedule *c,
+                                size_t l, size_t L, size_t nfine, size_t steps_so_far,
+                                size_t *last_opt, double *uv, sk_mips_stats *ms, sk_error *err)
 {
     size_t nv = m->num_vertices;
     sk_mips_opts mo = {0};
@@ -91,15 +96,19 @@ static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, s
     size_t limit = c->max_steps && l + 1 < L ? c->max_steps / 2 : c->max_steps;
     sk_status st = SK_OK;
     if (skip) { /* insertion and repair only: optimized with the next levels */
+        if (built)
+            sk__mips_ctx_free(built);
         ms->energy = NAN;
         return SK_OK;
     }
     if (limit && steps_so_far >= limit) { /* budget spent: only measure */
         size_t inv = 0;
+        if (built)
+            sk__mips_ctx_free(built);
         st = sk_mips_energy(m, uv, &ms->energy, &inv, err);
     } else {
         mo.max_steps = limit ? limit - steps_so_far : 0;
-        st = sk_param_mips(m, &mo, uv, ms, err);
+        st = sk__param_mips_ctx(m, built, &mo, uv, ms, err);
     }
     *last_opt = nv;
     return st;
@@ -151,11 +160,30 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
 
     sk_hierarchy *hier = NULL;
     sk_mesh *m = NULL;
+    sk__mips_ctx fine;
+    memset(&fine, 0, sizeof fine);
     double *cur = NULL, *next = NULL, *fixed_uv = NULL, *level_fixed = NULL;
     uint32_t **finest_id = NULL;
     sk_hierarchy_opts ho = o.hierarchy;
     ho.seed = o.seed;
-    if ((st = sk_hierarchy_build(mesh, &ho, &hier, err)))
+    /* the hierarchy (one thread) and, beside it, the optimizer's context of the input level (the
+     * input mesh itself; see below); a context that fails is built again there and fails then */
+    sk_error ferr;
+    bool have_fine = false;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel sections num_threads(2) if (mesh->num_faces > SK__HPARAM_BESIDE_MIN)
+#endif
+    {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp section
+#endif
+        st = sk_hierarchy_build(mesh, &ho, &hier, err);
+#if defined(SK_HAVE_OPENMP)
+#pragma omp section
+#endif
+        have_fine = sk__mips_ctx_init(&fine, mesh, c.fixed, &ferr) == SK_OK;
+    }
+    if (st)
         goto done;
     s.hierarchy_seconds = sk_seconds() - t0;
     size_t L = sk_hierarchy_num_levels(hier);
@@ -220,7 +248,8 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             goto done;
         s.repaired += lv->repaired;
         sk_mips_stats ms;
-        if ((st = optimize_level(lm, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
+        sk__mips_ctx *built = lm == mesh && have_fine ? &fine : NULL;
+        if ((st = optimize_level(lm, built, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
             goto done;
         lv->vertices = nv;
         lv->faces = lm->num_faces - lm->num_deleted_faces;
@@ -252,6 +281,7 @@ done:
     sk__free(level_fixed);
     sk__free(cur);
     sk__free(next);
+    sk__mips_ctx_free(&fine);
     sk_mesh_destroy(&m);
     sk_hierarchy_destroy(&hier);
     if (stats)

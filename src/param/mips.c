@@ -144,6 +144,18 @@ static double sweep_local(const sk__mips_ctx *c, const colouring *cl, sk__rng *r
 sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *uv,
                         sk_mips_stats *stats, sk_error *err)
 {
+    return sk__param_mips_ctx(mesh, NULL, opts, uv, stats, err);
+}
+
+sk_status sk__param_mips_ctx(const sk_mesh *mesh, sk__mips_ctx *built, const sk_mips_opts *opts,
+                             double *uv, sk_mips_stats *stats, sk_error *err)
+{
+    sk__mips_ctx c;
+    memset(&c, 0, sizeof c);
+    if (built) { /* taken over: freed below whatever happens */
+        c = *built;
+        memset(built, 0, sizeof *built);
+    }
     sk_mips_opts o = {0};
     if (opts)
         o = *opts;
@@ -151,20 +163,23 @@ sk_status sk_param_mips(const sk_mesh *mesh, const sk_mips_opts *opts, double *u
     double tol = o.tolerance == 0.0 ? 1e-7 : o.tolerance;
     size_t per_global = o.sweeps_per_global ? o.sweeps_per_global : 1;
     if (o.boundary != SK_BOUNDARY_DEFAULT && o.boundary != SK_BOUNDARY_FREE &&
-        o.boundary != SK_BOUNDARY_GIVEN)
+        o.boundary != SK_BOUNDARY_GIVEN) {
+        sk__mips_ctx_free(&c);
         return sk__fail(err, SK_ERR_ARG, "MIPS steps keep a %s boundary where the start has it: "
                         "pass SK_BOUNDARY_GIVEN", sk_boundary_shape_name(o.boundary));
-    if (!(o.area_theta >= 0.0) || !isfinite(o.area_theta))
+    }
+    if (!(o.area_theta >= 0.0) || !isfinite(o.area_theta)) {
+        sk__mips_ctx_free(&c);
         return sk__fail(err, SK_ERR_ARG, "area_theta must be finite and >= 0, not %g",
                         o.area_theta);
+    }
     bool free_scale = o.boundary != SK_BOUNDARY_GIVEN;
     sk_mips_stats s = {0};
-    sk__mips_ctx c;
     colouring cl = {0};
     sk__mips_global G;
     bool use_global = false, ran = false;
     size_t inverted = 0;
-    sk_status st = sk__mips_ctx_init(&c, mesh, !free_scale, err);
+    sk_status st = built ? SK_OK : sk__mips_ctx_init(&c, mesh, !free_scale, err);
     if (st)
         return st;
     s.triangles = c.nt;

@@ -27,6 +27,7 @@ void sk__mips_ctx_free(sk__mips_ctx *c)
     sk__free(c->rec);
     sk__free(c->movable);
     sk__free(c->s3);
+    memset(c, 0, sizeof *c);
 }
 
 /* Triangle t of c from face f: its vertices, corner cotangents and 1 / 2A; false when it is

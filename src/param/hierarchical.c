@@ -10,8 +10,8 @@
 #include <string.h>
 
 
-/* Above this many faces the input level's optimizer context is built beside the hierarchy (on
- * the second thread: the hierarchy build is serial) */
+/* Above this many faces the input level's optimizer context is built on a second thread beside
+ * the (serial) vertex splits of the level below */
 #define SK__HPARAM_BESIDE_MIN 50000
 
 /* The options with their defaults filled in. */
@@ -40,6 +40,30 @@ static schedule schedule_from(const sk_hparam_opts *o)
      * for that stopping rule alone) */
     c.gap = o->target_gap > 0.0 ? o->target_gap : o->target_gap == 0.0 && o->tolerance == 0.0 ? 5e-4 : 0.0;
     return c;
+}
+
+/* The splits of level `level` applied to m and, beside them, the optimizer context of the input
+ * mesh into *ctx (*have_ctx: it was built; with fixed, its boundary vertices are not movable). */
+static sk_status split_beside(const sk_hierarchy *hier, size_t level, sk_mesh *m,
+                              const sk_mesh *mesh, bool fixed, sk__mips_ctx *ctx, bool *have_ctx,
+                              sk_error *err)
+{
+    sk_status st = SK_OK;
+    sk_error cerr;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel sections num_threads(2) if (mesh->num_faces > SK__HPARAM_BESIDE_MIN)
+#endif
+    {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp section
+#endif
+        st = sk_hierarchy_split(hier, level, m, err);
+#if defined(SK_HAVE_OPENMP)
+#pragma omp section
+#endif
+        *have_ctx = sk__mips_ctx_init(ctx, mesh, fixed, &cerr) == SK_OK;
+    }
+    return st;
 }
 
 /* For a fixed boundary: per level, the input vertex of each level vertex (levels [0, L)). */
@@ -160,29 +184,14 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
 
     sk_hierarchy *hier = NULL;
     sk_mesh *m = NULL;
-    sk__mips_ctx fine;
+    sk__mips_ctx fine; /* the input level's optimizer context when built ahead */
     memset(&fine, 0, sizeof fine);
+    bool have_fine = false;
     double *cur = NULL, *next = NULL, *fixed_uv = NULL, *level_fixed = NULL;
     uint32_t **finest_id = NULL;
     sk_hierarchy_opts ho = o.hierarchy;
     ho.seed = o.seed;
-    /* the hierarchy (one thread) and, beside it, the optimizer's context of the input level (the
-     * input mesh itself; see below); a context that fails is built again there and fails then */
-    sk_error ferr;
-    bool have_fine = false;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel sections num_threads(2) if (mesh->num_faces > SK__HPARAM_BESIDE_MIN)
-#endif
-    {
-#if defined(SK_HAVE_OPENMP)
-#pragma omp section
-#endif
-        st = sk_hierarchy_build(mesh, &ho, &hier, err);
-#if defined(SK_HAVE_OPENMP)
-#pragma omp section
-#endif
-        have_fine = sk__mips_ctx_init(&fine, mesh, c.fixed, &ferr) == SK_OK;
-    }
+    st = sk_hierarchy_build(mesh, &ho, &hier, err);
     if (st)
         goto done;
     s.hierarchy_seconds = sk_seconds() - t0;
@@ -228,8 +237,14 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
             if ((st = sk_hierarchy_prolong(hier, l - 1, cur, 2, next, err)))
                 goto done;
             /* the input level is the input mesh (the same oriented triangles on the same vertex
-             * numbers, in the input's order): no split there */
-            if (l + 1 < L && (st = sk_hierarchy_split(hier, l - 1, m, err)))
+             * numbers, in the input's order): no split there. The split before it (serial) has
+             * the input level's optimizer context built beside it on the second thread; a
+             * context that fails is built again at the input level and fails there. */
+            if (l + 2 == L)
+                st = split_beside(hier, l - 1, m, mesh, c.fixed, &fine, &have_fine, err);
+            else if (l + 1 < L)
+                st = sk_hierarchy_split(hier, l - 1, m, err);
+            if (st)
                 goto done;
             double *t = cur;
             cur = next;

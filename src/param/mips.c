@@ -124,7 +124,8 @@ static double sweep_local(const sk__mips_ctx *c, const colouring *cl, sk__rng *r
         for (long b = 0; b < (long)nb; ++b) {
             double db = 0.0;
             const uint32_t *ord = cl->order + lo;
-            size_t i0 = sk__mips_block_lo(n, nb, (size_t)b), i1 = sk__mips_block_lo(n, nb, (size_t)b + 1);
+            size_t i0 = sk__mips_block_lo(n, nb, (size_t)b);
+            size_t i1 = sk__mips_block_lo(n, nb, (size_t)b + 1);
             for (size_t i = i0; i < i1; ++i) {
                 prefetch_step(c, ord, i, i1, uv);
                 db += sk__mips_local_step(c, ord[i], uv);

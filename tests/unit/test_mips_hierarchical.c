@@ -273,10 +273,10 @@ static void given_start_within_gap_when_mips_then_no_sweep_unless_area_term(void
 }
 
 /* The input level is optimized on the input mesh itself, its optimizer context built beside the
- * last vertex splits (above 50,000 faces; lion-head Loop-subdivided once has 66,696): the reported energy
- * is exactly the input mesh's energy of the returned uv (the same triangles in the same order),
- * the last level has the input's faces, no triangle flips, and with the circle boundary the
- * boundary vertices stay on the unit circle (the context's fixed vertices). */
+ * last vertex splits (above 50,000 faces; lion-head Loop-subdivided once has 66,696): the
+ * reported energy is exactly the input mesh's energy of the returned uv (the same triangles in
+ * the same order), the last level has the input's faces, no triangle flips, and with the circle
+ * boundary the boundary vertices stay on the unit circle (the context's fixed vertices). */
 static void given_subdivided_lion_when_hierarchical_then_input_level_is_the_input_mesh(void **state)
 {
     (void)state;

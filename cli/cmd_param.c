@@ -117,6 +117,14 @@ static void write_json(FILE *fp, const void *ctx)
         json_knum(&j, "gap_bound", hs->gap_bound); /* above any converged energy, at most */
         json_kuint(&j, "gap_stopped_levels", hs->gap_stopped_levels);
         json_knum(&j, "hierarchy_seconds", hs->hierarchy_seconds);
+        json_key(&j, "stage_seconds"); /* the whole process (the levels' own below) */
+        json_obj_open(&j);
+        json_knum(&j, "read", r->read_seconds);
+        json_knum(&j, "check_and_hierarchy", hs->hierarchy_seconds);
+        json_knum(&j, "levels", hs->total_seconds - hs->hierarchy_seconds);
+        json_knum(&j, "metrics", r->metrics_seconds);
+        json_knum(&j, "write", r->write_seconds);
+        json_obj_close(&j);
         json_key(&j, "levels"); /* coarsest first */
         json_arr_open(&j);
         for (size_t l = 0; l < hs->num_levels; ++l) {

@@ -2,6 +2,7 @@
 #include "surfkit/param.h"
 #include "core/internal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,12 +122,20 @@ sk_status sk_param_check_disk(const sk_mesh *m, sk_error *err)
                         "characteristic %ld, not a disk: cut it to a disk first",
                         top.boundary_loops, top.euler_characteristic);
     }
-    size_t ndeg = 0, first = 0;
-    for (size_t f = 0; f < m->num_faces; ++f)
-        if (!m->f_deleted[f] && face_degenerate(m, (uint32_t)f) && ndeg++ == 0)
-            first = f;
+    /* (in parallel: the count and the first such face are the same for any thread count) */
+    size_t ndeg = 0;
+    long first = LONG_MAX;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static) reduction(+ : ndeg) reduction(min : first) \
+    if (m->num_faces > 50000)
+#endif
+    for (long f = 0; f < (long)m->num_faces; ++f)
+        if (!m->f_deleted[f] && face_degenerate(m, (uint32_t)f)) {
+            ndeg++;
+            first = f < first ? f : first;
+        }
     if (ndeg)
         return sk__fail(err, SK_ERR_TOPOLOGY, "the disk has %zu degenerate (zero-area) "
-                        "triangles, e.g. face %zu: remove or repair them first", ndeg, first);
+                        "triangles, e.g. face %ld: remove or repair them first", ndeg, first);
     return SK_OK;
 }

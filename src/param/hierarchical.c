@@ -10,6 +10,10 @@
 #include <string.h>
 
 
+/* Above this many faces the input level's optimizer context is built on a second thread beside
+ * the (serial) vertex splits of the level below */
+#define SK__HPARAM_BESIDE_MIN 50000
+
 /* The options with their defaults filled in. */
 typedef struct schedule {
     size_t sweeps_cap, gsteps, gmax, gsweeps, max_steps, finest_sweeps;
@@ -38,6 +42,30 @@ static schedule schedule_from(const sk_hparam_opts *o)
     return c;
 }
 
+/* The splits of level `level` applied to m and, beside them, the optimizer context of the input
+ * mesh into *ctx (*have_ctx: it was built; with fixed, its boundary vertices are not movable). */
+static sk_status split_beside(const sk_hierarchy *hier, size_t level, sk_mesh *m,
+                              const sk_mesh *mesh, bool fixed, sk__mips_ctx *ctx, bool *have_ctx,
+                              sk_error *err)
+{
+    sk_status st = SK_OK;
+    sk_error cerr;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel sections num_threads(2) if (mesh->num_faces > SK__HPARAM_BESIDE_MIN)
+#endif
+    {
+#if defined(SK_HAVE_OPENMP)
+#pragma omp section
+#endif
+        st = sk_hierarchy_split(hier, level, m, err);
+#if defined(SK_HAVE_OPENMP)
+#pragma omp section
+#endif
+        *have_ctx = sk__mips_ctx_init(ctx, mesh, fixed, &cerr) == SK_OK;
+    }
+    return st;
+}
+
 /* For a fixed boundary: per level, the input vertex of each level vertex (levels [0, L)). */
 static sk_status finest_ids(const sk_hierarchy *hier, size_t L, uint32_t **finest_id, sk_error *err)
 {
@@ -63,10 +91,11 @@ static sk_status finest_ids(const sk_hierarchy *hier, size_t L, uint32_t **fines
 /* MIPS on level l of L (nv vertices, nfine on the input): the sweep schedule, global steps on
  * small levels, the step budget (the coarser levels together use at most half of it, so that the
  * input level is always optimized however small the budget), and the skipping of levels that
- * grew too little. *last_opt is the vertex count of the last optimized level. */
-static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, size_t L,
-                                size_t nfine, size_t steps_so_far, size_t *last_opt, double *uv,
-                                sk_mips_stats *ms, sk_error *err)
+ * grew too little. *last_opt is the vertex count of the last optimized level. built (may be
+ * NULL): the optimizer's context of m, taken over. */
+static sk_status optimize_level(const sk_mesh *m, sk__mips_ctx *built, const schedule *c,
+                                size_t l, size_t L, size_t nfine, size_t steps_so_far,
+                                size_t *last_opt, double *uv, sk_mips_stats *ms, sk_error *err)
 {
     size_t nv = m->num_vertices;
     sk_mips_opts mo = {0};
@@ -91,15 +120,19 @@ static sk_status optimize_level(const sk_mesh *m, const schedule *c, size_t l, s
     size_t limit = c->max_steps && l + 1 < L ? c->max_steps / 2 : c->max_steps;
     sk_status st = SK_OK;
     if (skip) { /* insertion and repair only: optimized with the next levels */
+        if (built)
+            sk__mips_ctx_free(built);
         ms->energy = NAN;
         return SK_OK;
     }
     if (limit && steps_so_far >= limit) { /* budget spent: only measure */
         size_t inv = 0;
+        if (built)
+            sk__mips_ctx_free(built);
         st = sk_mips_energy(m, uv, &ms->energy, &inv, err);
     } else {
         mo.max_steps = limit ? limit - steps_so_far : 0;
-        st = sk_param_mips(m, &mo, uv, ms, err);
+        st = sk__param_mips_ctx(m, built, &mo, uv, ms, err);
     }
     *last_opt = nv;
     return st;
@@ -151,11 +184,15 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
 
     sk_hierarchy *hier = NULL;
     sk_mesh *m = NULL;
+    sk__mips_ctx fine; /* the input level's optimizer context when built ahead */
+    memset(&fine, 0, sizeof fine);
+    bool have_fine = false;
     double *cur = NULL, *next = NULL, *fixed_uv = NULL, *level_fixed = NULL;
     uint32_t **finest_id = NULL;
     sk_hierarchy_opts ho = o.hierarchy;
     ho.seed = o.seed;
-    if ((st = sk_hierarchy_build(mesh, &ho, &hier, err)))
+    st = sk_hierarchy_build(mesh, &ho, &hier, err);
+    if (st)
         goto done;
     s.hierarchy_seconds = sk_seconds() - t0;
     size_t L = sk_hierarchy_num_levels(hier);
@@ -197,29 +234,40 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
         sk_hparam_level *lv = &s.levels[l];
         if (l > 0) {
             /* section 3: insert the new vertices at rho p0 + sigma pi + tau pi+1 */
-            if ((st = sk_hierarchy_prolong(hier, l - 1, cur, 2, next, err)) ||
-                (st = sk_hierarchy_split(hier, l - 1, m, err)))
+            if ((st = sk_hierarchy_prolong(hier, l - 1, cur, 2, next, err)))
+                goto done;
+            /* the input level is the input mesh (the same oriented triangles on the same vertex
+             * numbers, in the input's order): no split there. The split before it (serial) has
+             * the input level's optimizer context built beside it on the second thread; a
+             * context that fails is built again at the input level and fails there. */
+            if (l + 2 == L)
+                st = split_beside(hier, l - 1, m, mesh, c.fixed, &fine, &have_fine, err);
+            else if (l + 1 < L)
+                st = sk_hierarchy_split(hier, l - 1, m, err);
+            if (st)
                 goto done;
             double *t = cur;
             cur = next;
             next = t;
         }
-        size_t nv = m->num_vertices;
+        const sk_mesh *lm = l > 0 && l + 1 == L ? mesh : m; /* level l */
+        size_t nv = lm->num_vertices;
         if (c.fixed)
             for (size_t v = 0; v < nv; ++v)
                 memcpy(level_fixed + 2 * v, fixed_uv + 2 * (size_t)finest_id[l][v], 2 * sizeof(double));
         if (l == 0)
             st = sk__mips_linear_start(m, &bo, c.fixed ? level_fixed : NULL, cur, err);
         else
-            st = repair_level(m, &c, &bo, level_fixed, cur, &lv->repaired, &s.fallbacks, err);
+            st = repair_level(lm, &c, &bo, level_fixed, cur, &lv->repaired, &s.fallbacks, err);
         if (st)
             goto done;
         s.repaired += lv->repaired;
         sk_mips_stats ms;
-        if ((st = optimize_level(m, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
+        sk__mips_ctx *built = lm == mesh && have_fine ? &fine : NULL;
+        if ((st = optimize_level(lm, built, &c, l, L, nfine, s.steps, &last_opt, cur, &ms, err)))
             goto done;
         lv->vertices = nv;
-        lv->faces = m->num_faces;
+        lv->faces = lm->num_faces - lm->num_deleted_faces;
         lv->steps = ms.steps;
         lv->sweeps = ms.sweeps;
         lv->energy = ms.energy;
@@ -233,8 +281,8 @@ sk_status sk_param_hierarchical(const sk_mesh *mesh, const sk_hparam_opts *opts,
     }
     memcpy(uv, cur, 2 * nfine * sizeof(double));
     s.energy = s.levels[L - 1].energy;
-    if (m->num_faces - m->num_deleted_faces > 0) {
-        double two_t = 2.0 * (double)(m->num_faces - m->num_deleted_faces);
+    if (s.levels[L - 1].faces > 0) {
+        double two_t = 2.0 * (double)s.levels[L - 1].faces;
         s.gap_bound = (s.energy - two_t) / two_t;
     }
     s.total_seconds = sk_seconds() - t0;
@@ -248,6 +296,7 @@ done:
     sk__free(level_fixed);
     sk__free(cur);
     sk__free(next);
+    sk__mips_ctx_free(&fine);
     sk_mesh_destroy(&m);
     sk_hierarchy_destroy(&hier);
     if (stats)

@@ -27,6 +27,7 @@ void sk__mips_ctx_free(sk__mips_ctx *c)
     sk__free(c->rec);
     sk__free(c->movable);
     sk__free(c->s3);
+    memset(c, 0, sizeof *c);
 }
 
 /* Triangle t of c from face f: its vertices, corner cotangents and 1 / 2A; false when it is
@@ -75,11 +76,10 @@ static void by_faces(sk__mips_ctx *c, uint32_t *fill)
     }
 }
 
-/* The corner records of v's alive triangles, in ring order from v_halfedge (clockwise), into
- * out (when non-NULL); returns their number. face_t maps a face to its triangle (NULL: the
- * same index). */
-static uint32_t ring_records(const sk__mips_ctx *c, const sk_mesh *m, const uint32_t *face_t,
-                             uint32_t v, sk__mips_corner *out)
+/* The triangles around v in ring order from v_halfedge (clockwise), written to out[i].j (when out
+ * is non-NULL); returns their number. face_t maps a face to its triangle (NULL: the same index). */
+static uint32_t ring_triangles(const sk_mesh *m, const uint32_t *face_t, uint32_t v,
+                               sk__mips_corner *out)
 {
     uint32_t h0 = m->v_halfedge[v], h = h0, n = 0;
     if (h0 == SK_INVALID || m->v_deleted[v])
@@ -87,20 +87,44 @@ static uint32_t ring_records(const sk__mips_ctx *c, const sk_mesh *m, const uint
     do {
         uint32_t f = m->h_face[h];
         if (f != SK_INVALID && !m->f_deleted[f]) {
-            if (out) {
-                size_t t = face_t ? face_t[f] : f, k = 0;
-                const uint32_t *tv = c->tri + 3 * t;
-                while (k < 2 && tv[k] != v)
-                    ++k;
-                const double *ct = c->cot + 3 * t;
-                out[n] = (sk__mips_corner){tv[(k + 1) % 3], tv[(k + 2) % 3], ct[k],
-                                           ct[(k + 1) % 3], ct[(k + 2) % 3], c->s3[t]};
-            }
+            if (out)
+                out[n].j = face_t ? face_t[f] : f;
             n++;
         }
         h = sk_cw_out(m, h);
     } while (h != h0);
     return n;
+}
+
+/* Corners ahead whose triangle data the record fill prefetches (the triangles of a ring are far
+ * apart in the triangle arrays: waiting on them was most of the fill's time) */
+#define SK__MIPS_FILL_AHEAD 16
+#define SK__MIPS_FILL_BLOCK 4096 /* vertices per block of the fill */
+
+/* The corner records of vertices [v0, v1), whose runs hold their triangles in .j (ring_triangles),
+ * in place. */
+static void fill_records(const sk__mips_ctx *c, size_t v0, size_t v1)
+{
+    size_t end = c->vt_start[v1];
+    for (size_t v = v0; v < v1; ++v) {
+        for (size_t i = c->vt_start[v]; i < c->vt_start[v + 1]; ++i) {
+#if defined(__GNUC__)
+            if (i + SK__MIPS_FILL_AHEAD < end) {
+                size_t ta = c->rec[i + SK__MIPS_FILL_AHEAD].j;
+                __builtin_prefetch(c->tri + 3 * ta);
+                __builtin_prefetch(c->cot + 3 * ta);
+                __builtin_prefetch(c->s3 + ta);
+            }
+#endif
+            size_t t = c->rec[i].j, k = 0;
+            const uint32_t *tv = c->tri + 3 * t;
+            while (k < 2 && tv[k] != v)
+                ++k;
+            const double *ct = c->cot + 3 * t;
+            c->rec[i] = (sk__mips_corner){tv[(k + 1) % 3], tv[(k + 2) % 3], ct[k], ct[(k + 1) % 3],
+                                          ct[(k + 2) % 3], c->s3[t]};
+        }
+    }
 }
 
 sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_boundary, sk_error *err)
@@ -163,14 +187,21 @@ sk_status sk__mips_ctx_init(sk__mips_ctx *c, const sk_mesh *m, bool fixed_bounda
 #pragma omp parallel for schedule(static, 4096) if (nv > 50000)
 #endif
     for (long v = 0; v < (long)nv; ++v)
-        c->vt_start[v + 1] = ring_records(c, m, face_t, (uint32_t)v, NULL);
+        c->vt_start[v + 1] = ring_triangles(m, face_t, (uint32_t)v, NULL);
     for (size_t v = 0; v < nv; ++v)
         c->vt_start[v + 1] += c->vt_start[v];
+    /* the triangles of each run first, then the records from them (with the triangles' data
+     * prefetched ahead), per block of vertices */
 #if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static, 4096) if (nv > 50000)
+#pragma omp parallel for schedule(static, 1) if (nv > 50000)
 #endif
-    for (long v = 0; v < (long)nv; ++v)
-        ring_records(c, m, face_t, (uint32_t)v, c->rec + c->vt_start[v]);
+    for (long b = 0; b < (long)((nv + SK__MIPS_FILL_BLOCK - 1) / SK__MIPS_FILL_BLOCK); ++b) {
+        size_t v0 = (size_t)b * SK__MIPS_FILL_BLOCK;
+        size_t v1 = v0 + SK__MIPS_FILL_BLOCK < nv ? v0 + SK__MIPS_FILL_BLOCK : nv;
+        for (size_t v = v0; v < v1; ++v)
+            ring_triangles(m, face_t, (uint32_t)v, c->rec + c->vt_start[v]);
+        fill_records(c, v0, v1);
+    }
     if (c->vt_start[nv] != 3 * nt) /* a vertex with several fans: the records in face order */
         by_faces(c, fill);
     sk__free(fill);

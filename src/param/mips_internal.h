@@ -3,6 +3,7 @@
 #ifndef SK_MIPS_INTERNAL_H
 #define SK_MIPS_INTERNAL_H
 
+#include "surfkit/mips.h"
 #include "surfkit/param.h"
 #include "surfkit/solve.h"
 
@@ -99,6 +100,13 @@ double sk__mips_total_energy_strict(const sk__mips_ctx *c, const double *uv);
 /* Rescales uv by a power of two 2^e so that the larger side of the bounding box lies in [1, 2)
  * (and moves a far-off box to the origin); returns e. */
 int sk__mips_renormalize(const sk__mips_ctx *c, double *uv);
+
+/* --- mips.c ---------------------------------------------------------------------------------- */
+
+/* sk_param_mips on a context already built from mesh (sk__mips_ctx_init with fixed_boundary for
+ * SK_BOUNDARY_GIVEN), which it takes over and frees; built NULL: built here. */
+sk_status sk__param_mips_ctx(const sk_mesh *mesh, sk__mips_ctx *built, const sk_mips_opts *opts,
+                             double *uv, sk_mips_stats *stats, sk_error *err);
 
 /* --- mips_area.c ----------------------------------------------------------------------------- */
 

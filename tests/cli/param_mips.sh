@@ -11,6 +11,16 @@ m=$shared/data/meshes
 [ "$(val flipped "$tmp/h.json")" = 0 ] || fail "hierarchical flipped"
 [ "$(val boundary "$tmp/h.json")" = '"free"' ] || fail "mips default boundary is free"
 grep -q '"levels": \[' "$tmp/h.json" || fail "no levels table"
+# the whole run's stages: each present, >= 0, the library's two within its seconds
+python3 - "$tmp/h.json" <<'PY' || fail "stage_seconds"
+import json, sys
+d = json.load(open(sys.argv[1]))
+s = d["stage_seconds"]
+assert set(s) == {"read", "check_and_hierarchy", "levels", "metrics", "write"}, s
+assert all(v >= 0 for v in s.values()), s
+assert 0 < s["check_and_hierarchy"] + s["levels"] <= d["seconds"] + 1e-9, (s, d["seconds"])
+assert s["check_and_hierarchy"] == d["hierarchy_seconds"], s
+PY
 # the certified gap above any converged energy: mips_sum / (2 faces) - 1
 gap=$(val gap_bound "$tmp/h.json") sum=$(val mips_sum "$tmp/h.json") nf=$(val faces "$tmp/h.json")
 awk "BEGIN{g = $sum / (2 * $nf) - 1; d = $gap - g; exit !($gap >= 0 && d < 1e-9 && d > -1e-9)}" ||

@@ -272,6 +272,50 @@ static void given_start_within_gap_when_mips_then_no_sweep_unless_area_term(void
     sk_mesh_destroy(&m);
 }
 
+/* The input level is optimized on the input mesh itself, its optimizer context built beside the
+ * last vertex splits (above 50,000 faces; lion-head Loop-subdivided once has 66,696): the
+ * reported energy is exactly the input mesh's energy of the returned uv (the same triangles in
+ * the same order), the last level has the input's faces, no triangle flips, and with the circle
+ * boundary the boundary vertices stay on the unit circle (the context's fixed vertices). */
+static void given_subdivided_lion_when_hierarchical_then_input_level_is_the_input_mesh(void **state)
+{
+    (void)state;
+    sk_mesh *coarse = skt_read_mesh(skt_shared_mesh("lion-head.off")), *m = NULL;
+    sk_subdiv_opts so = {.scheme = SK_SUBDIV_LOOP, .iterations = 1};
+    assert_int_equal(sk_mesh_subdivide(coarse, &so, &m, NULL), SK_OK);
+    sk_mesh_destroy(&coarse);
+    assert_true(m->num_faces > 50000);
+    double *uv = malloc(2 * m->num_vertices * sizeof(double));
+    for (int fixed = 0; fixed < 2; ++fixed) {
+        sk_hparam_opts o = {.seed = 3};
+        if (fixed)
+            o.boundary.shape = SK_BOUNDARY_CIRCLE;
+        sk_hparam_stats s;
+        assert_int_equal(sk_param_hierarchical(m, &o, uv, &s, NULL), SK_OK);
+        assert_int_equal(s.levels[s.num_levels - 1].faces, m->num_faces);
+        double e = 0.0;
+        size_t inverted = 1;
+        assert_int_equal(sk_mips_energy(m, uv, &e, &inverted, NULL), SK_OK);
+        assert_int_equal(inverted, 0);
+        assert_true(e == s.energy);
+        assert_int_equal(flips(m, uv), 0);
+        if (fixed) {
+            size_t nb = 0;
+            for (uint32_t v = 0; v < m->num_vertices; ++v)
+                if (sk_is_boundary_v(m, v)) {
+                    assert_true(fabs(hypot(uv[2 * v], uv[2 * v + 1]) - 1.0) < 1e-12);
+                    nb++;
+                }
+            assert_int_equal(nb, 72); /* (lion-head: 36 boundary edges, split once) */
+        } else {
+            assert_true(s.gap_bound <= 1e-3);
+        }
+        sk_hparam_stats_release(&s);
+    }
+    free(uv);
+    sk_mesh_destroy(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -282,6 +326,7 @@ int main(void)
         cmocka_unit_test(given_disk_meshes_when_hierarchical_then_gap_bound_holds_against_a_long_run),
         cmocka_unit_test(given_planar_disk_when_default_then_levels_stop_on_the_certified_gap),
         cmocka_unit_test(given_start_within_gap_when_mips_then_no_sweep_unless_area_term),
+        cmocka_unit_test(given_subdivided_lion_when_hierarchical_then_input_level_is_the_input_mesh),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

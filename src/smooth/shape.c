@@ -227,8 +227,9 @@ static double finish(const double D1[3], const double D2[3], double normal[3])
 }
 
 /* de Casteljau of the quartic triangle at (V[0], W[0]) and (V[1], W[1]) (tri_eval_n of eval.c),
- * point and derivatives as two lanes per coordinate */
-static void tri4_eval2v(const double *cp, v2d V, v2d W, v2d pt[3], v2d d1[3], v2d d2[3])
+ * from its control points cpv each in both lanes, point and derivatives as two lanes per
+ * coordinate */
+static void tri4_eval2v(const v2d *cpv, v2d V, v2d W, v2d pt[3], v2d d1[3], v2d d2[3])
 {
     const unsigned n = 4;
     v2d one = {1.0, 1.0}, U = one - V - W;
@@ -237,12 +238,10 @@ static void tri4_eval2v(const double *cp, v2d V, v2d W, v2d pt[3], v2d d1[3], v2
         unsigned row = sk_tri_index(n, 0, k), up = sk_tri_index(n, 0, k + 1);
         unsigned orow = sk_tri_index(n - 1, 0, k);
         for (unsigned j = 0; j + k < n; ++j) {
-            const double *a = cp + 3 * (row + j), *b = a + 3, *c = cp + 3 * (up + j);
+            const v2d *a = cpv + 3 * (row + j), *b = a + 3, *c = cpv + 3 * (up + j);
             v2d *o = net + 3 * (orow + j);
-            for (int x = 0; x < 3; ++x) {
-                v2d A = {a[x], a[x]}, B = {b[x], b[x]}, C = {c[x], c[x]};
-                o[x] = U * A + V * B + W * C;
-            }
+            for (int x = 0; x < 3; ++x)
+                o[x] = U * a[x] + V * b[x] + W * c[x];
         }
     }
     v2d *src = net, *dst = tmp;
@@ -336,6 +335,9 @@ static void tri4_grid(const double *cp, unsigned N, const double *const Nv[4],
                       const flat_tri *tris, int ntri, shape_max *M, bool *flat_normal)
 {
     unsigned total = (N + 1) * (N + 2) / 2, k = 0, i = 0, j = 0;
+    v2d cpv[3 * 15]; /* the net in both lanes, once per patch */
+    for (int q = 0; q < 3 * 15; ++q)
+        cpv[q] = (v2d){cp[q], cp[q]};
     while (k < total) {
         double a2[2], b2[2];
         int nl = k + 1 < total ? 2 : 1;
@@ -350,7 +352,7 @@ static void tri4_grid(const double *cp, unsigned N, const double *const Nv[4],
         }
         k += (unsigned)nl;
         v2d A = {a2[0], a2[1]}, B = {b2[0], b2[1]}, P[3], D1[3], D2[3];
-        tri4_eval2v(cp, A, B, P, D1, D2);
+        tri4_eval2v(cpv, A, B, P, D1, D2);
         grid_lanes(A, B, nl, P, D1, D2, Nv, 3, tris, ntri, M, flat_normal);
     }
 }

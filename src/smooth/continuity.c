@@ -64,31 +64,56 @@ typedef struct side_rows {
     double row0[5][3], row1[5][3];
 } side_rows;
 
-static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
+/* the net indices of side_rows_of for the three sides of a quartic triangle, made once per
+ * block of edges by its own index arithmetic (tri_side_index_init) */
+typedef struct tri_side_index {
+    unsigned row0[3][5], row1[3][4];
+} tri_side_index;
+
+static void tri_rows_index(int n, int side, unsigned *i0, unsigned *i1)
+{
+    for (int t = 0; t <= n; ++t) {
+        /* barycentric multi-index (i, j, k) of the boundary point t and of the inner point */
+        int I0[3], I1[3];
+        I0[0] = n - t, I0[1] = t, I0[2] = 0;       /* relabelled: side 0 from corner 0 to 1 */
+        I1[0] = n - 1 - t, I1[1] = t, I1[2] = 1;   /* next row toward corner 2 */
+        /* relabelled corner c is the original corner (c + side) mod 3 */
+        int J0[3], J1[3];
+        for (int c = 0; c < 3; ++c) {
+            J0[(c + side) % 3] = I0[c];
+            J1[(c + side) % 3] = I1[c];
+        }
+        i0[t] = sk_tri_index((unsigned)n, (unsigned)J0[1], (unsigned)J0[2]);
+        if (t < n)
+            i1[t] = sk_tri_index((unsigned)n, (unsigned)J1[1], (unsigned)J1[2]);
+    }
+}
+
+static void tri_side_index_init(tri_side_index *x)
+{
+    for (int side = 0; side < 3; ++side)
+        tri_rows_index(4, side, x->row0[side], x->row1[side]);
+}
+
+static void side_rows_of(const sk_smooth *s, const tri_side_index *x4, uint32_t f, int side,
+                         side_rows *r)
 {
     const sk_patch *pa = &s->surface.patches[f];
     const double *b = sk_patch_cp(&s->surface, f);
     r->kind = pa->kind;
     if (pa->kind == SK_PATCH_TRIANGLE) {
         int n = pa->degree;
+        unsigned i0[SK_PATCH_MAX_DEGREE + 1], i1[SK_PATCH_MAX_DEGREE + 1];
+        const unsigned *row0 = i0, *row1 = i1;
+        if (n == 4)
+            row0 = x4->row0[side], row1 = x4->row1[side];
+        else
+            tri_rows_index(n, side, i0, i1);
         r->n = n;
         for (int t = 0; t <= n; ++t) {
-            /* barycentric multi-index (i, j, k) of the boundary point t and of the inner point */
-            int I0[3], I1[3];
-            I0[0] = n - t, I0[1] = t, I0[2] = 0;       /* relabelled: side 0 from corner 0 to 1 */
-            I1[0] = n - 1 - t, I1[1] = t, I1[2] = 1;   /* next row toward corner 2 */
-            /* relabelled corner c is the original corner (c + side) mod 3 */
-            int J0[3], J1[3];
-            for (int c = 0; c < 3; ++c) {
-                J0[(c + side) % 3] = I0[c];
-                J1[(c + side) % 3] = I1[c];
-            }
-            memcpy(r->row0[t], b + 3 * sk_tri_index((unsigned)n, (unsigned)J0[1], (unsigned)J0[2]),
-                   3 * sizeof(double));
+            memcpy(r->row0[t], b + 3 * row0[t], 3 * sizeof(double));
             if (t < n)
-                memcpy(r->row1[t],
-                       b + 3 * sk_tri_index((unsigned)n, (unsigned)J1[1], (unsigned)J1[2]),
-                       3 * sizeof(double));
+                memcpy(r->row1[t], b + 3 * row1[t], 3 * sizeof(double));
         }
     } else {
         r->n = 3;
@@ -274,6 +299,8 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     b->min_crease_jump = 180.0;
     bern_tab tb;
     bern_tab_init(&tb, K);
+    tri_side_index x4;
+    tri_side_index_init(&x4);
     for (long e = e0; e < e1; ++e) {
         uint32_t h = (uint32_t)(2 * e), o = h + 1;
         uint32_t f = m->h_face[h], g = m->h_face[o];
@@ -286,8 +313,8 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
             ++b->ncrease;
         side_rows rf, rg;
         side_diffs df, dg;
-        side_rows_of(s, f, side_of(m, f, h), &rf);
-        side_rows_of(s, g, side_of(m, g, o), &rg);
+        side_rows_of(s, &x4, f, side_of(m, f, h), &rf);
+        side_rows_of(s, &x4, g, side_of(m, g, o), &rg);
         side_diffs_of(&rf, &df);
         side_diffs_of(&rg, &dg);
         double local_max = 0.0;

@@ -100,6 +100,16 @@ static void flat_tri_init(flat_tri *t, const double *a, const double *b, const d
  * monotone, is at most dmax (the same for sqrt(m2) against dmax^2). Where the proof does not hold
  * *d is computed by the same operations as always; outside the triangle's prism (v < 0) w is not
  * needed. */
+static bool seg_dist_within(const double p[3], const flat_tri *T, double dmax, double *d)
+{
+    double m2 = fmin(seg_dist2(p, T->a, T->b),
+                     fmin(seg_dist2(p, T->b, T->c), seg_dist2(p, T->c, T->a)));
+    if (m2 <= dmax * dmax * (1.0 - 1e-15))
+        return true;
+    *d = sqrt(m2);
+    return false;
+}
+
 static bool tri_dist_within(const double p[3], const flat_tri *T, double dmax, double *d)
 {
     double ap[3], t[3];
@@ -119,12 +129,7 @@ static bool tri_dist_within(const double p[3], const flat_tri *T, double dmax, d
             }
         }
     }
-    double m2 = fmin(seg_dist2(p, T->a, T->b),
-                     fmin(seg_dist2(p, T->b, T->c), seg_dist2(p, T->c, T->a)));
-    if (m2 <= dmax * dmax * (1.0 - 1e-15))
-        return true;
-    *d = sqrt(m2);
-    return false;
+    return seg_dist_within(p, T, dmax, d);
 }
 
 /* The largest angle and distance over the samples, with the work that cannot change them
@@ -289,6 +294,49 @@ static v2d sqrt2v(v2d q)
     return r;
 }
 
+/* max_distance of the points P (lane 0, and lane 1 when nl is 2) in turn, the first triangle's
+ * barycentric coordinates v, w and plane distance formed in the two lanes by tri_dist_within's
+ * operations (the same values to the bit), its decisions then taken lane by lane in order. */
+static void max_distance2(shape_max *M, const v2d P[3], int nl, const flat_tri *tris, int ntri)
+{
+    const flat_tri *T = tris;
+    v2d ap[3], t1[3], t2[3], E1[3], E2[3], Nn[3], nn = {T->nn, T->nn};
+    for (int x = 0; x < 3; ++x) {
+        ap[x] = P[x] - (v2d){T->a[x], T->a[x]};
+        E1[x] = (v2d){T->e1[x], T->e1[x]};
+        E2[x] = (v2d){T->e2[x], T->e2[x]};
+        Nn[x] = (v2d){T->n[x], T->n[x]};
+    }
+    cross2v(t1, ap, E2);
+    cross2v(t2, E1, ap);
+    v2d v = dot2v(t1, Nn) / nn, w = dot2v(t2, Nn) / nn, h = dot2v(ap, Nn);
+    for (int l = 0; l < nl; ++l) {
+        double x[3] = {P[0][l], P[1][l], P[2][l]}, d, dt;
+        if (T->nn > 0 && v[l] >= 0 && w[l] >= 0 && v[l] + w[l] <= 1) {
+            double hl = fabs(h[l]);
+            if (hl <= M->dmax * T->len * (1.0 - 1e-15))
+                continue;
+            d = fmin(INFINITY, hl / T->len); /* max_distance's fmin (a NaN gives inf) */
+        } else if (seg_dist_within(x, T, M->dmax, &dt)) {
+            continue;
+        } else {
+            d = fmin(INFINITY, dt);
+        }
+        if (d <= M->dmax)
+            continue;
+        int t = 1;
+        for (; t < ntri; ++t) {
+            if (tri_dist_within(x, tris + t, M->dmax, &dt))
+                break;
+            d = fmin(d, dt);
+            if (d <= M->dmax)
+                break;
+        }
+        if (t == ntri)
+            M->dmax = d;
+    }
+}
+
 /* Two samples (A[l], B[l]) of the shape grid (only lane 0 when nl is 1) from their points P and
  * derivatives D1, D2, up to the largest angle and distance in the two lanes of a vector: each
  * lane the operations of the scalar code (finish, the Phong normal, max_angle's cross and dot
@@ -323,9 +371,8 @@ static void grid_lanes(const v2d A, const v2d B, int nl, const v2d P[3], const v
             max_angle_yx(M, y[l], xd[l]);
         else
             *flat_normal = true;
-        double xl[3] = {P[0][l], P[1][l], P[2][l]};
-        max_distance(M, xl, tris, ntri);
     }
+    max_distance2(M, P, nl, tris, ntri);
 }
 
 /* The shape grid of a quartic triangle, its samples (i / N, j / N), i + j <= N, in the order of

@@ -100,13 +100,21 @@ static void flat_tri_init(flat_tri *t, const double *a, const double *b, const d
  * monotone, is at most dmax (the same for sqrt(m2) against dmax^2). Where the proof does not hold
  * *d is computed by the same operations as always; outside the triangle's prism (v < 0) w is not
  * needed. */
-static bool seg_dist_within(const double p[3], const flat_tri *T, double dmax, double *d)
+/* The same for the nearest of the sides ab, bc, ca, tried from side `first` on (the one across
+ * which p lies outside the triangle): the first within the bound proves the minimum within it,
+ * and the minimum of all three, when needed, does not depend on their order. */
+static bool seg_dist_within(const double p[3], const flat_tri *T, int first, double dmax,
+                            double *d)
 {
-    double m2 = fmin(seg_dist2(p, T->a, T->b),
-                     fmin(seg_dist2(p, T->b, T->c), seg_dist2(p, T->c, T->a)));
-    if (m2 <= dmax * dmax * (1.0 - 1e-15))
-        return true;
-    *d = sqrt(m2);
+    const double *end[4] = {T->a, T->b, T->c, T->a}, bound = dmax * dmax * (1.0 - 1e-15);
+    double d2[3];
+    for (int k = 0; k < 3; ++k) {
+        int e = (first + k) % 3;
+        d2[e] = seg_dist2(p, end[e], end[e + 1]);
+        if (d2[e] <= bound)
+            return true;
+    }
+    *d = sqrt(fmin(d2[0], fmin(d2[1], d2[2])));
     return false;
 }
 
@@ -114,9 +122,11 @@ static bool tri_dist_within(const double p[3], const flat_tri *T, double dmax, d
 {
     double ap[3], t[3];
     sk__sub3(ap, p, T->a);
+    int first = 0;
     if (T->nn > 0) {
         sk__cross3(t, ap, T->e2);
         double v = sk__dot3(t, T->n) / T->nn;
+        first = 2; /* v < 0: outside across ca */
         if (v >= 0) {
             sk__cross3(t, T->e1, ap);
             double w = sk__dot3(t, T->n) / T->nn;
@@ -127,9 +137,10 @@ static bool tri_dist_within(const double p[3], const flat_tri *T, double dmax, d
                 *d = h / T->len;
                 return false;
             }
+            first = w >= 0 ? 1 : 0;
         }
     }
-    return seg_dist_within(p, T, dmax, d);
+    return seg_dist_within(p, T, first, dmax, d);
 }
 
 /* The largest angle and distance over the samples, with the work that cannot change them
@@ -317,7 +328,7 @@ static void max_distance2(shape_max *M, const v2d P[3], int nl, const flat_tri *
             if (hl <= M->dmax * T->len * (1.0 - 1e-15))
                 continue;
             d = fmin(INFINITY, hl / T->len); /* max_distance's fmin (a NaN gives inf) */
-        } else if (seg_dist_within(x, T, M->dmax, &dt)) {
+        } else if (seg_dist_within(x, T, !(v[l] >= 0) ? 2 : w[l] >= 0 ? 1 : 0, M->dmax, &dt)) {
             continue;
         } else {
             d = fmin(INFINITY, dt);

@@ -4,6 +4,8 @@
 #include "core/vec.h"
 
 #include <math.h>
+#include <stdbool.h>
+#include <string.h>
 
 /* Differences along the two parameter directions of patch i's control net (at most
  * SK__PATCH_MAX_POINTS each); returns their weight W: du x dv = W sum_k beta_k g_k with
@@ -46,12 +48,19 @@ void sk__patch_certify(const sk_patch_set *set, size_t pi, const double ref[3], 
     double du[SK__PATCH_MAX_POINTS][3], dv[SK__PATCH_MAX_POINTS][3], axis[3] = {0, 0, 0};
     unsigned nu, nv;
     double W = net_differences(set, pi, du, dv, &nu, &nv);
-    /* the generators g = du_i x dv_j; axis: their sum (Lemma 3: the normal lies in their cone) */
+    /* the generators g = du_i x dv_j; axis: their sum (Lemma 3: the normal lies in their cone).
+     * Kept for the second pass when they fit (VC1's quartic triangles 10 x 10, bicubic quads
+     * 12 x 12), so each cross product is formed once: the same values to the bit. */
+    enum { GEN_MAX = 12 * 12 };
+    double gen[GEN_MAX][3];
+    bool keep = (size_t)nu * nv <= GEN_MAX;
     for (unsigned i = 0; i < nu; ++i)
         for (unsigned j = 0; j < nv; ++j) {
             double g[3];
             sk__cross3(g, du[i], dv[j]);
             sk__add3(axis, axis, g);
+            if (keep)
+                memcpy(gen[i * nv + j], g, sizeof g);
         }
     bool cone = sk__normalize3(axis) != 0.0;
     /* the cone excludes 0 if every generator that is not zero lies strictly on the axis side
@@ -62,7 +71,10 @@ void sk__patch_certify(const sk_patch_set *set, size_t pi, const double ref[3], 
     for (unsigned i = 0; i < nu; ++i)
         for (unsigned j = 0; j < nv; ++j) {
             double g[3];
-            sk__cross3(g, du[i], dv[j]);
+            if (keep)
+                memcpy(g, gen[i * nv + j], sizeof g);
+            else
+                sk__cross3(g, du[i], dv[j]);
             double len2 = sk__dot3(g, g);
             max_len2 = max_len2 > len2 ? max_len2 : len2;
             if (len2 == 0.0) {

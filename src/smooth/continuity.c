@@ -64,31 +64,56 @@ typedef struct side_rows {
     double row0[5][3], row1[5][3];
 } side_rows;
 
-static void side_rows_of(const sk_smooth *s, uint32_t f, int side, side_rows *r)
+/* the net indices of side_rows_of for the three sides of a quartic triangle, made once per
+ * block of edges by its own index arithmetic (tri_side_index_init) */
+typedef struct tri_side_index {
+    unsigned row0[3][5], row1[3][4];
+} tri_side_index;
+
+static void tri_rows_index(int n, int side, unsigned *i0, unsigned *i1)
+{
+    for (int t = 0; t <= n; ++t) {
+        /* barycentric multi-index (i, j, k) of the boundary point t and of the inner point */
+        int I0[3], I1[3];
+        I0[0] = n - t, I0[1] = t, I0[2] = 0;       /* relabelled: side 0 from corner 0 to 1 */
+        I1[0] = n - 1 - t, I1[1] = t, I1[2] = 1;   /* next row toward corner 2 */
+        /* relabelled corner c is the original corner (c + side) mod 3 */
+        int J0[3], J1[3];
+        for (int c = 0; c < 3; ++c) {
+            J0[(c + side) % 3] = I0[c];
+            J1[(c + side) % 3] = I1[c];
+        }
+        i0[t] = sk_tri_index((unsigned)n, (unsigned)J0[1], (unsigned)J0[2]);
+        if (t < n)
+            i1[t] = sk_tri_index((unsigned)n, (unsigned)J1[1], (unsigned)J1[2]);
+    }
+}
+
+static void tri_side_index_init(tri_side_index *x)
+{
+    for (int side = 0; side < 3; ++side)
+        tri_rows_index(4, side, x->row0[side], x->row1[side]);
+}
+
+static void side_rows_of(const sk_smooth *s, const tri_side_index *x4, uint32_t f, int side,
+                         side_rows *r)
 {
     const sk_patch *pa = &s->surface.patches[f];
     const double *b = sk_patch_cp(&s->surface, f);
     r->kind = pa->kind;
     if (pa->kind == SK_PATCH_TRIANGLE) {
         int n = pa->degree;
+        unsigned i0[SK_PATCH_MAX_DEGREE + 1], i1[SK_PATCH_MAX_DEGREE + 1];
+        const unsigned *row0 = i0, *row1 = i1;
+        if (n == 4)
+            row0 = x4->row0[side], row1 = x4->row1[side];
+        else
+            tri_rows_index(n, side, i0, i1);
         r->n = n;
         for (int t = 0; t <= n; ++t) {
-            /* barycentric multi-index (i, j, k) of the boundary point t and of the inner point */
-            int I0[3], I1[3];
-            I0[0] = n - t, I0[1] = t, I0[2] = 0;       /* relabelled: side 0 from corner 0 to 1 */
-            I1[0] = n - 1 - t, I1[1] = t, I1[2] = 1;   /* next row toward corner 2 */
-            /* relabelled corner c is the original corner (c + side) mod 3 */
-            int J0[3], J1[3];
-            for (int c = 0; c < 3; ++c) {
-                J0[(c + side) % 3] = I0[c];
-                J1[(c + side) % 3] = I1[c];
-            }
-            memcpy(r->row0[t], b + 3 * sk_tri_index((unsigned)n, (unsigned)J0[1], (unsigned)J0[2]),
-                   3 * sizeof(double));
+            memcpy(r->row0[t], b + 3 * row0[t], 3 * sizeof(double));
             if (t < n)
-                memcpy(r->row1[t],
-                       b + 3 * sk_tri_index((unsigned)n, (unsigned)J1[1], (unsigned)J1[2]),
-                       3 * sizeof(double));
+                memcpy(r->row1[t], b + 3 * row1[t], 3 * sizeof(double));
         }
     } else {
         r->n = 3;
@@ -200,6 +225,64 @@ static void side_eval(const side_rows *r, const side_diffs *d, const bern_tab *t
     }
 }
 
+/* Two samples i0, i1 of a side at once, one in each lane of a vector: side_eval_b's sums,
+ * cross product, length and scaling in each lane, in their order, so the same values to the bit
+ * (the tabled degrees 3 and 4 only). */
+typedef double v2d __attribute__((vector_size(16)));
+
+static inline __attribute__((always_inline)) void side_eval_2b(
+    const side_rows *r, const side_diffs *d, const int n, const double *Ba, const double *B1a,
+    const double *Bb, const double *B1b, v2d x[3], v2d nrm[3])
+{
+    v2d zero = {0.0, 0.0}, T[3] = {zero, zero, zero}, X[3] = {zero, zero, zero};
+    x[0] = x[1] = x[2] = zero;
+    for (int j = 0; j <= n; ++j) {
+        v2d Bj = {Ba[j], Bb[j]};
+        for (int c = 0; c < 3; ++c)
+            x[c] += Bj * (v2d){r->row0[j][c], r->row0[j][c]};
+    }
+    for (int j = 0; j < n; ++j) {
+        v2d Bj = {B1a[j], B1b[j]};
+        for (int c = 0; c < 3; ++c)
+            T[c] += Bj * (v2d){d->along[j][c], d->along[j][c]};
+    }
+    if (r->kind == SK_PATCH_TRIANGLE) {
+        for (int j = 0; j < n; ++j) {
+            v2d Bj = {B1a[j], B1b[j]};
+            for (int c = 0; c < 3; ++c)
+                X[c] += Bj * (v2d){d->across[j][c], d->across[j][c]};
+        }
+    } else {
+        for (int j = 0; j <= n; ++j) {
+            v2d Bj = {Ba[j], Bb[j]};
+            for (int c = 0; c < 3; ++c)
+                X[c] += Bj * (v2d){d->across[j][c], d->across[j][c]};
+        }
+    }
+    v2d c0 = T[1] * X[2] - T[2] * X[1], c1 = T[2] * X[0] - T[0] * X[2],
+        c2 = T[0] * X[1] - T[1] * X[0];
+    v2d q = c0 * c0 + c1 * c1 + c2 * c2, len = {sqrt(q[0]), sqrt(q[1])};
+    v2d inv = (v2d){1.0, 1.0} / len, s0 = c0 * inv, s1 = c1 * inv, s2 = c2 * inv;
+    nrm[0] = (v2d){len[0] > 0.0 ? s0[0] : 0.0, len[1] > 0.0 ? s0[1] : 0.0};
+    nrm[1] = (v2d){len[0] > 0.0 ? s1[0] : 0.0, len[1] > 0.0 ? s1[1] : 0.0};
+    nrm[2] = (v2d){len[0] > 0.0 ? s2[0] : 0.0, len[1] > 0.0 ? s2[1] : 0.0};
+}
+
+/* samples i and i + 1 of the side (at 1 - t when rev) in the lanes; false where not tabled */
+static bool side_eval2(const side_rows *r, const side_diffs *d, const bern_tab *tb, unsigned i,
+                       int rev, v2d x[3], v2d nrm[3])
+{
+    if (tb->K > TAB_MAX_K || (r->n != 3 && r->n != 4))
+        return false;
+    if (r->n == 4)
+        side_eval_2b(r, d, 4, tb->B[1][rev][i], tb->B1[1][rev][i], tb->B[1][rev][i + 1],
+                     tb->B1[1][rev][i + 1], x, nrm);
+    else
+        side_eval_2b(r, d, 3, tb->B[0][rev][i], tb->B1[0][rev][i], tb->B[0][rev][i + 1],
+                     tb->B1[0][rev][i + 1], x, nrm);
+    return true;
+}
+
 /* |n| == 0 for n a unit vector or zero (a unit vector's largest component is over 0.5, so its
  * squares do not underflow): no square root */
 static bool is_zero3(const double n[3])
@@ -216,6 +299,8 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     b->min_crease_jump = 180.0;
     bern_tab tb;
     bern_tab_init(&tb, K);
+    tri_side_index x4;
+    tri_side_index_init(&x4);
     for (long e = e0; e < e1; ++e) {
         uint32_t h = (uint32_t)(2 * e), o = h + 1;
         uint32_t f = m->h_face[h], g = m->h_face[o];
@@ -228,18 +313,49 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
             ++b->ncrease;
         side_rows rf, rg;
         side_diffs df, dg;
-        side_rows_of(s, f, side_of(m, f, h), &rf);
-        side_rows_of(s, g, side_of(m, g, o), &rg);
+        side_rows_of(s, &x4, f, side_of(m, f, h), &rf);
+        side_rows_of(s, &x4, g, side_of(m, g, o), &rg);
         side_diffs_of(&rf, &df);
         side_diffs_of(&rg, &dg);
         double local_max = 0.0;
+        /* samples i and i + 1 in the lanes: the gap and the jump's cross and dot products as
+         * sk__dist3 and sk__angle3 form them in each lane (the same values to the bit) */
+        v2d N1[3], N2[3], G, Y, XD;
+        bool two = false;
         for (unsigned i = 0; i <= K; ++i) {
-            double x1[3], x2[3], n1[3], n2[3];
-            side_eval(&rf, &df, &tb, i, 0, x1, n1);
-            side_eval(&rg, &dg, &tb, i, 1, x2, n2);
-            double gap = sk__dist3(x1, x2), jump = sk__angle3(n1, n2) * RAD2DEG;
-            if (is_zero3(n1) || is_zero3(n2))
-                jump = 180.0; /* a vanishing normal on an edge counts as a full jump */
+            double n1[3], n2[3], gap, y, xd;
+            if (i % 2 == 0) {
+                v2d X1[3], X2[3], dd[3], cc[3];
+                two = i + 1 <= K && side_eval2(&rf, &df, &tb, i, 0, X1, N1) &&
+                      side_eval2(&rg, &dg, &tb, i, 1, X2, N2);
+                if (two) {
+                    for (int c = 0; c < 3; ++c)
+                        dd[c] = X1[c] - X2[c];
+                    v2d q = dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2];
+                    G = (v2d){sqrt(q[0]), sqrt(q[1])};
+                    cc[0] = N1[1] * N2[2] - N1[2] * N2[1];
+                    cc[1] = N1[2] * N2[0] - N1[0] * N2[2];
+                    cc[2] = N1[0] * N2[1] - N1[1] * N2[0];
+                    q = cc[0] * cc[0] + cc[1] * cc[1] + cc[2] * cc[2];
+                    Y = (v2d){sqrt(q[0]), sqrt(q[1])};
+                    XD = N1[0] * N2[0] + N1[1] * N2[1] + N1[2] * N2[2];
+                }
+            }
+            if (two) {
+                int l = (int)(i % 2);
+                for (int c = 0; c < 3; ++c)
+                    n1[c] = N1[c][l], n2[c] = N2[c][l];
+                gap = G[l], y = Y[l], xd = XD[l];
+            } else {
+                double x1[3], x2[3], cc[3];
+                side_eval(&rf, &df, &tb, i, 0, x1, n1);
+                side_eval(&rg, &dg, &tb, i, 1, x2, n2);
+                gap = sk__dist3(x1, x2);
+                sk__cross3(cc, n1, n2);
+                y = sk__norm3(cc), xd = sk__dot3(n1, n2);
+            }
+            /* a vanishing normal on an edge counts as a full jump */
+            double jump = is_zero3(n1) || is_zero3(n2) ? 180.0 : atan2(y, xd) * RAD2DEG;
             b->max_gap = b->max_gap > gap ? b->max_gap : gap;
             if (crease) {
                 /* G0 by design: the gap counts, the normal jump only in the crease figures */

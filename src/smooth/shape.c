@@ -92,21 +92,55 @@ static void flat_tri_init(flat_tri *t, const double *a, const double *b, const d
     t->len = sqrt(t->nn);
 }
 
-/* distance from p to the triangle (a segment or a point when it is degenerate) */
-static double tri_dist(const double p[3], const flat_tri *T)
+/* The distance from p to the triangle (a segment or a point when it is degenerate), or true
+ * without it where it is proven at most dmax: its value could then not raise the largest so far.
+ * The proof compares before the division or the square root: with u the unit roundoff, fl(dmax
+ * len) (1 - 1e-15) rounded is below dmax len (the factor outweighs the two roundings, 2u =
+ * 2.2e-16), so h at most that gives h / len < dmax, and the rounded quotient, rounding being
+ * monotone, is at most dmax (the same for sqrt(m2) against dmax^2). Where the proof does not hold
+ * *d is computed by the same operations as always; outside the triangle's prism (v < 0) w is not
+ * needed. */
+/* The same for the nearest of the sides ab, bc, ca, tried from side `first` on (the one across
+ * which p lies outside the triangle): the first within the bound proves the minimum within it,
+ * and the minimum of all three, when needed, does not depend on their order. */
+static bool seg_dist_within(const double p[3], const flat_tri *T, int first, double dmax,
+                            double *d)
+{
+    const double *end[4] = {T->a, T->b, T->c, T->a}, bound = dmax * dmax * (1.0 - 1e-15);
+    double d2[3];
+    for (int k = 0; k < 3; ++k) {
+        int e = (first + k) % 3;
+        d2[e] = seg_dist2(p, end[e], end[e + 1]);
+        if (d2[e] <= bound)
+            return true;
+    }
+    *d = sqrt(fmin(d2[0], fmin(d2[1], d2[2])));
+    return false;
+}
+
+static bool tri_dist_within(const double p[3], const flat_tri *T, double dmax, double *d)
 {
     double ap[3], t[3];
     sk__sub3(ap, p, T->a);
+    int first = 0;
     if (T->nn > 0) {
         sk__cross3(t, ap, T->e2);
         double v = sk__dot3(t, T->n) / T->nn;
-        sk__cross3(t, T->e1, ap);
-        double w = sk__dot3(t, T->n) / T->nn;
-        if (v >= 0 && w >= 0 && v + w <= 1)
-            return fabs(sk__dot3(ap, T->n)) / T->len;
+        first = 2; /* v < 0: outside across ca */
+        if (v >= 0) {
+            sk__cross3(t, T->e1, ap);
+            double w = sk__dot3(t, T->n) / T->nn;
+            if (w >= 0 && v + w <= 1) {
+                double h = fabs(sk__dot3(ap, T->n));
+                if (h <= dmax * T->len * (1.0 - 1e-15))
+                    return true;
+                *d = h / T->len;
+                return false;
+            }
+            first = w >= 0 ? 1 : 0;
+        }
     }
-    return sqrt(fmin(seg_dist2(p, T->a, T->b),
-                     fmin(seg_dist2(p, T->b, T->c), seg_dist2(p, T->c, T->a))));
+    return seg_dist_within(p, T, first, dmax, d);
 }
 
 /* The largest angle and distance over the samples, with the work that cannot change them
@@ -120,11 +154,8 @@ typedef struct shape_max {
     bool any_angle;
 } shape_max;
 
-static void max_angle(shape_max *M, const double nrm[3], const double phong[3])
+static void max_angle_yx(shape_max *M, double y, double x)
 {
-    double c[3];
-    sk__cross3(c, nrm, phong);
-    double y = sk__norm3(c), x = sk__dot3(nrm, phong);
     if (M->any_angle &&
         y * M->xm - x * M->ym < -1e-9 * (fabs(y * M->xm) + fabs(x * M->ym)))
         return;
@@ -137,11 +168,21 @@ static void max_angle(shape_max *M, const double nrm[3], const double phong[3])
     M->any_angle = true;
 }
 
+static void max_angle(shape_max *M, const double nrm[3], const double phong[3])
+{
+    double c[3];
+    sk__cross3(c, nrm, phong);
+    max_angle_yx(M, sk__norm3(c), sk__dot3(nrm, phong));
+}
+
 static void max_distance(shape_max *M, const double x[3], const flat_tri *tris, int ntri)
 {
     double d = INFINITY;
     for (int t = 0; t < ntri; ++t) {
-        d = fmin(d, tri_dist(x, tris + t));
+        double dt;
+        if (tri_dist_within(x, tris + t, M->dmax, &dt))
+            return;
+        d = fmin(d, dt);
         if (d <= M->dmax)
             return;
     }
@@ -160,7 +201,7 @@ typedef struct row_eval {
     const sk_patch_set *set;
     size_t p;
     const double *cp;
-    int mode; /* 0: sk_patch_eval, 1: quartic triangle, 2: bicubic */
+    int mode; /* 0: sk_patch_eval, 2: bicubic (quartic triangles: tri4_grid) */
     double a, r[4][3], dr[4][3];
 } row_eval;
 
@@ -169,9 +210,7 @@ static void row_eval_start(row_eval *R, const sk_patch_set *set, size_t p, doubl
     const sk_patch *pa = &set->patches[p];
     R->set = set, R->p = p, R->a = a, R->cp = sk_patch_cp(set, p);
     R->mode = 0;
-    if (pa->kind == SK_PATCH_TRIANGLE && pa->degree == 4)
-        R->mode = 1;
-    else if (pa->kind != SK_PATCH_TRIANGLE && pa->degree == 3 && pa->degree_v == 3)
+    if (pa->kind != SK_PATCH_TRIANGLE && pa->degree == 3 && pa->degree_v == 3)
         R->mode = 2;
     if (R->mode != 2)
         return;
@@ -203,23 +242,22 @@ static double finish(const double D1[3], const double D2[3], double normal[3])
     return len;
 }
 
-/* de Casteljau of the quartic triangle at (v, w[0]) and (v, w[1]) (tri_eval_n of eval.c) */
-static void tri4_eval2(const double *cp, double v, const double w[2], double pt[2][3],
-                       double d1[2][3], double d2[2][3])
+/* de Casteljau of the quartic triangle at (V[0], W[0]) and (V[1], W[1]) (tri_eval_n of eval.c),
+ * from its control points cpv each in both lanes, point and derivatives as two lanes per
+ * coordinate */
+static void tri4_eval2v(const v2d *cpv, v2d V, v2d W, v2d pt[3], v2d d1[3], v2d d2[3])
 {
     const unsigned n = 4;
-    v2d U = {1.0 - v - w[0], 1.0 - v - w[1]}, V = {v, v}, W = {w[0], w[1]};
+    v2d one = {1.0, 1.0}, U = one - V - W;
     v2d net[3 * 10], tmp[3 * 10];
     for (unsigned k = 0; k < n; ++k) { /* degree 4 -> 3 from the control points */
         unsigned row = sk_tri_index(n, 0, k), up = sk_tri_index(n, 0, k + 1);
         unsigned orow = sk_tri_index(n - 1, 0, k);
         for (unsigned j = 0; j + k < n; ++j) {
-            const double *a = cp + 3 * (row + j), *b = a + 3, *c = cp + 3 * (up + j);
+            const v2d *a = cpv + 3 * (row + j), *b = a + 3, *c = cpv + 3 * (up + j);
             v2d *o = net + 3 * (orow + j);
-            for (int x = 0; x < 3; ++x) {
-                v2d A = {a[x], a[x]}, B = {b[x], b[x]}, C = {c[x], c[x]};
-                o[x] = U * A + V * B + W * C;
-            }
+            for (int x = 0; x < 3; ++x)
+                o[x] = U * a[x] + V * b[x] + W * c[x];
         }
     }
     v2d *src = net, *dst = tmp;
@@ -241,10 +279,169 @@ static void tri4_eval2(const double *cp, double v, const double w[2], double pt[
               *b001 = src + 3 * sk_tri_index(1, 0, 1);
     v2d N = {(double)n, (double)n};
     for (int x = 0; x < 3; ++x) {
-        v2d P = U * b100[x] + V * b010[x] + W * b001[x];
-        v2d E1 = N * (b010[x] - b100[x]), E2 = N * (b001[x] - b100[x]);
-        for (int l = 0; l < 2; ++l)
-            pt[l][x] = P[l], d1[l][x] = E1[l], d2[l][x] = E2[l];
+        pt[x] = U * b100[x] + V * b010[x] + W * b001[x];
+        d1[x] = N * (b010[x] - b100[x]);
+        d2[x] = N * (b001[x] - b100[x]);
+    }
+}
+
+/* cross product and dot product of two-lane vectors (sk__cross3, sk__dot3 in each lane) */
+static void cross2v(v2d r[3], const v2d a[3], const v2d b[3])
+{
+    v2d x = a[1] * b[2] - a[2] * b[1];
+    v2d y = a[2] * b[0] - a[0] * b[2];
+    v2d z = a[0] * b[1] - a[1] * b[0];
+    r[0] = x, r[1] = y, r[2] = z;
+}
+
+static v2d dot2v(const v2d a[3], const v2d b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static v2d sqrt2v(v2d q)
+{
+    v2d r = {sqrt(q[0]), sqrt(q[1])};
+    return r;
+}
+
+/* max_distance of the points P (lane 0, and lane 1 when nl is 2) in turn, the first triangle's
+ * barycentric coordinates v, w and plane distance formed in the two lanes by tri_dist_within's
+ * operations (the same values to the bit), its decisions then taken lane by lane in order. */
+static void max_distance2(shape_max *M, const v2d P[3], int nl, const flat_tri *tris, int ntri)
+{
+    const flat_tri *T = tris;
+    v2d ap[3], t1[3], t2[3], E1[3], E2[3], Nn[3], nn = {T->nn, T->nn};
+    for (int x = 0; x < 3; ++x) {
+        ap[x] = P[x] - (v2d){T->a[x], T->a[x]};
+        E1[x] = (v2d){T->e1[x], T->e1[x]};
+        E2[x] = (v2d){T->e2[x], T->e2[x]};
+        Nn[x] = (v2d){T->n[x], T->n[x]};
+    }
+    cross2v(t1, ap, E2);
+    cross2v(t2, E1, ap);
+    v2d v = dot2v(t1, Nn) / nn, w = dot2v(t2, Nn) / nn, h = dot2v(ap, Nn);
+    for (int l = 0; l < nl; ++l) {
+        double x[3] = {P[0][l], P[1][l], P[2][l]}, d, dt;
+        if (T->nn > 0 && v[l] >= 0 && w[l] >= 0 && v[l] + w[l] <= 1) {
+            double hl = fabs(h[l]);
+            if (hl <= M->dmax * T->len * (1.0 - 1e-15))
+                continue;
+            d = fmin(INFINITY, hl / T->len); /* max_distance's fmin (a NaN gives inf) */
+        } else if (seg_dist_within(x, T, !(v[l] >= 0) ? 2 : w[l] >= 0 ? 1 : 0, M->dmax, &dt)) {
+            continue;
+        } else {
+            d = fmin(INFINITY, dt);
+        }
+        if (d <= M->dmax)
+            continue;
+        int t = 1;
+        for (; t < ntri; ++t) {
+            if (tri_dist_within(x, tris + t, M->dmax, &dt))
+                break;
+            d = fmin(d, dt);
+            if (d <= M->dmax)
+                break;
+        }
+        if (t == ntri)
+            M->dmax = d;
+    }
+}
+
+/* Two samples (A[l], B[l]) of the shape grid (only lane 0 when nl is 1) from their points P and
+ * derivatives D1, D2, up to the largest angle and distance in the two lanes of a vector: each
+ * lane the operations of the scalar code (finish, the Phong normal, max_angle's cross and dot
+ * products) in their order, so the same values to the bit. */
+static void grid_lanes(const v2d A, const v2d B, int nl, const v2d P[3], const v2d D1[3],
+                       const v2d D2[3], const double *const Nv[4], unsigned nc,
+                       const flat_tri *tris, int ntri, shape_max *M, bool *flat_normal)
+{
+    v2d one = {1.0, 1.0}, zero = {0.0, 0.0}, n[3], nrm[3], ph[3], c[3], w[4];
+    cross2v(n, D1, D2); /* finish */
+    v2d len = sqrt2v(dot2v(n, n)), inv = one / len;
+    for (int x = 0; x < 3; ++x) {
+        v2d s = n[x] * inv, r = {len[0] > 0.0 ? s[0] : 0.0, len[1] > 0.0 ? s[1] : 0.0};
+        nrm[x] = r;
+    }
+    if (nc == 3) /* the Phong normal: linear over a triangle, bilinear over a quad */
+        w[0] = one - A - B, w[1] = A, w[2] = B;
+    else
+        w[0] = (one - A) * (one - B), w[1] = A * (one - B), w[2] = A * B, w[3] = (one - A) * B;
+    for (int q = 0; q < 3; ++q) {
+        ph[q] = zero;
+        for (unsigned k = 0; k < nc; ++k) {
+            v2d Nk = {Nv[k][q], Nv[k][q]};
+            ph[q] += w[k] * Nk;
+        }
+    }
+    v2d pp = dot2v(ph, ph);
+    cross2v(c, nrm, ph);
+    v2d y = sqrt2v(dot2v(c, c)), xd = dot2v(nrm, ph);
+    for (int l = 0; l < nl; ++l) {
+        if (len[l] > 0 && pp[l] > 0)
+            max_angle_yx(M, y[l], xd[l]);
+        else
+            *flat_normal = true;
+    }
+    max_distance2(M, P, nl, tris, ntri);
+}
+
+/* The shape grid of a quartic triangle, its samples (i / N, j / N), i + j <= N, in the order of
+ * sk__patch_shape's loops, taken two at a time (across rows too); the largest angle and distance
+ * do not depend on the order of the samples. */
+static void tri4_grid(const double *cp, unsigned N, const double *const Nv[4],
+                      const flat_tri *tris, int ntri, shape_max *M, bool *flat_normal)
+{
+    unsigned total = (N + 1) * (N + 2) / 2, k = 0, i = 0, j = 0;
+    v2d cpv[3 * 15]; /* the net in both lanes, once per patch */
+    for (int q = 0; q < 3 * 15; ++q)
+        cpv[q] = (v2d){cp[q], cp[q]};
+    while (k < total) {
+        double a2[2], b2[2];
+        int nl = k + 1 < total ? 2 : 1;
+        for (int l = 0; l < 2; ++l) {
+            if (l < nl) {
+                a2[l] = (double)i / N, b2[l] = (double)j / N;
+                if (++j > N - i)
+                    j = 0, ++i;
+            } else {
+                a2[l] = a2[0], b2[l] = b2[0];
+            }
+        }
+        k += (unsigned)nl;
+        v2d A = {a2[0], a2[1]}, B = {b2[0], b2[1]}, P[3], D1[3], D2[3];
+        tri4_eval2v(cpv, A, B, P, D1, D2);
+        grid_lanes(A, B, nl, P, D1, D2, Nv, 3, tris, ntri, M, flat_normal);
+    }
+}
+
+/* The shape grid of a bicubic patch, row a = i / N at a time (its net summed in s once, by
+ * row_eval_start), two samples of the row at once: the sums of row_eval2 in the lanes. */
+static void bicubic_grid(const sk_patch_set *set, size_t p, unsigned N, const double *const Nv[4],
+                         const flat_tri *tris, int ntri, shape_max *M, bool *flat_normal)
+{
+    for (unsigned i = 0; i <= N; ++i) {
+        row_eval R;
+        row_eval_start(&R, set, p, (double)i / N);
+        for (unsigned j = 0; j <= N; j += 2) {
+            int nl = j + 1 <= N ? 2 : 1;
+            double b2[2] = {(double)j / N, (double)(nl == 2 ? j + 1 : j) / N};
+            double Bt[2][4], dBt[2][4];
+            for (int l = 0; l < 2; ++l)
+                sk__bernstein_n(3, b2[l], Bt[l], dBt[l]);
+            v2d zero = {0.0, 0.0}, A = {R.a, R.a}, B = {b2[0], b2[1]};
+            v2d P[3] = {zero, zero, zero}, S[3] = {zero, zero, zero}, T[3] = {zero, zero, zero};
+            for (unsigned q = 0; q <= 3; ++q) {
+                v2d Bq = {Bt[0][q], Bt[1][q]}, dBq = {dBt[0][q], dBt[1][q]};
+                for (int x = 0; x < 3; ++x) {
+                    v2d r = {R.r[q][x], R.r[q][x]}, dr = {R.dr[q][x], R.dr[q][x]};
+                    P[x] += Bq * r;
+                    S[x] += Bq * dr;
+                    T[x] += dBq * r;
+                }
+            }
+            grid_lanes(A, B, nl, P, S, T, Nv, 4, tris, ntri, M, flat_normal);
+        }
     }
 }
 
@@ -252,13 +449,6 @@ static void tri4_eval2(const double *cp, double v, const double w[2], double pt[
 static void row_eval2(const row_eval *R, const double b[2], int two, double x[2][3],
                       double nrm[2][3], double len[2])
 {
-    if (R->mode == 1) {
-        double D1[2][3], D2[2][3];
-        tri4_eval2(R->cp, R->a, b, x, D1, D2);
-        for (int l = 0; l < 1 + two; ++l)
-            len[l] = finish(D1[l], D2[l], nrm[l]);
-        return;
-    }
     for (int l = 0; l < 1 + two; ++l) {
         if (R->mode == 0) {
             len[l] = sk_patch_eval(R->set, R->p, R->a, b[l], x[l], NULL, NULL, nrm[l]);
@@ -313,7 +503,13 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
         flat_tri_init(tris + t, X[tri[t][0]], X[tri[t][1]], X[tri[t][2]]);
     shape_max M = {0};
     bool flat_normal = false; /* 180: a vanishing normal somewhere */
-    for (unsigned i = 0; i <= N; ++i) {
+    bool tri4 = pa->kind == SK_PATCH_TRIANGLE && pa->degree == 4;
+    bool bicubic = pa->kind != SK_PATCH_TRIANGLE && pa->degree == 3 && pa->degree_v == 3;
+    if (tri4)
+        tri4_grid(sk_patch_cp(&s->surface, p), N, Nv, tris, ntri, &M, &flat_normal);
+    else if (bicubic)
+        bicubic_grid(&s->surface, p, N, Nv, tris, ntri, &M, &flat_normal);
+    for (unsigned i = 0; !tri4 && !bicubic && i <= N; ++i) {
         double a = (double)i / N, b2[2], x2[2][3], nrm2[2][3], len2[2];
         unsigned nj = pa->kind == SK_PATCH_TRIANGLE ? N - i + 1 : N + 1;
         row_eval R;

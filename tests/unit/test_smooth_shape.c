@@ -5,6 +5,7 @@
 #include "testutil.h"
 #include "surfkit/render.h"
 #include "surfkit/smooth.h"
+#include "smooth/smooth_internal.h"
 
 #include <cairo/cairo.h>
 #include <math.h>
@@ -289,6 +290,169 @@ static void test_rough_scan(void **state)
 }
 
 /* ---------------------------------------------------------------------------------------------
+ * The shape grid against a plain reference: every sample by sk_patch_eval, every angle by atan2,
+ * every distance to every flat triangle in full (no sample skipped, no division or square root
+ * left out, no lanes). The report's shape grid skips work that it proves cannot change the
+ * largest angle or distance; its figures must be these to the bit on every patch.
+ * ------------------------------------------------------------------------------------------- */
+
+static double ref_seg2(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3], q[3];
+    for (int k = 0; k < 3; ++k)
+        ab[k] = b[k] - a[k], ap[k] = p[k] - a[k];
+    double ll = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    double t = ll > 0 ? (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / ll : 0.0;
+    t = fmin(fmax(t, 0.0), 1.0);
+    for (int k = 0; k < 3; ++k)
+        q[k] = a[k] + t * ab[k] - p[k];
+    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+}
+
+static void ref_cross(double r[3], const double a[3], const double b[3])
+{
+    double x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2],
+           z = a[0] * b[1] - a[1] * b[0];
+    r[0] = x, r[1] = y, r[2] = z;
+}
+
+static double ref_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double ref_tri_dist(const double p[3], const double *a, const double *b, const double *c)
+{
+    double e1[3], e2[3], n[3], ap[3], t[3];
+    for (int k = 0; k < 3; ++k)
+        e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], ap[k] = p[k] - a[k];
+    ref_cross(n, e1, e2);
+    double nn = ref_dot(n, n), len = sqrt(nn);
+    if (nn > 0) {
+        ref_cross(t, ap, e2);
+        double v = ref_dot(t, n) / nn;
+        ref_cross(t, e1, ap);
+        double w = ref_dot(t, n) / nn;
+        if (v >= 0 && w >= 0 && v + w <= 1)
+            return fabs(ref_dot(ap, n)) / len;
+    }
+    return sqrt(fmin(ref_seg2(p, a, b), fmin(ref_seg2(p, b, c), ref_seg2(p, c, a))));
+}
+
+static bool ref_deleted(const sk_smooth *s, uint32_t a, uint32_t b)
+{
+    for (size_t i = 0; i < s->num_deleted; ++i)
+        if ((s->deleted[2 * i] == a && s->deleted[2 * i + 1] == b) ||
+            (s->deleted[2 * i] == b && s->deleted[2 * i + 1] == a))
+            return true;
+    return false;
+}
+
+static void ref_shape(const sk_smooth *s, size_t p, unsigned N, double *over, double *fair)
+{
+    const sk_patch *pa = &s->surface.patches[p];
+    unsigned nc = sk_patch_num_corners(pa);
+    const double *X[4], *Nv[4];
+    for (unsigned i = 0; i < nc; ++i) {
+        X[i] = s->config->positions + 3 * (size_t)pa->corner_ids[i];
+        Nv[i] = sk__corner_normal(s, p, i);
+    }
+    int tri[4][3] = {{0, 1, 2}}, ntri = 1;
+    double longest = 0.0;
+    for (unsigned i = 0; i < nc; ++i) {
+        double d[3];
+        for (int k = 0; k < 3; ++k)
+            d[k] = X[i][k] - X[(i + 1) % nc][k];
+        longest = fmax(longest, sqrt(ref_dot(d, d)));
+    }
+    if (nc == 4) {
+        bool d02 = ref_deleted(s, pa->corner_ids[0], pa->corner_ids[2]);
+        bool d13 = ref_deleted(s, pa->corner_ids[1], pa->corner_ids[3]);
+        ntri = 0;
+        for (int split = 0; split < 2; ++split) {
+            bool use = split == 0 ? (d02 || !d13) : (d13 || !d02);
+            if (!use)
+                continue;
+            static const int sp[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{0, 1, 3}, {1, 2, 3}}};
+            memcpy(tri[ntri], sp[split], sizeof sp[split]);
+            ntri += 2;
+            unsigned i = split == 0 ? 0 : 1;
+            double d[3];
+            for (int k = 0; k < 3; ++k)
+                d[k] = X[i][k] - X[i + 2][k];
+            longest = fmax(longest, sqrt(ref_dot(d, d)));
+        }
+    }
+    double amax = 0.0, dmax = 0.0;
+    bool any = false, flat = false;
+    for (unsigned i = 0; i <= N; ++i) {
+        unsigned nj = pa->kind == SK_PATCH_TRIANGLE ? N - i + 1 : N + 1;
+        for (unsigned j = 0; j < nj; ++j) {
+            double a = (double)i / N, b = (double)j / N, x[3], nrm[3], w[4], ph[3] = {0, 0, 0};
+            double len = sk_patch_eval(&s->surface, p, a, b, x, NULL, NULL, nrm);
+            if (pa->kind == SK_PATCH_TRIANGLE)
+                w[0] = 1.0 - a - b, w[1] = a, w[2] = b;
+            else
+                w[0] = (1 - a) * (1 - b), w[1] = a * (1 - b), w[2] = a * b, w[3] = (1 - a) * b;
+            for (unsigned k = 0; k < nc; ++k)
+                for (int q = 0; q < 3; ++q)
+                    ph[q] += w[k] * Nv[k][q];
+            if (len > 0 && ref_dot(ph, ph) > 0) {
+                double c[3];
+                ref_cross(c, nrm, ph);
+                double ang = atan2(sqrt(ref_dot(c, c)), ref_dot(nrm, ph)) * (180.0 / M_PI);
+                if (!any || ang > amax)
+                    amax = ang;
+                any = true;
+            } else {
+                flat = true;
+            }
+            double d = INFINITY;
+            for (int t = 0; t < ntri; ++t)
+                d = fmin(d, ref_tri_dist(x, X[tri[t][0]], X[tri[t][1]], X[tri[t][2]]));
+            dmax = fmax(dmax, d);
+        }
+    }
+    *over = longest > 0 ? dmax / longest : (dmax > 0 ? INFINITY : 0.0);
+    *fair = fmax(amax, flat ? 180.0 : 0.0);
+}
+
+static void test_grid_matches_reference(void **state)
+{
+    (void)state;
+    const char *names[] = {"cow.off", "fandisk.off", "lion-head.off"};
+    for (size_t mi = 0; mi < sizeof names / sizeof *names; ++mi) {
+        if (mi > 0 && getenv("SK_TEST_QUICK"))
+            break;
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(names[mi]));
+        sk_smooth_opts o = {0};
+        o.allow_split = true; /* fandisk: an odd closed mesh */
+        sk_smooth *s = NULL;
+        sk_error err = {0};
+        if (sk_smooth_build(m, &o, &s, &err) != SK_OK)
+            fail_msg("%s: %s", names[mi], err.message);
+        sk_mesh_destroy(&m);
+        size_t np = s->surface.count, quads = 0;
+        sk_patch_shape *sh = malloc(np * sizeof *sh);
+        assert_int_equal(sk_smooth_patch_shapes(s, 0, sh, &err), SK_OK);
+        for (size_t p = 0; p < np; ++p) {
+            double over, fair;
+            ref_shape(s, p, 12, &over, &fair);
+            quads += s->surface.patches[p].kind != SK_PATCH_TRIANGLE;
+            if (!(sh[p].overshoot == over) || !(sh[p].fairness_deg == fair))
+                fail_msg("%s patch %zu: overshoot %.17g (reference %.17g), fairness %.17g "
+                         "(reference %.17g)", names[mi], p, sh[p].overshoot, over,
+                         sh[p].fairness_deg, fair);
+        }
+        print_message("%s: %zu patches (%zu quads) match the reference grid to the bit\n",
+                      names[mi], np, quads);
+        assert_true(quads > 0);
+        free(sh);
+        sk_smooth_destroy(&s);
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
  * Pictures
  * ------------------------------------------------------------------------------------------- */
 
@@ -410,6 +574,7 @@ int main(void)
         cmocka_unit_test(test_bumped_quad),
         cmocka_unit_test(test_sphere),
         cmocka_unit_test(test_rough_scan),
+        cmocka_unit_test(test_grid_matches_reference),
         cmocka_unit_test(test_pictures),
         cmocka_unit_test(test_patch_map),
     };

@@ -281,7 +281,7 @@ struct sk__multilevel {
     bool symmetric;
     sk__csr *A;    /* L operators, A[L-1] the finest */
     sk__csr *P;    /* L-1 prolongations */
-    sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T */
+    sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T (freed where pmap[k] is set) */
     double **dinv; /* 1 / diagonal per level (0 for a zero diagonal: that unknown is not smoothed) */
     size_t **upper; /* per level and row: the first entry right of the diagonal */
     float **fval;   /* per level above the coarsest: the values over fscale in single
@@ -507,9 +507,12 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
             goto done;
         }
     }
-    for (size_t k = 0; k + 1 < L; ++k)
+    for (size_t k = 0; k + 1 < L; ++k) {
         if ((st = piecewise_constant_map(&mg->P[k], &mg->pmap[k], err)))
             goto done;
+        if (mg->pmap[k]) /* the map restricts: R is not read again */
+            sk__csr_free(&mg->R[k]);
+    }
     for (size_t k = 0; k < L; ++k) {
         if ((st = smoother_setup(mg, k, err)))
             goto done;

@@ -281,13 +281,17 @@ struct sk__multilevel {
     bool symmetric;
     sk__csr *A;    /* L operators, A[L-1] the finest */
     sk__csr *P;    /* L-1 prolongations */
-    sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T */
+    sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T (freed where pmap[k] is set) */
     double **dinv; /* 1 / diagonal per level (0 for a zero diagonal: that unknown is not smoothed) */
     size_t **upper; /* per level and row: the first entry right of the diagonal */
     float **fval;   /* per level above the coarsest: the values over fscale in single
                      * precision, which the cycle's sweeps and residuals read (a third less memory
                      * traffic; the Krylov iterations keep the double values) */
     double *fscale; /* per level: a power of two near the largest value (no float overflow) */
+    uint32_t **pmap; /* per prolongation: when every row of P[k] is one entry 1 (piecewise
+                      * constant, the aggregation AMG's), row i's column; else NULL. The cycle
+                      * then restricts and prolongs through the map alone (the same sums as
+                      * through R and P, a third of their memory traffic) */
     sk_sparse *coarse;
     sk_solver *solver;
     double scale;   /* of the coarse correction (1 = the plain V-cycle) */
@@ -311,6 +315,8 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
         if (mg->fval)
             sk__free(mg->fval[k]);
         if (k + 1 < mg->L) {
+            if (mg->pmap)
+                sk__free(mg->pmap[k]);
             if (mg->P)
                 sk__csr_free(&mg->P[k]);
             if (mg->R)
@@ -324,6 +330,7 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
     sk__free(mg->upper);
     sk__free(mg->fval);
     sk__free(mg->fscale);
+    sk__free(mg->pmap);
     sk_solver_destroy(&mg->solver);
     sk_sparse_destroy(&mg->coarse);
     sk__free(mg);
@@ -424,6 +431,20 @@ static sk_status smoother_setup(sk__multilevel *mg, size_t k, sk_error *err)
     return SK_OK;
 }
 
+/* *map = the column of each row of p when every row is one entry equal to 1, else NULL. */
+static sk_status piecewise_constant_map(const sk__csr *p, uint32_t **map, sk_error *err)
+{
+    *map = NULL;
+    for (size_t i = 0; i < p->rows; ++i)
+        if (p->ptr[i + 1] != p->ptr[i] + 1 || p->val[p->ptr[i]] != 1)
+            return SK_OK;
+    if (!(*map = sk__malloc_array(p->rows ? p->rows : 1, sizeof **map)))
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    for (size_t i = 0; i < p->rows; ++i)
+        (*map)[i] = p->col[p->ptr[i]];
+    return SK_OK;
+}
+
 sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, size_t L,
                                 bool symmetric, sk__multilevel **out, sk_error *err)
 {
@@ -443,9 +464,10 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
         mg->upper = sk__calloc_array(L, sizeof *mg->upper);
         mg->fval = sk__calloc_array(L, sizeof *mg->fval);
         mg->fscale = sk__calloc_array(L, sizeof *mg->fscale);
+        mg->pmap = sk__calloc_array(L, sizeof *mg->pmap);
     }
     if (!mg || !mg->A || !mg->P || !mg->R || !mg->dinv || !mg->upper || !mg->fval ||
-        !mg->fscale) {
+        !mg->fscale || !mg->pmap) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         if (mg) /* keep the ownership promise */
             mg->L = 0;
@@ -484,6 +506,12 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
         } else if ((st = sk__csr_galerkin(&mg->R[k], &mg->A[k + 1], &mg->P[k], &mg->A[k], err))) {
             goto done;
         }
+    }
+    for (size_t k = 0; k + 1 < L; ++k) {
+        if ((st = piecewise_constant_map(&mg->P[k], &mg->pmap[k], err)))
+            goto done;
+        if (mg->pmap[k]) /* the map restricts: R is not read again */
+            sk__csr_free(&mg->R[k]);
     }
     for (size_t k = 0; k < L; ++k) {
         if ((st = smoother_setup(mg, k, err)))
@@ -636,7 +664,8 @@ static void gs_forward(const sk__csr *a, const float *val, double sc, const doub
  * diagonal are read: one pass over the matrix instead of two. */
 static void gs_forward_zero_residual(const sk__csr *a, const float *val, double sc,
                                      const double *dinv, const size_t *upper, const double *b,
-                                     double *x, double *t)
+                                     double *x, double *t, const uint32_t *map, double *y,
+                                     size_t nc)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s = 0;
@@ -648,6 +677,16 @@ static void gs_forward_zero_residual(const sk__csr *a, const float *val, double 
         s = b[i] - sc * s;
         x[i] = s * dinv[i];
         t[i] = dinv[i] == 0 ? s : 0;
+    }
+    if (map) { /* y = R t at once: t_i added into its coarse unknown, not stored */
+        memset(y, 0, nc * sizeof *y);
+        for (size_t i = 0; i < a->rows; ++i) {
+            double s = 0;
+            for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k)
+                s += (double)val[k] * x[a->col[k]];
+            y[map[i]] += t[i] - sc * s;
+        }
+        return;
     }
     for (size_t i = 0; i < a->rows; ++i) {
         double s = 0;
@@ -668,9 +707,31 @@ static void gs_backward(const sk__csr *a, const float *val, double sc, const dou
     }
 }
 
-/* y += scale P x (rows of P) */
-static void prolong_add(const sk__csr *p, double scale, const double *x, double *y)
+/* y = R_j t: through the map, each fine entry added into its coarse unknown in row order, which
+ * is the order of R's rows (the transpose of P), so the same sums as sk__csr_multiply. */
+static void restrict_to(const sk__multilevel *mg, size_t j, const double *t, double *y)
 {
+    const uint32_t *map = mg->pmap[j];
+    if (!map) {
+        sk__csr_multiply(&mg->R[j], t, y);
+        return;
+    }
+    memset(y, 0, mg->A[j].rows * sizeof *y);
+    for (size_t i = 0; i < mg->P[j].rows; ++i)
+        y[map[i]] += t[i];
+}
+
+/* y += scale P_j x; through the map 0 + x_c as the row sum over P's one entry 1. */
+static void prolong_add(const sk__multilevel *mg, size_t j, double scale, const double *x,
+                        double *y)
+{
+    const sk__csr *p = &mg->P[j];
+    const uint32_t *map = mg->pmap[j];
+    if (map) {
+        for (size_t i = 0; i < p->rows; ++i)
+            y[i] += scale * (0.0 + x[map[i]]);
+        return;
+    }
     for (size_t i = 0; i < p->rows; ++i) {
         double s = 0;
         for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k)
@@ -736,7 +797,9 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
     /* the first sweep from zero, fused with the first residual */
     const float *fv = mg->fval[k];
     double sc = mg->fscale[k];
-    gs_forward_zero_residual(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t);
+    const uint32_t *map = SK_MG_SWEEPS == 1 ? mg->pmap[k - 1] : NULL; /* t restricted at once */
+    gs_forward_zero_residual(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t, map, w->r[k - 1],
+                             mg->A[k - 1].rows);
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
         gs_forward(a, fv, sc, mg->dinv[k], r, z);
     /* gamma coarse corrections (a W-cycle for 2); one when the coarse level is solved exactly
@@ -748,12 +811,13 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
             for (size_t i = 0; i < n; ++i)
                 t[i] = r[i] - t[i];
         }
-        sk__csr_multiply(&mg->R[k - 1], t, w->r[k - 1]);
+        if (c > 0 || !map)
+            restrict_to(mg, k - 1, t, w->r[k - 1]);
         if (mg->kcycle && k - 1 > 0)
             kcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
         else
             vcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-        prolong_add(&mg->P[k - 1], mg->scale, w->z[k - 1], z);
+        prolong_add(mg, k - 1, mg->scale, w->z[k - 1], z);
     }
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward(a, fv, sc, mg->dinv[k], r, z);
@@ -836,10 +900,13 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
     memset(p, 0, n * sizeof *p);
     memset(v, 0, n * sizeof *v);
     double rho = 1, alpha = 1, omega = 1;
-    double rn = sqrt(dot(n, r, r));
+    /* each vector update carries the dot products of its result (the same sums in the same
+     * order as dot: the same bits, one pass over the vectors instead of two or three) */
+    double rr = dot(n, r, r), rhr = dot(n, rh, r);
+    double rn = sqrt(rr);
     size_t it = 0;
     while (rn > tol * bn && it < maxit) {
-        double rho2 = dot(n, rh, r);
+        double rho2 = rhr;
         if (rho2 == 0 || omega == 0)
             break; /* breakdown: the caller sees the residual */
         double beta = (rho2 / rho) * (alpha / omega);
@@ -852,10 +919,13 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
         if (rv == 0)
             break;
         alpha = rho / rv;
-        for (size_t i = 0; i < n; ++i)
+        double ss = 0;
+        for (size_t i = 0; i < n; ++i) {
             s[i] = r[i] - alpha * v[i];
+            ss += s[i] * s[i];
+        }
         ++it;
-        double sn = sqrt(dot(n, s, s));
+        double sn = sqrt(ss);
         if (sn <= tol * bn) {
             for (size_t i = 0; i < n; ++i)
                 x[i] += alpha * ph[i];
@@ -863,13 +933,20 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
         }
         vcycle(mg, k, s, sh, w);
         sk__csr_multiply(a, sh, t);
-        double tt = dot(n, t, t);
-        omega = tt > 0 ? dot(n, t, s) / tt : 0;
+        double tt = 0, ts = 0;
+        for (size_t i = 0; i < n; ++i) {
+            tt += t[i] * t[i];
+            ts += t[i] * s[i];
+        }
+        omega = tt > 0 ? ts / tt : 0;
+        rr = rhr = 0;
         for (size_t i = 0; i < n; ++i) {
             x[i] += alpha * ph[i] + omega * sh[i];
             r[i] = s[i] - omega * t[i];
+            rr += r[i] * r[i];
+            rhr += rh[i] * r[i];
         }
-        rn = sqrt(dot(n, r, r));
+        rn = sqrt(rr);
     }
     sk__csr_multiply(a, x, r);
     for (size_t i = 0; i < n; ++i)
@@ -957,7 +1034,8 @@ static void gs_forward2(const sk__csr *a, const float *val, double sc, const dou
 /* gs_forward_zero_residual for two columns */
 static void gs_forward_zero_residual2(const sk__csr *a, const float *val, double sc,
                                       const double *dinv, const size_t *upper, const double *b,
-                                      double *x, double *t)
+                                      double *x, double *t, const uint32_t *map, double *y,
+                                      size_t nc)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s0 = 0, s1 = 0;
@@ -977,6 +1055,8 @@ static void gs_forward_zero_residual2(const sk__csr *a, const float *val, double
         t[2 * i] = dinv[i] == 0 ? s0 : 0;
         t[2 * i + 1] = dinv[i] == 0 ? s1 : 0;
     }
+    if (map)
+        memset(y, 0, 2 * nc * sizeof *y);
     for (size_t i = 0; i < a->rows; ++i) {
         double s0 = 0, s1 = 0;
         for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k) {
@@ -985,8 +1065,13 @@ static void gs_forward_zero_residual2(const sk__csr *a, const float *val, double
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
-        t[2 * i] -= sc * s0;
-        t[2 * i + 1] -= sc * s1;
+        if (map) { /* y = R t at once, as gs_forward_zero_residual */
+            y[2 * (size_t)map[i]] += t[2 * i] - sc * s0;
+            y[2 * (size_t)map[i] + 1] += t[2 * i + 1] - sc * s1;
+        } else {
+            t[2 * i] -= sc * s0;
+            t[2 * i + 1] -= sc * s1;
+        }
     }
 }
 
@@ -1006,9 +1091,34 @@ static void gs_backward2(const sk__csr *a, const float *val, double sc, const do
     }
 }
 
-/* y += scale P x */
-static void prolong_add2(const sk__csr *p, double scale, const double *x, double *y)
+/* restrict_to for two columns */
+static void restrict_to2(const sk__multilevel *mg, size_t j, const double *t, double *y)
 {
+    const uint32_t *map = mg->pmap[j];
+    if (!map) {
+        multiply2(&mg->R[j], t, y);
+        return;
+    }
+    memset(y, 0, 2 * mg->A[j].rows * sizeof *y);
+    for (size_t i = 0; i < mg->P[j].rows; ++i) {
+        y[2 * (size_t)map[i]] += t[2 * i];
+        y[2 * (size_t)map[i] + 1] += t[2 * i + 1];
+    }
+}
+
+/* y += scale P_j x (prolong_add for two columns) */
+static void prolong_add2(const sk__multilevel *mg, size_t j, double scale, const double *x,
+                         double *y)
+{
+    const sk__csr *p = &mg->P[j];
+    const uint32_t *map = mg->pmap[j];
+    if (map) {
+        for (size_t i = 0; i < p->rows; ++i) {
+            y[2 * i] += scale * (0.0 + x[2 * (size_t)map[i]]);
+            y[2 * i + 1] += scale * (0.0 + x[2 * (size_t)map[i] + 1]);
+        }
+        return;
+    }
     for (size_t i = 0; i < p->rows; ++i) {
         double s0 = 0, s1 = 0;
         for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k) {
@@ -1099,7 +1209,9 @@ static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, wo
     double *t = w->t[k];
     const float *fv = mg->fval[k];
     double sc = mg->fscale[k];
-    gs_forward_zero_residual2(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t);
+    const uint32_t *map = SK_MG_SWEEPS == 1 ? mg->pmap[k - 1] : NULL; /* t restricted at once */
+    gs_forward_zero_residual2(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t, map, w->r[k - 1],
+                              mg->A[k - 1].rows);
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
         gs_forward2(a, fv, sc, mg->dinv[k], r, z);
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
@@ -1109,12 +1221,13 @@ static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, wo
             for (size_t i = 0; i < 2 * n; ++i)
                 t[i] = r[i] - t[i];
         }
-        multiply2(&mg->R[k - 1], t, w->r[k - 1]);
+        if (c > 0 || !map)
+            restrict_to2(mg, k - 1, t, w->r[k - 1]);
         if (mg->kcycle && k - 1 > 0)
             kcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
         else
             vcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-        prolong_add2(&mg->P[k - 1], mg->scale, w->z[k - 1], z);
+        prolong_add2(mg, k - 1, mg->scale, w->z[k - 1], z);
     }
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward2(a, fv, sc, mg->dinv[k], r, z);
@@ -1150,9 +1263,12 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
     dot2(n, r, r, rn);
     for (int c = 0; c < 2; ++c)
         rn[c] = sqrt(rn[c]);
+    double rhr[2]; /* (rh, r), summed with the update of r (as bicgstab) */
+    dot2(n, rh, r, rhr);
     for (;;) {
         double beta[2] = {0, 0};
-        dot2(n, rh, r, d);
+        d[0] = rhr[0];
+        d[1] = rhr[1];
         for (int c = 0; c < 2; ++c) {
             on[c] = on[c] && rn[c] > tol * bn[c] && it[c] < maxit;
             if (on[c] && (d[c] == 0 || omega[c] == 0))
@@ -1179,11 +1295,16 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
             if (go[c])
                 alpha[c] = rho[c] / d[c];
         }
-        for (size_t i = 0; i < n; ++i)
+        double ss0 = 0, ss1 = 0;
+        for (size_t i = 0; i < n; ++i) {
             for (int c = 0; c < 2; ++c)
                 if (go[c])
                     s[2 * i + c] = r[2 * i + c] - alpha[c] * v[2 * i + c];
-        dot2(n, s, s, d);
+            ss0 += s[2 * i] * s[2 * i];
+            ss1 += s[2 * i + 1] * s[2 * i + 1];
+        }
+        d[0] = ss0;
+        d[1] = ss1;
         for (int c = 0; c < 2; ++c) {
             if (!go[c])
                 continue;
@@ -1198,19 +1319,37 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
             continue; /* the loop's head sees that nothing is left */
         vcycle2(mg, k, s, sh, w);
         multiply2(a, sh, t);
-        dot2(n, t, t, d);
-        dot2(n, t, s, e);
+        double tt0 = 0, tt1 = 0, ts0 = 0, ts1 = 0;
+        for (size_t i = 0; i < n; ++i) {
+            tt0 += t[2 * i] * t[2 * i];
+            tt1 += t[2 * i + 1] * t[2 * i + 1];
+            ts0 += t[2 * i] * s[2 * i];
+            ts1 += t[2 * i + 1] * s[2 * i + 1];
+        }
+        d[0] = tt0;
+        d[1] = tt1;
+        e[0] = ts0;
+        e[1] = ts1;
         for (int c = 0; c < 2; ++c)
             if (go[c])
                 omega[c] = d[c] > 0 ? e[c] / d[c] : 0;
-        for (size_t i = 0; i < n; ++i)
+        double rr0 = 0, rr1 = 0, rhr0 = 0, rhr1 = 0;
+        for (size_t i = 0; i < n; ++i) {
             for (int c = 0; c < 2; ++c)
                 if (go[c]) {
                     size_t q = 2 * i + c;
                     x[q] += alpha[c] * ph[q] + omega[c] * sh[q];
                     r[q] = s[q] - omega[c] * t[q];
                 }
-        dot2(n, r, r, d);
+            rr0 += r[2 * i] * r[2 * i];
+            rr1 += r[2 * i + 1] * r[2 * i + 1];
+            rhr0 += rh[2 * i] * r[2 * i];
+            rhr1 += rh[2 * i + 1] * r[2 * i + 1];
+        }
+        d[0] = rr0;
+        d[1] = rr1;
+        rhr[0] = rhr0;
+        rhr[1] = rhr1;
         for (int c = 0; c < 2; ++c)
             if (go[c])
                 rn[c] = sqrt(d[c]);
@@ -1328,13 +1467,13 @@ static void solve2(sk__multilevel *mg, const double *b, double *x, const sk__kry
         bf[2 * i + 1] = b[nf + i];
     }
     for (size_t k = L - 1; k-- > 0;)
-        multiply2(&mg->R[k], w.b[k + 1], w.b[k]);
+        restrict_to2(mg, k, w.b[k + 1], w.b[k]);
     coarse_solve2(mg, w.b[0], w.x[0], &w);
     size_t it[2] = {0, 0};
     double rr[2] = {0, 0};
     for (size_t k = 1; k < L; ++k) {
         memset(w.x[k], 0, 2 * mg->A[k].rows * sizeof(double));
-        prolong_add2(&mg->P[k - 1], 1, w.x[k - 1], w.x[k]);
+        prolong_add2(mg, k - 1, 1, w.x[k - 1], w.x[k]);
         double tol = k < L - 1 ? 0 : opts->tolerance;
         size_t maxit = k < L - 1 ? opts->level_iterations : opts->max_iterations;
         if (mg->symmetric)
@@ -1398,14 +1537,14 @@ sk_status sk__multilevel_solve(sk__multilevel *mg, size_t nrhs, const double *b,
         /* restrict the right-hand side to every level */
         memcpy(w.b[L - 1], b + (size_t)c * nf, nf * sizeof(double));
         for (size_t k = L - 1; k-- > 0;)
-            sk__csr_multiply(&mg->R[k], w.b[k + 1], w.b[k]);
+            restrict_to(mg, k, w.b[k + 1], w.b[k]);
         coarse_solve(mg, w.b[0], w.x[0], &w);
         double rr = 0;
         size_t it = 0;
         for (size_t k = 1; k < L; ++k) {
             double *xk = k == L - 1 ? x + (size_t)c * nf : w.x[k];
             memset(xk, 0, mg->A[k].rows * sizeof *xk);
-            prolong_add(&mg->P[k - 1], 1, w.x[k - 1], xk);
+            prolong_add(mg, k - 1, 1, w.x[k - 1], xk);
             if (k < L - 1)
                 krylov(mg, k, w.b[k], xk, 0, lit, &w, &rr);
             else

@@ -35,15 +35,15 @@ static int key_cmp(const void *a, const void *b)
 /* The screen's table (tri4_screen): at the samples (a, b) = (i / N, j / N), i + j <= N, of the
  * triangle grid in the order of its loops, the quartic Bernstein values B^4_{ijk}(U, V, W) at
  * (1 - a - b, a, b) (rows 0..14, index sk_tri_index(4, j, k)), the cubic ones (rows 15..24,
- * sk_tri_index(3, j, k)), a and b (rows 25, 26); the samples in pairs, the pair's rows each
- * holding both (the last sample repeated when their number is odd). Without it (no memory, or a
+ * sk_tri_index(3, j, k)), a and b (rows 25, 26); the samples in fours, each row of a four
+ * holding its samples in turn (the last sample repeated to fill the last four). Without it (no memory, or a
  * grid above 512 samples) the grid is evaluated in full. */
 #define SCREEN_ROWS 27
 #define SCREEN_MAX_NS 512
 
 static void screen_table_init(sk__shape_ctx *c)
 {
-    unsigned N = c->n, ns = (N + 1) * (N + 2) / 2, nsp = ns + ns % 2;
+    unsigned N = c->n, ns = (N + 1) * (N + 2) / 2, nsp = (ns + 3) / 4 * 4;
     if (N > 200 || ns > SCREEN_MAX_NS)
         return;
     c->tab = sk__malloc_array((size_t)SCREEN_ROWS * nsp, sizeof *c->tab);
@@ -56,17 +56,17 @@ static void screen_table_init(sk__shape_ctx *c)
         for (unsigned j = 0; j <= N - i; ++j, ++q) {
             double a = (double)i / N, b = (double)j / N, U = 1.0 - a - b;
             for (unsigned rep = q; rep < nsp && (rep == q || q + 1 == ns); ++rep) {
-                double *t = c->tab + (size_t)(rep / 2) * 2 * SCREEN_ROWS + rep % 2;
+                double *t = c->tab + (size_t)(rep / 4) * 4 * SCREEN_ROWS + rep % 4;
                 for (unsigned n = 3; n <= 4; ++n)
                     for (unsigned k = 0; k <= n; ++k)
                         for (unsigned jj = 0; jj + k <= n; ++jj) {
                             unsigned ii = n - jj - k;
                             double v = fact[n] / (fact[ii] * fact[jj] * fact[k]);
                             v *= pow(U, ii) * pow(a, jj) * pow(b, k);
-                            t[2 * ((n == 4 ? 0 : 15) + sk_tri_index(n, jj, k))] = v;
+                            t[4 * ((n == 4 ? 0 : 15) + sk_tri_index(n, jj, k))] = v;
                         }
-                t[2 * 25] = a;
-                t[2 * 26] = b;
+                t[4 * 25] = a;
+                t[4 * 26] = b;
             }
         }
 }
@@ -501,18 +501,136 @@ static double tri_dist_plain(const double p[3], const flat_tri *T)
  * A sample with a vanishing Phong normal, a NaN or no full angle yet is always evaluated in full.
  * The bounds are 10 to 50 times the rounding analysis; test_smooth_shape checks every patch of
  * three meshes against a plain full grid to the bit. */
+/* The screen's pass over the samples, four at a time in the lanes of a vector (compiled also
+ * for processors with FMA, chosen at run time: its values need only the bounds of tri4_screen,
+ * not the bits of the full evaluation, which stays outside this function): per sample the
+ * distance to the flat triangle T, the angle's (x, y) = (N~ . ph, |N~ x ph|) and whether the
+ * Phong normal vanishes (pp0); returns the samples of the largest distance and angle. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define SCREEN_CLONES __attribute__((target_clones("fma", "default")))
+#else
+#define SCREEN_CLONES
+#endif
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v4du __attribute__((vector_size(32), aligned(8))); /* the table's rows */
+
+SCREEN_CLONES
+static void screen_pass(const double *tab, unsigned ns, const double *cp, const double *dv,
+                        const double *dw, const double *const Nv[4], const flat_tri *T,
+                        double *dist, double *ys, double *xs, bool *pp0, double *ta, double *tb,
+                        unsigned *best)
+{
+    v4d cv[15][3], dvv[10][3], dwv[10][3], Nvv[3][3], zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+    for (int k = 0; k < 15; ++k)
+        for (int q = 0; q < 3; ++q)
+            cv[k][q] = zero + cp[3 * k + q];
+    for (int k = 0; k < 10; ++k)
+        for (int q = 0; q < 3; ++q)
+            dvv[k][q] = zero + dv[3 * k + q], dwv[k][q] = zero + dw[3 * k + q];
+    for (int k = 0; k < 3; ++k)
+        for (int q = 0; q < 3; ++q)
+            Nvv[k][q] = zero + Nv[k][q];
+    v4d Ta[3], E1[3], E2[3], Tn[3];
+    for (int q = 0; q < 3; ++q) {
+        Ta[q] = zero + T->a[q];
+        E1[q] = zero + T->e1[q];
+        E2[q] = zero + T->e2[q];
+        Tn[q] = zero + T->n[q];
+    }
+    double inv_len = T->len > 0 ? 1.0 / T->len : 0.0;
+    unsigned best_d = 0, best_a = 0;
+    for (unsigned i = 0; i < ns; i += 4) {
+        const v4du *t = (const v4du *)(tab + (size_t)(i / 4) * 4 * SCREEN_ROWS);
+        v4d P[3] = {zero, zero, zero}, D1[3] = {zero, zero, zero}, D2[3] = {zero, zero, zero};
+        for (int k = 0; k < 15; ++k)
+            for (int q = 0; q < 3; ++q)
+                P[q] += t[k] * cv[k][q];
+        for (int k = 0; k < 10; ++k)
+            for (int q = 0; q < 3; ++q) {
+                D1[q] += t[15 + k] * dvv[k][q];
+                D2[q] += t[15 + k] * dwv[k][q];
+            }
+        v4d A = t[25], B = t[26], n[3], ph[3], c[3], ap[3], t1[3], t2[3];
+        n[0] = D1[1] * D2[2] - D1[2] * D2[1];
+        n[1] = D1[2] * D2[0] - D1[0] * D2[2];
+        n[2] = D1[0] * D2[1] - D1[1] * D2[0];
+        v4d w0 = one - A - B;
+        for (int q = 0; q < 3; ++q)
+            ph[q] = w0 * Nvv[0][q] + A * Nvv[1][q] + B * Nvv[2][q];
+        v4d pp = ph[0] * ph[0] + ph[1] * ph[1] + ph[2] * ph[2];
+        c[0] = n[1] * ph[2] - n[2] * ph[1];
+        c[1] = n[2] * ph[0] - n[0] * ph[2];
+        c[2] = n[0] * ph[1] - n[1] * ph[0];
+        v4d y2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+        v4d x = n[0] * ph[0] + n[1] * ph[1] + n[2] * ph[2];
+        for (int q = 0; q < 3; ++q)
+            ap[q] = P[q] - Ta[q];
+        t1[0] = ap[1] * E2[2] - ap[2] * E2[1];
+        t1[1] = ap[2] * E2[0] - ap[0] * E2[2];
+        t1[2] = ap[0] * E2[1] - ap[1] * E2[0];
+        t2[0] = E1[1] * ap[2] - E1[2] * ap[1];
+        t2[1] = E1[2] * ap[0] - E1[0] * ap[2];
+        t2[2] = E1[0] * ap[1] - E1[1] * ap[0];
+        v4d vv = t1[0] * Tn[0] + t1[1] * Tn[1] + t1[2] * Tn[2];
+        v4d ww = t2[0] * Tn[0] + t2[1] * Tn[1] + t2[2] * Tn[2];
+        v4d h = (ap[0] * Tn[0] + ap[1] * Tn[1] + ap[2] * Tn[2]) * inv_len;
+        for (int l = 0; l < 4 && i + (unsigned)l < ns; ++l) {
+            unsigned k = i + (unsigned)l;
+            ta[k] = A[l], tb[k] = B[l], ys[k] = sqrt(y2[l]), xs[k] = x[l];
+            pp0[k] = !(pp[l] > 0);
+            if (T->nn > 0 && vv[l] >= 0 && ww[l] >= 0 && vv[l] + ww[l] <= T->nn) {
+                dist[k] = fabs(h[l]);
+            } else {
+                double px[3] = {P[0][l], P[1][l], P[2][l]};
+                dist[k] = tri_dist_plain(px, T);
+            }
+            if (dist[k] > dist[best_d])
+                best_d = k;
+            if (ys[k] * xs[best_a] - xs[k] * ys[best_a] > 0)
+                best_a = k;
+        }
+    }
+    best[0] = best_d, best[1] = best_a;
+}
+
+/* The shape grid of a quartic triangle, screened: every sample is first evaluated from the
+ * context's Bernstein table (sums over the net instead of de Casteljau's steps, within a bound of
+ * the exact values), and only the samples whose screened angle or distance could reach the
+ * largest found so far are evaluated in full (tri4_eval2v and grid_lanes: the same values to the
+ * bit as sk_patch_eval), the screen's largest of each first. The reported figures are the largest
+ * of the full values, so they are those of the full grid when the skipped samples' full values
+ * are at most those: proven by these bounds, with C the largest coordinate of the net and the
+ * flat triangle and u = 2^-53:
+ *  - points: both the de Casteljau point and the table's (with or without fused multiply-adds)
+ *    are within about 20 u C of the exact value (convex combinations of the net: 4 steps or 15
+ *    terms, weights summing to 1 up to rounding), so the full distance (1-Lipschitz in the point,
+ *    rounded relatively by a few u) is within dm = 1e-12 C of the screened one;
+ *  - derivatives: both within about 200 u C of the exact (differences of the net times 4), taken
+ *    as dD = 1e-12 C; with Dmax a bound on both derivatives' lengths (the longest of the
+ *    derivative net, by the convex hull, plus dD), the normals' cross products differ by at most
+ *    E = 2 dD Dmax + dD^2 + 1e-14 Dmax^2, so their directions by at most 1.6 E / |N~| radians
+ *    (asin(x) <= 1.6 x for x <= 1); with the roundings of the cross and dot products and of
+ *    atan2 (under 2e-13 of the angle's scale), a sample is skipped when the 2D cross product of
+ *    its (x, y) with the largest full angle's (xm, ym) shows it clockwise by more than
+ *    (1.6 E + 2e-13 |N~|) |ph| |(xm, ym)|, bounded by LIM |(xm, ym)| with LIM = (1.6 E + 2e-13
+ *    Dmax^2) (1 + 1e-12) max |N_k| (the Phong normal being a convex combination of the N_k).
+ * A sample with a vanishing Phong normal, a NaN or no full angle yet is always evaluated in full.
+ * The bounds are 10 to 50 times the rounding analysis; test_smooth_shape checks every patch of
+ * three meshes against a plain full grid to the bit. */
 static void tri4_screen(const sk__shape_ctx *ctx, const double *cp, const double *const Nv[4],
                         const double *const X[4], const flat_tri *tris, shape_max *M,
                         bool *flat_normal)
 {
     const unsigned ns = ctx->tab_ns;
-    const double *tab = ctx->tab;
-    double C = 0.0, dv[10][3], dw[10][3], D2max = 0.0;
+    double C = 0.0, dv[10][3], dw[10][3], D2max = 0.0, Nmax = 0.0;
     for (int q = 0; q < 45; ++q)
         C = fmax(C, fabs(cp[q]));
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < 3; ++i) {
         for (int q = 0; q < 3; ++q)
             C = fmax(C, fabs(X[i][q]));
+        Nmax = fmax(Nmax, sk__norm3(Nv[i]));
+    }
     for (unsigned k = 0; k <= 3; ++k)
         for (unsigned j = 0; j + k <= 3; ++j) {
             unsigned o = sk_tri_index(3, j, k);
@@ -527,80 +645,21 @@ static void tri4_screen(const sk__shape_ctx *ctx, const double *cp, const double
         }
     double dm = 1e-12 * C, dD = 1e-12 * C, Dmax = sqrt(D2max) * (1.0 + 1e-12) + dD;
     double E = 2.0 * dD * Dmax + dD * dD + 1e-14 * Dmax * Dmax;
-    /* the screen, two samples at a time in the lanes of a vector */
-    v2d cv[15][3], dvv[10][3], dwv[10][3], Nvv[3][3], zero = {0.0, 0.0}, one = {1.0, 1.0};
-    for (int k = 0; k < 15; ++k)
-        for (int q = 0; q < 3; ++q)
-            cv[k][q] = (v2d){cp[3 * k + q], cp[3 * k + q]};
-    for (int k = 0; k < 10; ++k)
-        for (int q = 0; q < 3; ++q)
-            dvv[k][q] = (v2d){dv[k][q], dv[k][q]}, dwv[k][q] = (v2d){dw[k][q], dw[k][q]};
-    for (int k = 0; k < 3; ++k)
-        for (int q = 0; q < 3; ++q)
-            Nvv[k][q] = (v2d){Nv[k][q], Nv[k][q]};
-    const flat_tri *T = tris;
-    v2d Ta[3], E1[3], E2[3], Tn[3];
-    for (int q = 0; q < 3; ++q) {
-        Ta[q] = (v2d){T->a[q], T->a[q]};
-        E1[q] = (v2d){T->e1[q], T->e1[q]};
-        E2[q] = (v2d){T->e2[q], T->e2[q]};
-        Tn[q] = (v2d){T->n[q], T->n[q]};
-    }
-    double inv_len = T->len > 0 ? 1.0 / T->len : 0.0;
-    v2d vnn = {T->nn, T->nn}, vil = {inv_len, inv_len}, vE = {1.6 * E, 1.6 * E};
-    double dist[SCREEN_MAX_NS + 1], ys[SCREEN_MAX_NS + 1], xs[SCREEN_MAX_NS + 1];
-    double lim[SCREEN_MAX_NS + 1], ta[SCREEN_MAX_NS + 1], tb[SCREEN_MAX_NS + 1];
-    unsigned best_d = 0, best_a = 0;
-    for (unsigned i = 0; i < ns; i += 2) {
-        const v2d *t = (const v2d *)(tab + (size_t)(i / 2) * 2 * SCREEN_ROWS);
-        v2d P[3] = {zero, zero, zero}, D1[3] = {zero, zero, zero}, D2[3] = {zero, zero, zero};
-        for (int k = 0; k < 15; ++k)
-            for (int q = 0; q < 3; ++q)
-                P[q] += t[k] * cv[k][q];
-        for (int k = 0; k < 10; ++k)
-            for (int q = 0; q < 3; ++q) {
-                D1[q] += t[15 + k] * dvv[k][q];
-                D2[q] += t[15 + k] * dwv[k][q];
-            }
-        v2d A = t[25], B = t[26], n[3], ph[3], c[3], ap[3], t1[3], t2[3];
-        cross2v(n, D1, D2);
-        v2d w0 = one - A - B;
-        for (int q = 0; q < 3; ++q)
-            ph[q] = w0 * Nvv[0][q] + A * Nvv[1][q] + B * Nvv[2][q];
-        v2d pp = dot2v(ph, ph), nn = dot2v(n, n);
-        cross2v(c, n, ph);
-        v2d y = sqrt2v(dot2v(c, c)), x = dot2v(n, ph);
-        v2d lm = (vE + 2e-13 * sqrt2v(nn)) * sqrt2v(pp);
-        for (int q = 0; q < 3; ++q)
-            ap[q] = P[q] - Ta[q];
-        cross2v(t1, ap, E2);
-        cross2v(t2, E1, ap);
-        v2d vv = dot2v(t1, Tn), ww = dot2v(t2, Tn), h = dot2v(ap, Tn) * vil;
-        for (int l = 0; l < 2 && i + (unsigned)l < ns; ++l) {
-            unsigned k = i + (unsigned)l;
-            ta[k] = A[l], tb[k] = B[l], ys[k] = y[l], xs[k] = x[l];
-            lim[k] = pp[l] > 0 ? lm[l] : NAN; /* NaN: never skipped */
-            if (T->nn > 0 && vv[l] >= 0 && ww[l] >= 0 && vv[l] + ww[l] <= vnn[l]) {
-                dist[k] = fabs(h[l]);
-            } else {
-                double px[3] = {P[0][l], P[1][l], P[2][l]};
-                dist[k] = tri_dist_plain(px, T);
-            }
-            if (dist[k] > dist[best_d])
-                best_d = k;
-            if (ys[k] * xs[best_a] - xs[k] * ys[best_a] > 0)
-                best_a = k;
-        }
-    }
+    double LIM = (1.6 * E + 2e-13 * Dmax * Dmax) * (1.0 + 1e-12) * Nmax;
+    double dist[SCREEN_MAX_NS], ys[SCREEN_MAX_NS], xs[SCREEN_MAX_NS], ta[SCREEN_MAX_NS],
+        tb[SCREEN_MAX_NS];
+    bool pp0[SCREEN_MAX_NS];
+    unsigned best[2];
+    screen_pass(ctx->tab, ns, cp, dv[0], dw[0], Nv, tris, dist, ys, xs, pp0, ta, tb, best);
     /* full evaluations: the screen's largest first, then every sample the screen cannot skip,
      * two at a time */
     v2d cpv[3 * 15];
     for (int q = 0; q < 3 * 15; ++q)
         cpv[q] = (v2d){cp[q], cp[q]};
     unsigned pend[2], np = 0;
-    pend[np++] = best_d;
-    if (best_a != best_d)
-        pend[np++] = best_a;
+    pend[np++] = best[0];
+    if (best[1] != best[0])
+        pend[np++] = best[1];
     for (unsigned i = 0;; ++i) {
         if (np == 2 || (i == ns && np > 0)) {
             int nl = (int)np;
@@ -612,11 +671,11 @@ static void tri4_screen(const sk__shape_ctx *ctx, const double *cp, const double
         }
         if (i == ns)
             break;
-        if (i == best_d || i == best_a)
+        if (i == best[0] || i == best[1])
             continue;
         bool skip_d = dist[i] + dm <= M->dmax;
         double vm = sqrt(M->xm * M->xm + M->ym * M->ym);
-        bool skip_a = M->any_angle && -(ys[i] * M->xm - xs[i] * M->ym) > lim[i] * vm;
+        bool skip_a = M->any_angle && !pp0[i] && -(ys[i] * M->xm - xs[i] * M->ym) > LIM * vm;
         if (!(skip_d && skip_a))
             pend[np++] = i;
     }

@@ -38,8 +38,10 @@ static void corner_param(int kind, unsigned i, double *u, double *v)
 #define RAD2DEG (180.0 / M_PI)
 
 /* Work is split into fixed blocks whose partial results are combined in block order, so the report
- * is the same for any number of threads. */
+ * is the same for any number of threads: BLOCK edges (their sums depend on the blocks), PBLOCK
+ * patches (maxima and counts only: any blocks give the same, small ones balance the threads). */
 #define BLOCK 4096
+#define PBLOCK 256
 
 typedef struct edge_block {
     double max_gap, sum_gap, max_jump, sum_jump;
@@ -533,7 +535,7 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     const sk_mesh *m = s->config;
     memset(rep, 0, sizeof *rep);
     long ne = (long)sk_num_edges(m), np = (long)s->surface.count;
-    long neb = (ne + BLOCK - 1) / BLOCK, npb = (np + BLOCK - 1) / BLOCK;
+    long neb = (ne + BLOCK - 1) / BLOCK, npb = (np + PBLOCK - 1) / PBLOCK;
     edge_block *eb = sk__malloc_array((size_t)neb + 1, sizeof *eb);
     patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);
     uint8_t *singular = sk__malloc_array((size_t)np + 1, 1);
@@ -548,10 +550,22 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
         sk__shape_ctx_free(&shape);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the continuity report");
     }
+    /* the crossing patches (serial but for their triangle tests, which then run in this thread
+     * alone: the same result) go beside the edges' and patches' blocks */
+    unsigned tess = opts && opts->intersection_tess ? opts->intersection_tess : 6;
+    sk_continuity_report xrep = {0};
+    sk_error xerr = {0};
+    sk_status xst = SK_OK;
+    xrep.intersecting_pairs = xrep.intersecting_patches = SIZE_MAX;
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel
 #endif
     {
+#ifdef SK_HAVE_OPENMP
+#pragma omp single nowait
+#endif
+        if (tess != (unsigned)-1)
+            xst = intersections(&s->surface, tess, &xrep, &xerr);
 #ifdef SK_HAVE_OPENMP
 #pragma omp for schedule(dynamic, 1) nowait
 #endif
@@ -562,8 +576,8 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
 #endif
         for (long k = 0; k < npb; ++k) {
             memset(pb + k, 0, sizeof pb[k]);
-            long p1 = k + 1 < npb ? (k + 1) * BLOCK : np;
-            for (long p = k * BLOCK; p < p1; ++p)
+            long p1 = k + 1 < npb ? (k + 1) * PBLOCK : np;
+            for (long p = k * PBLOCK; p < p1; ++p)
                 patch_check(s, (size_t)p, pb + k, singular + p, &shape, shape_v, shape_v + np);
         }
     }
@@ -624,13 +638,16 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     rep->uncertified_patches = uncert;
     rep->pass_g1 = rep->max_normal_jump_deg <= tol_deg;
     rep->pass_gap = rep->max_gap <= tol_gap;
-    unsigned tess = opts && opts->intersection_tess ? opts->intersection_tess : 6;
-    rep->intersecting_pairs = rep->intersecting_patches = SIZE_MAX;
-    if (tess != (unsigned)-1) {
-        sk_status st = intersections(&s->surface, tess, rep, err);
-        if (st)
-            return st;
+    if (xst) {
+        if (err)
+            *err = xerr;
+        return xst;
     }
+    rep->intersecting_pairs = xrep.intersecting_pairs;
+    rep->intersecting_patches = xrep.intersecting_patches;
+    rep->num_intersection_examples = xrep.num_intersection_examples;
+    memcpy(rep->intersection_examples, xrep.intersection_examples,
+           sizeof rep->intersection_examples);
     rep->pass_intersections = rep->intersecting_pairs == 0 || rep->intersecting_pairs == SIZE_MAX;
     sk__ok(err);
     return SK_OK;

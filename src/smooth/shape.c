@@ -479,6 +479,18 @@ static double tri_dist_plain(const double p[3], const flat_tri *T)
     return sqrt(d2);
 }
 
+/* An upper bound of the distance from p to the flat triangle outside its prism: the distance to
+ * the side p lies across (vv, ww: the barycentric coordinates v, w times |n|^2), the first that
+ * tri_dist_within tries; the plain distance where the triangle is degenerate. */
+static double tri_dist_ub(const double p[3], const flat_tri *T, double vv, double ww)
+{
+    if (!(T->nn > 0))
+        return tri_dist_plain(p, T);
+    const double *end[4] = {T->a, T->b, T->c, T->a};
+    int e = !(vv >= 0) ? 2 : ww >= 0 ? 1 : 0;
+    return sqrt(seg_dist2(p, end[e], end[e + 1]));
+}
+
 /* The shape grid of a quartic triangle, screened: every sample is first evaluated from the
  * context's Bernstein table (sums over the net instead of de Casteljau's steps, no rounding
  * guarantees beyond a bound), and only the samples whose screened angle or distance could reach
@@ -583,7 +595,7 @@ static void screen_pass(const double *tab, unsigned ns, const double *cp, const 
                 dist[k] = fabs(h[l]);
             } else {
                 double px[3] = {P[0][l], P[1][l], P[2][l]};
-                dist[k] = tri_dist_plain(px, T);
+                dist[k] = tri_dist_ub(px, T, vv[l], ww[l]);
             }
             if (dist[k] > dist[best_d])
                 best_d = k;
@@ -711,6 +723,181 @@ static void bicubic_grid(const sk_patch_set *set, size_t p, unsigned N, const do
     }
 }
 
+/* The screen of a bicubic patch (bicubic_screen): per sample (i / N, j / N), in the order of
+ * the rows, the distance bound (the least plane distance over the flat triangles whose prism holds
+ * the point, else the least of tri_dist_ub over them), the angle's (x, y) and the vanishing Phong normal,
+ * four samples of a row at a time; the rows' sums r, dr and the columns' Bernstein values given.
+ * Returns the samples of the largest distance bound and angle. */
+#define BIC_MAX_N 32
+SCREEN_CLONES
+static void bicubic_screen_pass(unsigned N, const double (*r)[4][3], const double (*dr)[4][3],
+                                const double (*Bt)[4], const double (*dBt)[4],
+                                const double *const Nv[4], const flat_tri *tris, int ntri,
+                                double *dist, double *ys, double *xs, bool *pp0, unsigned *best)
+{
+    v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+    unsigned nj = (N + 4) / 4 * 4, best_d = 0, best_a = 0, k = 0;
+    for (unsigned i = 0; i <= N; ++i) {
+        v4d A = zero + (double)i / N;
+        for (unsigned j = 0; j < nj; j += 4) {
+            v4d B, P[3] = {zero, zero, zero}, S[3] = {zero, zero, zero}, T[3] = {zero, zero, zero};
+            unsigned jl[4];
+            for (int l = 0; l < 4; ++l)
+                jl[l] = j + (unsigned)l <= N ? j + (unsigned)l : N;
+            for (int l = 0; l < 4; ++l)
+                B[l] = (double)jl[l] / N;
+            for (unsigned q = 0; q <= 3; ++q) {
+                v4d Bq = {Bt[jl[0]][q], Bt[jl[1]][q], Bt[jl[2]][q], Bt[jl[3]][q]};
+                v4d dBq = {dBt[jl[0]][q], dBt[jl[1]][q], dBt[jl[2]][q], dBt[jl[3]][q]};
+                for (int x = 0; x < 3; ++x) {
+                    P[x] += Bq * r[i][q][x];
+                    S[x] += Bq * dr[i][q][x];
+                    T[x] += dBq * r[i][q][x];
+                }
+            }
+            v4d n[3], ph[3], c[3], w[4];
+            n[0] = S[1] * T[2] - S[2] * T[1];
+            n[1] = S[2] * T[0] - S[0] * T[2];
+            n[2] = S[0] * T[1] - S[1] * T[0];
+            w[0] = (one - A) * (one - B), w[1] = A * (one - B), w[2] = A * B, w[3] = (one - A) * B;
+            for (int q = 0; q < 3; ++q)
+                ph[q] = w[0] * Nv[0][q] + w[1] * Nv[1][q] + w[2] * Nv[2][q] + w[3] * Nv[3][q];
+            v4d pp = ph[0] * ph[0] + ph[1] * ph[1] + ph[2] * ph[2];
+            c[0] = n[1] * ph[2] - n[2] * ph[1];
+            c[1] = n[2] * ph[0] - n[0] * ph[2];
+            c[2] = n[0] * ph[1] - n[1] * ph[0];
+            v4d y2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+            v4d x = n[0] * ph[0] + n[1] * ph[1] + n[2] * ph[2];
+            v4d ub = zero + INFINITY, vt[4], wt[4];
+            for (int t = 0; t < ntri; ++t) {
+                const flat_tri *F = tris + t;
+                v4d ap[3], t1[3], t2[3];
+                for (int q = 0; q < 3; ++q)
+                    ap[q] = P[q] - F->a[q];
+                t1[0] = ap[1] * F->e2[2] - ap[2] * F->e2[1];
+                t1[1] = ap[2] * F->e2[0] - ap[0] * F->e2[2];
+                t1[2] = ap[0] * F->e2[1] - ap[1] * F->e2[0];
+                t2[0] = F->e1[1] * ap[2] - F->e1[2] * ap[1];
+                t2[1] = F->e1[2] * ap[0] - F->e1[0] * ap[2];
+                t2[2] = F->e1[0] * ap[1] - F->e1[1] * ap[0];
+                v4d vv = t1[0] * F->n[0] + t1[1] * F->n[1] + t1[2] * F->n[2];
+                v4d ww = t2[0] * F->n[0] + t2[1] * F->n[1] + t2[2] * F->n[2];
+                v4d h = (ap[0] * F->n[0] + ap[1] * F->n[1] + ap[2] * F->n[2]) *
+                        (F->len > 0 ? 1.0 / F->len : 0.0);
+                for (int l = 0; l < 4; ++l)
+                    if (F->nn > 0 && vv[l] >= 0 && ww[l] >= 0 && vv[l] + ww[l] <= F->nn)
+                        ub[l] = fmin(ub[l], fabs(h[l]));
+                vt[t] = vv, wt[t] = ww;
+            }
+            for (int l = 0; l < 4 && j + (unsigned)l <= N; ++l, ++k) {
+                ys[k] = sqrt(y2[l]), xs[k] = x[l];
+                pp0[k] = !(pp[l] > 0);
+                dist[k] = ub[l];
+                if (!(ub[l] < INFINITY)) {
+                    double px[3] = {P[0][l], P[1][l], P[2][l]}, d = INFINITY;
+                    for (int t = 0; t < ntri; ++t)
+                        d = fmin(d, tri_dist_ub(px, tris + t, vt[t][l], wt[t][l]));
+                    dist[k] = d;
+                }
+                if (dist[k] > dist[best_d])
+                    best_d = k;
+                if (ys[k] * xs[best_a] - xs[k] * ys[best_a] > 0)
+                    best_a = k;
+            }
+        }
+    }
+    best[0] = best_d, best[1] = best_a;
+}
+
+/* The shape grid of a bicubic patch, screened as tri4_screen's (the same bounds, with the
+ * derivatives' bound 3 times the longest difference of the net along s or t and Nmax over the
+ * four corners: the bilinear Phong weights are convex); the full evaluations are bicubic_grid's
+ * sums in the lanes, each lane its sample's row. */
+static void bicubic_screen(const sk_patch_set *set, size_t p, unsigned N,
+                           const double *const Nv[4], const double *const X[4],
+                           const flat_tri *tris, int ntri, shape_max *M, bool *flat_normal)
+{
+    const double *cp = sk_patch_cp(set, p);
+    double C = 0.0, D2max = 0.0, Nmax = 0.0;
+    for (int q = 0; q < 48; ++q)
+        C = fmax(C, fabs(cp[q]));
+    for (int i = 0; i < 4; ++i) {
+        for (int q = 0; q < 3; ++q)
+            C = fmax(C, fabs(X[i][q]));
+        Nmax = fmax(Nmax, sk__norm3(Nv[i]));
+    }
+    for (unsigned j = 0; j <= 3; ++j)
+        for (unsigned i = 0; i <= 3; ++i) {
+            const double *b = cp + 3 * sk_tensor_index(3, i, j);
+            double d[3];
+            if (i < 3) {
+                sk__sub3(d, cp + 3 * sk_tensor_index(3, i + 1, j), b);
+                D2max = fmax(D2max, 9.0 * sk__dot3(d, d));
+            }
+            if (j < 3) {
+                sk__sub3(d, cp + 3 * sk_tensor_index(3, i, j + 1), b);
+                D2max = fmax(D2max, 9.0 * sk__dot3(d, d));
+            }
+        }
+    double dm = 1e-12 * C, dD = 1e-12 * C, Dmax = sqrt(D2max) * (1.0 + 1e-12) + dD;
+    double E = 2.0 * dD * Dmax + dD * dD + 1e-14 * Dmax * Dmax;
+    double LIM = (1.6 * E + 2e-13 * Dmax * Dmax) * (1.0 + 1e-12) * Nmax;
+    double r[BIC_MAX_N + 1][4][3], dr[BIC_MAX_N + 1][4][3], Bt[BIC_MAX_N + 1][4],
+        dBt[BIC_MAX_N + 1][4];
+    for (unsigned i = 0; i <= N; ++i) {
+        row_eval R;
+        row_eval_start(&R, set, p, (double)i / N);
+        memcpy(r[i], R.r, sizeof R.r);
+        memcpy(dr[i], R.dr, sizeof R.dr);
+        sk__bernstein_n(3, (double)i / N, Bt[i], dBt[i]);
+    }
+    enum { NS = (BIC_MAX_N + 1) * (BIC_MAX_N + 1) };
+    double dist[NS], ys[NS], xs[NS];
+    bool pp0[NS];
+    unsigned best[2], ns = (N + 1) * (N + 1);
+    bicubic_screen_pass(N, (const double (*)[4][3])r, (const double (*)[4][3])dr,
+                        (const double (*)[4])Bt, (const double (*)[4])dBt, Nv, tris, ntri, dist,
+                        ys, xs, pp0, best);
+    unsigned pend[2], np = 0;
+    pend[np++] = best[0];
+    if (best[1] != best[0])
+        pend[np++] = best[1];
+    for (unsigned k = 0;; ++k) {
+        if (np == 2 || (k == ns && np > 0)) {
+            int nl = (int)np;
+            v2d zero = {0.0, 0.0}, A, B;
+            v2d P[3] = {zero, zero, zero}, S[3] = {zero, zero, zero}, T[3] = {zero, zero, zero};
+            unsigned il[2], jl[2];
+            for (int l = 0; l < 2; ++l) {
+                unsigned q = pend[l < nl ? l : 0];
+                il[l] = q / (N + 1), jl[l] = q % (N + 1);
+                A[l] = (double)il[l] / N, B[l] = (double)jl[l] / N;
+            }
+            for (unsigned q = 0; q <= 3; ++q) { /* bicubic_grid's sums, lane by lane */
+                v2d Bq = {Bt[jl[0]][q], Bt[jl[1]][q]}, dBq = {dBt[jl[0]][q], dBt[jl[1]][q]};
+                for (int x = 0; x < 3; ++x) {
+                    v2d rr = {r[il[0]][q][x], r[il[1]][q][x]};
+                    v2d dd = {dr[il[0]][q][x], dr[il[1]][q][x]};
+                    P[x] += Bq * rr;
+                    S[x] += Bq * dd;
+                    T[x] += dBq * rr;
+                }
+            }
+            grid_lanes(A, B, nl, P, S, T, Nv, 4, tris, ntri, M, flat_normal);
+            np = 0;
+        }
+        if (k == ns)
+            break;
+        if (k == best[0] || k == best[1])
+            continue;
+        bool skip_d = dist[k] + dm <= M->dmax;
+        double vm = sqrt(M->xm * M->xm + M->ym * M->ym);
+        bool skip_a = M->any_angle && !pp0[k] && -(ys[k] * M->xm - xs[k] * M->ym) > LIM * vm;
+        if (!(skip_d && skip_a))
+            pend[np++] = k;
+    }
+}
+
 /* samples (a, b[0]) and, when two, (a, b[1]) of the row: point, unit normal, |du x dv| */
 static void row_eval2(const row_eval *R, const double b[2], int two, double x[2][3],
                       double nrm[2][3], double len[2])
@@ -775,6 +962,8 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
         tri4_screen(c, sk_patch_cp(&s->surface, p), Nv, X, tris, &M, &flat_normal);
     else if (tri4)
         tri4_grid(sk_patch_cp(&s->surface, p), N, Nv, tris, ntri, &M, &flat_normal);
+    else if (bicubic && N <= BIC_MAX_N)
+        bicubic_screen(&s->surface, p, N, Nv, X, tris, ntri, &M, &flat_normal);
     else if (bicubic)
         bicubic_grid(&s->surface, p, N, Nv, tris, ntri, &M, &flat_normal);
     for (unsigned i = 0; !tri4 && !bicubic && i <= N; ++i) {

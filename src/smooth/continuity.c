@@ -378,6 +378,39 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     }
 }
 
+/* Point and unit normal of a triangle of degree n >= 1 at its corner c, as sk_patch_eval gives
+ * them: at a corner de Casteljau's weights are 1, 0, 0, so every step copies one point of the net
+ * (x + 0 y = x: the same values, a zero's sign aside), and the last step's three points are the
+ * control points next to the corner; the derivatives, cross product, length and scaling are then
+ * sk_bezier_eval's operations. A zero's sign changes neither the distance nor the angle the
+ * corner checks take. */
+static void tri_corner_eval(const double *cp, unsigned n, unsigned c, double x[3], double nrm[3])
+{
+    unsigned i100, i010, i001; /* the last step's points b_{100}, b_{010}, b_{001} */
+    if (c == 0)
+        i100 = sk_tri_index(n, 0, 0), i010 = sk_tri_index(n, 1, 0), i001 = sk_tri_index(n, 0, 1);
+    else if (c == 1)
+        i100 = sk_tri_index(n, n - 1, 0), i010 = sk_tri_index(n, n, 0),
+        i001 = sk_tri_index(n, n - 1, 1);
+    else
+        i100 = sk_tri_index(n, 0, n - 1), i010 = sk_tri_index(n, 1, n - 1),
+        i001 = sk_tri_index(n, 0, n);
+    const double *b100 = cp + 3 * i100, *b010 = cp + 3 * i010, *b001 = cp + 3 * i001;
+    const double *corner = c == 0 ? b100 : c == 1 ? b010 : b001;
+    double D1[3], D2[3], N[3];
+    for (int q = 0; q < 3; ++q) {
+        x[q] = corner[q];
+        D1[q] = (double)n * (b010[q] - b100[q]);
+        D2[q] = (double)n * (b001[q] - b100[q]);
+    }
+    sk__cross3(N, D1, D2);
+    double len = sk__norm3(N);
+    if (len > 0.0)
+        sk__scale3(nrm, N, 1.0 / len);
+    else
+        nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
 /* Interpolation errors at the corners of patch p and its regularity (sk__patch_regularity). */
 static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out,
                         const sk__shape_ctx *shape, double *overshoot, double *fairness)
@@ -387,8 +420,12 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
     const sk_patch *pa = &s->surface.patches[p];
     for (unsigned i = 0; i < sk_patch_num_corners(pa); ++i) {
         double u, v, x[3], n[3];
-        corner_param(pa->kind, i, &u, &v);
-        sk_patch_eval(&s->surface, p, u, v, x, NULL, NULL, n);
+        if (pa->kind == SK_PATCH_TRIANGLE && pa->degree >= 1) {
+            tri_corner_eval(sk_patch_cp(&s->surface, p), pa->degree, i, x, n);
+        } else {
+            corner_param(pa->kind, i, &u, &v);
+            sk_patch_eval(&s->surface, p, u, v, x, NULL, NULL, n);
+        }
         const double *V = m->positions + 3 * (size_t)pa->corner_ids[i];
         const double *N = sk__corner_normal(s, p, i); /* its sector's at a crease */
         b->max_verr = fmax(b->max_verr, sk__dist3(x, V));

@@ -10,7 +10,13 @@
  *    The patches interpolate those normals at the corners, so the angle is 0 there; in between it
  *    grows with every ripple, bulge, spike or fold (a fold turns the normal over: above 90). It
  *    is scale invariant, 0 on a flat face with equal normals, and small (second order in the edge
- *    length) on a densely sampled smooth shape such as the sphere. */
+ *    length) on a densely sampled smooth shape such as the sphere.
+ * Both are the largest over the grid of samples, each computed by sk_patch_eval's operations. The
+ * grids of quartic triangles and bicubic quads are screened first (tri4_screen, bicubic_screen):
+ * every sample from a table of Bernstein values (four samples per vector, with fused
+ * multiply-adds where the processor has them), within a proven bound of the full values, and only
+ * the samples that could still raise the largest angle or distance are evaluated in full (about 2
+ * a patch on the scans): the figures are those of the full grid to the bit. */
 #include "smooth/smooth_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"

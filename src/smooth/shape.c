@@ -524,7 +524,7 @@ static double tri_dist_ub(const double p[3], const flat_tri *T, double vv, doubl
  * not the bits of the full evaluation, which stays outside this function): per sample the
  * distance to the flat triangle T, the angle's (x, y) = (N~ . ph, |N~ x ph|) and whether the
  * Phong normal vanishes (pp0); returns the samples of the largest distance and angle. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__) && \
     !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 #define SCREEN_CLONES __attribute__((target_clones("fma", "default")))
 #else

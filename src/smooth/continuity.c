@@ -38,8 +38,10 @@ static void corner_param(int kind, unsigned i, double *u, double *v)
 #define RAD2DEG (180.0 / M_PI)
 
 /* Work is split into fixed blocks whose partial results are combined in block order, so the report
- * is the same for any number of threads. */
+ * is the same for any number of threads: BLOCK edges (their sums depend on the blocks), PBLOCK
+ * patches (maxima and counts only: any blocks give the same, small ones balance the threads). */
 #define BLOCK 4096
+#define PBLOCK 256
 
 typedef struct edge_block {
     double max_gap, sum_gap, max_jump, sum_jump;
@@ -376,6 +378,39 @@ static void edge_range(const sk_smooth *s, unsigned K, long e0, long e1, edge_bl
     }
 }
 
+/* Point and unit normal of a triangle of degree n >= 1 at its corner c, as sk_patch_eval gives
+ * them: at a corner de Casteljau's weights are 1, 0, 0, so every step copies one point of the net
+ * (x + 0 y = x: the same values, a zero's sign aside), and the last step's three points are the
+ * control points next to the corner; the derivatives, cross product, length and scaling are then
+ * sk_bezier_eval's operations. A zero's sign changes neither the distance nor the angle the
+ * corner checks take. */
+static void tri_corner_eval(const double *cp, unsigned n, unsigned c, double x[3], double nrm[3])
+{
+    unsigned i100, i010, i001; /* the last step's points b_{100}, b_{010}, b_{001} */
+    if (c == 0)
+        i100 = sk_tri_index(n, 0, 0), i010 = sk_tri_index(n, 1, 0), i001 = sk_tri_index(n, 0, 1);
+    else if (c == 1)
+        i100 = sk_tri_index(n, n - 1, 0), i010 = sk_tri_index(n, n, 0),
+        i001 = sk_tri_index(n, n - 1, 1);
+    else
+        i100 = sk_tri_index(n, 0, n - 1), i010 = sk_tri_index(n, 1, n - 1),
+        i001 = sk_tri_index(n, 0, n);
+    const double *b100 = cp + 3 * i100, *b010 = cp + 3 * i010, *b001 = cp + 3 * i001;
+    const double *corner = c == 0 ? b100 : c == 1 ? b010 : b001;
+    double D1[3], D2[3], N[3];
+    for (int q = 0; q < 3; ++q) {
+        x[q] = corner[q];
+        D1[q] = (double)n * (b010[q] - b100[q]);
+        D2[q] = (double)n * (b001[q] - b100[q]);
+    }
+    sk__cross3(N, D1, D2);
+    double len = sk__norm3(N);
+    if (len > 0.0)
+        sk__scale3(nrm, N, 1.0 / len);
+    else
+        nrm[0] = nrm[1] = nrm[2] = 0.0;
+}
+
 /* Interpolation errors at the corners of patch p and its regularity (sk__patch_regularity). */
 static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *singular_out,
                         const sk__shape_ctx *shape, double *overshoot, double *fairness)
@@ -385,8 +420,12 @@ static void patch_check(const sk_smooth *s, size_t p, patch_block *b, uint8_t *s
     const sk_patch *pa = &s->surface.patches[p];
     for (unsigned i = 0; i < sk_patch_num_corners(pa); ++i) {
         double u, v, x[3], n[3];
-        corner_param(pa->kind, i, &u, &v);
-        sk_patch_eval(&s->surface, p, u, v, x, NULL, NULL, n);
+        if (pa->kind == SK_PATCH_TRIANGLE && pa->degree >= 1) {
+            tri_corner_eval(sk_patch_cp(&s->surface, p), pa->degree, i, x, n);
+        } else {
+            corner_param(pa->kind, i, &u, &v);
+            sk_patch_eval(&s->surface, p, u, v, x, NULL, NULL, n);
+        }
         const double *V = m->positions + 3 * (size_t)pa->corner_ids[i];
         const double *N = sk__corner_normal(s, p, i); /* its sector's at a crease */
         b->max_verr = fmax(b->max_verr, sk__dist3(x, V));
@@ -533,7 +572,7 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     const sk_mesh *m = s->config;
     memset(rep, 0, sizeof *rep);
     long ne = (long)sk_num_edges(m), np = (long)s->surface.count;
-    long neb = (ne + BLOCK - 1) / BLOCK, npb = (np + BLOCK - 1) / BLOCK;
+    long neb = (ne + BLOCK - 1) / BLOCK, npb = (np + PBLOCK - 1) / PBLOCK;
     edge_block *eb = sk__malloc_array((size_t)neb + 1, sizeof *eb);
     patch_block *pb = sk__malloc_array((size_t)npb + 1, sizeof *pb);
     uint8_t *singular = sk__malloc_array((size_t)np + 1, 1);
@@ -548,10 +587,22 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
         sk__shape_ctx_free(&shape);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the continuity report");
     }
+    /* the crossing patches (serial but for their triangle tests, which then run in this thread
+     * alone: the same result) go beside the edges' and patches' blocks */
+    unsigned tess = opts && opts->intersection_tess ? opts->intersection_tess : 6;
+    sk_continuity_report xrep = {0};
+    sk_error xerr = {0};
+    sk_status xst = SK_OK;
+    xrep.intersecting_pairs = xrep.intersecting_patches = SIZE_MAX;
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel
 #endif
     {
+#ifdef SK_HAVE_OPENMP
+#pragma omp single nowait
+#endif
+        if (tess != (unsigned)-1)
+            xst = intersections(&s->surface, tess, &xrep, &xerr);
 #ifdef SK_HAVE_OPENMP
 #pragma omp for schedule(dynamic, 1) nowait
 #endif
@@ -562,8 +613,8 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
 #endif
         for (long k = 0; k < npb; ++k) {
             memset(pb + k, 0, sizeof pb[k]);
-            long p1 = k + 1 < npb ? (k + 1) * BLOCK : np;
-            for (long p = k * BLOCK; p < p1; ++p)
+            long p1 = k + 1 < npb ? (k + 1) * PBLOCK : np;
+            for (long p = k * PBLOCK; p < p1; ++p)
                 patch_check(s, (size_t)p, pb + k, singular + p, &shape, shape_v, shape_v + np);
         }
     }
@@ -624,13 +675,16 @@ sk_status sk_smooth_continuity(const sk_smooth *s, const sk_continuity_opts *opt
     rep->uncertified_patches = uncert;
     rep->pass_g1 = rep->max_normal_jump_deg <= tol_deg;
     rep->pass_gap = rep->max_gap <= tol_gap;
-    unsigned tess = opts && opts->intersection_tess ? opts->intersection_tess : 6;
-    rep->intersecting_pairs = rep->intersecting_patches = SIZE_MAX;
-    if (tess != (unsigned)-1) {
-        sk_status st = intersections(&s->surface, tess, rep, err);
-        if (st)
-            return st;
+    if (xst) {
+        if (err)
+            *err = xerr;
+        return xst;
     }
+    rep->intersecting_pairs = xrep.intersecting_pairs;
+    rep->intersecting_patches = xrep.intersecting_patches;
+    rep->num_intersection_examples = xrep.num_intersection_examples;
+    memcpy(rep->intersection_examples, xrep.intersection_examples,
+           sizeof rep->intersection_examples);
     rep->pass_intersections = rep->intersecting_pairs == 0 || rep->intersecting_pairs == SIZE_MAX;
     sk__ok(err);
     return SK_OK;

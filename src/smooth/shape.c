@@ -10,7 +10,13 @@
  *    The patches interpolate those normals at the corners, so the angle is 0 there; in between it
  *    grows with every ripple, bulge, spike or fold (a fold turns the normal over: above 90). It
  *    is scale invariant, 0 on a flat face with equal normals, and small (second order in the edge
- *    length) on a densely sampled smooth shape such as the sphere. */
+ *    length) on a densely sampled smooth shape such as the sphere.
+ * Both are the largest over the grid of samples, each computed by sk_patch_eval's operations. The
+ * grids of quartic triangles and bicubic quads are screened first (tri4_screen, bicubic_screen):
+ * every sample from a table of Bernstein values (four samples per vector, with fused
+ * multiply-adds where the processor has them), within a proven bound of the full values, and only
+ * the samples that could still raise the largest angle or distance are evaluated in full (about 2
+ * a patch on the scans): the figures are those of the full grid to the bit. */
 #include "smooth/smooth_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -32,12 +38,52 @@ static int key_cmp(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The screen's table (tri4_screen): at the samples (a, b) = (i / N, j / N), i + j <= N, of the
+ * triangle grid in the order of its loops, the quartic Bernstein values B^4_{ijk}(U, V, W) at
+ * (1 - a - b, a, b) (rows 0..14, index sk_tri_index(4, j, k)), the cubic ones (rows 15..24,
+ * sk_tri_index(3, j, k)), a and b (rows 25, 26); the samples in fours, each row of a four
+ * holding its samples in turn (the last sample repeated to fill the last four). Without it (no memory, or a
+ * grid above 512 samples) the grid is evaluated in full. */
+#define SCREEN_ROWS 27
+#define SCREEN_MAX_NS 512
+
+static void screen_table_init(sk__shape_ctx *c)
+{
+    unsigned N = c->n, ns = (N + 1) * (N + 2) / 2, nsp = (ns + 3) / 4 * 4;
+    if (N > 200 || ns > SCREEN_MAX_NS)
+        return;
+    c->tab = sk__malloc_array((size_t)SCREEN_ROWS * nsp, sizeof *c->tab);
+    if (!c->tab)
+        return;
+    c->tab_ns = ns;
+    static const double fact[5] = {1, 1, 2, 6, 24};
+    unsigned q = 0;
+    for (unsigned i = 0; i <= N; ++i)
+        for (unsigned j = 0; j <= N - i; ++j, ++q) {
+            double a = (double)i / N, b = (double)j / N, U = 1.0 - a - b;
+            for (unsigned rep = q; rep < nsp && (rep == q || q + 1 == ns); ++rep) {
+                double *t = c->tab + (size_t)(rep / 4) * 4 * SCREEN_ROWS + rep % 4;
+                for (unsigned n = 3; n <= 4; ++n)
+                    for (unsigned k = 0; k <= n; ++k)
+                        for (unsigned jj = 0; jj + k <= n; ++jj) {
+                            unsigned ii = n - jj - k;
+                            double v = fact[n] / (fact[ii] * fact[jj] * fact[k]);
+                            v *= pow(U, ii) * pow(a, jj) * pow(b, k);
+                            t[4 * ((n == 4 ? 0 : 15) + sk_tri_index(n, jj, k))] = v;
+                        }
+                t[4 * 25] = a;
+                t[4 * 26] = b;
+            }
+        }
+}
+
 sk_status sk__shape_ctx_init(sk__shape_ctx *c, const sk_smooth *s, unsigned samples,
                              sk_error *err)
 {
     memset(c, 0, sizeof *c);
     c->s = s;
     c->n = samples ? samples : 12;
+    screen_table_init(c);
     if (!s->num_deleted)
         return SK_OK;
     c->keys = sk__malloc_array(s->num_deleted, sizeof *c->keys);
@@ -52,6 +98,8 @@ sk_status sk__shape_ctx_init(sk__shape_ctx *c, const sk_smooth *s, unsigned samp
 
 void sk__shape_ctx_free(sk__shape_ctx *c)
 {
+    sk__free(c->tab);
+    c->tab = NULL;
     sk__free(c->keys);
     c->keys = NULL;
     c->nkeys = 0;
@@ -415,6 +463,242 @@ static void tri4_grid(const double *cp, unsigned N, const double *const Nv[4],
     }
 }
 
+/* The plain distance from p to the flat triangle (for the screen: no skips) */
+static double tri_dist_plain(const double p[3], const flat_tri *T)
+{
+    double ap[3], t[3];
+    sk__sub3(ap, p, T->a);
+    if (T->nn > 0) {
+        sk__cross3(t, ap, T->e2);
+        double v = sk__dot3(t, T->n) / T->nn;
+        if (v >= 0) {
+            sk__cross3(t, T->e1, ap);
+            double w = sk__dot3(t, T->n) / T->nn;
+            if (w >= 0 && v + w <= 1)
+                return fabs(sk__dot3(ap, T->n)) / T->len;
+        }
+    }
+    const double *end[4] = {T->a, T->b, T->c, T->a};
+    double d2 = INFINITY;
+    for (int e = 0; e < 3; ++e)
+        d2 = fmin(d2, seg_dist2(p, end[e], end[e + 1]));
+    return sqrt(d2);
+}
+
+/* An upper bound of the distance from p to the flat triangle outside its prism: the distance to
+ * the side p lies across (vv, ww: the barycentric coordinates v, w times |n|^2), the first that
+ * tri_dist_within tries; the plain distance where the triangle is degenerate. */
+static double tri_dist_ub(const double p[3], const flat_tri *T, double vv, double ww)
+{
+    if (!(T->nn > 0))
+        return tri_dist_plain(p, T);
+    const double *end[4] = {T->a, T->b, T->c, T->a};
+    int e = !(vv >= 0) ? 2 : ww >= 0 ? 1 : 0;
+    return sqrt(seg_dist2(p, end[e], end[e + 1]));
+}
+
+/* The shape grid of a quartic triangle, screened: every sample is first evaluated from the
+ * context's Bernstein table (sums over the net instead of de Casteljau's steps, no rounding
+ * guarantees beyond a bound), and only the samples whose screened angle or distance could reach
+ * the largest found so far are evaluated in full (tri4_eval2v and grid_lanes: the same values to
+ * the bit as sk_patch_eval), the screen's largest of each first. The reported figures are the
+ * largest of the full values, so they are those of the full grid whenever the skipped samples'
+ * full values are at most those: proven by these bounds, with C the largest coordinate of the net
+ * and the flat triangle and u = 2^-53:
+ *  - points: both the de Casteljau point and the table's are within about 20 u C of the exact
+ *    value (convex combinations of the net, 4 steps or 15 terms, weights summing to 1 up to
+ *    rounding), so the full distance (1-Lipschitz in the point, rounded relatively by a few u) is
+ *    within dm = 1e-12 C of the screened one;
+ *  - derivatives: both within about 200 u C of the exact (differences of the net times 4), taken
+ *    as dD = 1e-12 C; with Dmax the largest length of the derivative net (a bound on both
+ *    derivatives by the convex hull), the normals' cross products differ by at most E = 2 dD
+ *    (Dmax + dD) + dD^2 + 1e-14 (Dmax + dD)^2, so the directions by at most 1.6 E / |N~| radians
+ *    (asin(x) <= 1.6 x, x <= 1); with the roundings of the cross and dot products and atan2 well
+ *    under 1e-13, a sample is skipped when the 2D cross product of its (x, y) with the largest
+ *    angle's (xm, ym) shows it at least (1.6 E + 2e-13 |N~|) |ph| |(xm, ym)| clockwise of it.
+ * A sample with a vanishing Phong normal, a NaN or no full angle yet is always evaluated in full.
+ * The bounds are 10 to 50 times the rounding analysis; test_smooth_shape checks every patch of
+ * three meshes against a plain full grid to the bit. */
+/* The screen's pass over the samples, four at a time in the lanes of a vector (compiled also
+ * for processors with FMA, chosen at run time: its values need only the bounds of tri4_screen,
+ * not the bits of the full evaluation, which stays outside this function): per sample the
+ * distance to the flat triangle T, the angle's (x, y) = (N~ . ph, |N~ x ph|) and whether the
+ * Phong normal vanishes (pp0); returns the samples of the largest distance and angle. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__GLIBC__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define SCREEN_CLONES __attribute__((target_clones("fma", "default")))
+#else
+#define SCREEN_CLONES
+#endif
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v4du __attribute__((vector_size(32), aligned(8))); /* the table's rows */
+
+SCREEN_CLONES
+static void screen_pass(const double *tab, unsigned ns, const double *cp, const double *dv,
+                        const double *dw, const double *const Nv[4], const flat_tri *T,
+                        double *dist, double *ys, double *xs, bool *pp0, double *ta, double *tb,
+                        unsigned *best)
+{
+    v4d cv[15][3], dvv[10][3], dwv[10][3], Nvv[3][3], zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+    for (int k = 0; k < 15; ++k)
+        for (int q = 0; q < 3; ++q)
+            cv[k][q] = zero + cp[3 * k + q];
+    for (int k = 0; k < 10; ++k)
+        for (int q = 0; q < 3; ++q)
+            dvv[k][q] = zero + dv[3 * k + q], dwv[k][q] = zero + dw[3 * k + q];
+    for (int k = 0; k < 3; ++k)
+        for (int q = 0; q < 3; ++q)
+            Nvv[k][q] = zero + Nv[k][q];
+    v4d Ta[3], E1[3], E2[3], Tn[3];
+    for (int q = 0; q < 3; ++q) {
+        Ta[q] = zero + T->a[q];
+        E1[q] = zero + T->e1[q];
+        E2[q] = zero + T->e2[q];
+        Tn[q] = zero + T->n[q];
+    }
+    double inv_len = T->len > 0 ? 1.0 / T->len : 0.0;
+    unsigned best_d = 0, best_a = 0;
+    for (unsigned i = 0; i < ns; i += 4) {
+        const v4du *t = (const v4du *)(tab + (size_t)(i / 4) * 4 * SCREEN_ROWS);
+        v4d P[3] = {zero, zero, zero}, D1[3] = {zero, zero, zero}, D2[3] = {zero, zero, zero};
+        for (int k = 0; k < 15; ++k)
+            for (int q = 0; q < 3; ++q)
+                P[q] += t[k] * cv[k][q];
+        for (int k = 0; k < 10; ++k)
+            for (int q = 0; q < 3; ++q) {
+                D1[q] += t[15 + k] * dvv[k][q];
+                D2[q] += t[15 + k] * dwv[k][q];
+            }
+        v4d A = t[25], B = t[26], n[3], ph[3], c[3], ap[3], t1[3], t2[3];
+        n[0] = D1[1] * D2[2] - D1[2] * D2[1];
+        n[1] = D1[2] * D2[0] - D1[0] * D2[2];
+        n[2] = D1[0] * D2[1] - D1[1] * D2[0];
+        v4d w0 = one - A - B;
+        for (int q = 0; q < 3; ++q)
+            ph[q] = w0 * Nvv[0][q] + A * Nvv[1][q] + B * Nvv[2][q];
+        v4d pp = ph[0] * ph[0] + ph[1] * ph[1] + ph[2] * ph[2];
+        c[0] = n[1] * ph[2] - n[2] * ph[1];
+        c[1] = n[2] * ph[0] - n[0] * ph[2];
+        c[2] = n[0] * ph[1] - n[1] * ph[0];
+        v4d y2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+        v4d x = n[0] * ph[0] + n[1] * ph[1] + n[2] * ph[2];
+        for (int q = 0; q < 3; ++q)
+            ap[q] = P[q] - Ta[q];
+        t1[0] = ap[1] * E2[2] - ap[2] * E2[1];
+        t1[1] = ap[2] * E2[0] - ap[0] * E2[2];
+        t1[2] = ap[0] * E2[1] - ap[1] * E2[0];
+        t2[0] = E1[1] * ap[2] - E1[2] * ap[1];
+        t2[1] = E1[2] * ap[0] - E1[0] * ap[2];
+        t2[2] = E1[0] * ap[1] - E1[1] * ap[0];
+        v4d vv = t1[0] * Tn[0] + t1[1] * Tn[1] + t1[2] * Tn[2];
+        v4d ww = t2[0] * Tn[0] + t2[1] * Tn[1] + t2[2] * Tn[2];
+        v4d h = (ap[0] * Tn[0] + ap[1] * Tn[1] + ap[2] * Tn[2]) * inv_len;
+        for (int l = 0; l < 4 && i + (unsigned)l < ns; ++l) {
+            unsigned k = i + (unsigned)l;
+            ta[k] = A[l], tb[k] = B[l], ys[k] = sqrt(y2[l]), xs[k] = x[l];
+            pp0[k] = !(pp[l] > 0);
+            if (T->nn > 0 && vv[l] >= 0 && ww[l] >= 0 && vv[l] + ww[l] <= T->nn) {
+                dist[k] = fabs(h[l]);
+            } else {
+                double px[3] = {P[0][l], P[1][l], P[2][l]};
+                dist[k] = tri_dist_ub(px, T, vv[l], ww[l]);
+            }
+            if (dist[k] > dist[best_d])
+                best_d = k;
+            if (ys[k] * xs[best_a] - xs[k] * ys[best_a] > 0)
+                best_a = k;
+        }
+    }
+    best[0] = best_d, best[1] = best_a;
+}
+
+/* The shape grid of a quartic triangle, screened: every sample is first evaluated from the
+ * context's Bernstein table (sums over the net instead of de Casteljau's steps, within a bound of
+ * the exact values), and only the samples whose screened angle or distance could reach the
+ * largest found so far are evaluated in full (tri4_eval2v and grid_lanes: the same values to the
+ * bit as sk_patch_eval), the screen's largest of each first. The reported figures are the largest
+ * of the full values, so they are those of the full grid when the skipped samples' full values
+ * are at most those: proven by these bounds, with C the largest coordinate of the net and the
+ * flat triangle and u = 2^-53:
+ *  - points: both the de Casteljau point and the table's (with or without fused multiply-adds)
+ *    are within about 20 u C of the exact value (convex combinations of the net: 4 steps or 15
+ *    terms, weights summing to 1 up to rounding), so the full distance (1-Lipschitz in the point,
+ *    rounded relatively by a few u) is within dm = 1e-12 C of the screened one;
+ *  - derivatives: both within about 200 u C of the exact (differences of the net times 4), taken
+ *    as dD = 1e-12 C; with Dmax a bound on both derivatives' lengths (the longest of the
+ *    derivative net, by the convex hull, plus dD), the normals' cross products differ by at most
+ *    E = 2 dD Dmax + dD^2 + 1e-14 Dmax^2, so their directions by at most 1.6 E / |N~| radians
+ *    (asin(x) <= 1.6 x for x <= 1); with the roundings of the cross and dot products and of
+ *    atan2 (under 2e-13 of the angle's scale), a sample is skipped when the 2D cross product of
+ *    its (x, y) with the largest full angle's (xm, ym) shows it clockwise by more than
+ *    (1.6 E + 2e-13 |N~|) |ph| |(xm, ym)|, bounded by LIM |(xm, ym)| with LIM = (1.6 E + 2e-13
+ *    Dmax^2) (1 + 1e-12) max |N_k| (the Phong normal being a convex combination of the N_k).
+ * A sample with a vanishing Phong normal, a NaN or no full angle yet is always evaluated in full.
+ * The bounds are 10 to 50 times the rounding analysis; test_smooth_shape checks every patch of
+ * three meshes against a plain full grid to the bit. */
+static void tri4_screen(const sk__shape_ctx *ctx, const double *cp, const double *const Nv[4],
+                        const double *const X[4], const flat_tri *tris, shape_max *M,
+                        bool *flat_normal)
+{
+    const unsigned ns = ctx->tab_ns;
+    double C = 0.0, dv[10][3], dw[10][3], D2max = 0.0, Nmax = 0.0;
+    for (int q = 0; q < 45; ++q)
+        C = fmax(C, fabs(cp[q]));
+    for (int i = 0; i < 3; ++i) {
+        for (int q = 0; q < 3; ++q)
+            C = fmax(C, fabs(X[i][q]));
+        Nmax = fmax(Nmax, sk__norm3(Nv[i]));
+    }
+    for (unsigned k = 0; k <= 3; ++k)
+        for (unsigned j = 0; j + k <= 3; ++j) {
+            unsigned o = sk_tri_index(3, j, k);
+            const double *b0 = cp + 3 * sk_tri_index(4, j, k);
+            const double *bv = cp + 3 * sk_tri_index(4, j + 1, k);
+            const double *bw = cp + 3 * sk_tri_index(4, j, k + 1);
+            for (int q = 0; q < 3; ++q) {
+                dv[o][q] = 4.0 * (bv[q] - b0[q]);
+                dw[o][q] = 4.0 * (bw[q] - b0[q]);
+            }
+            D2max = fmax(D2max, fmax(sk__dot3(dv[o], dv[o]), sk__dot3(dw[o], dw[o])));
+        }
+    double dm = 1e-12 * C, dD = 1e-12 * C, Dmax = sqrt(D2max) * (1.0 + 1e-12) + dD;
+    double E = 2.0 * dD * Dmax + dD * dD + 1e-14 * Dmax * Dmax;
+    double LIM = (1.6 * E + 2e-13 * Dmax * Dmax) * (1.0 + 1e-12) * Nmax;
+    double dist[SCREEN_MAX_NS], ys[SCREEN_MAX_NS], xs[SCREEN_MAX_NS], ta[SCREEN_MAX_NS],
+        tb[SCREEN_MAX_NS];
+    bool pp0[SCREEN_MAX_NS];
+    unsigned best[2];
+    screen_pass(ctx->tab, ns, cp, dv[0], dw[0], Nv, tris, dist, ys, xs, pp0, ta, tb, best);
+    /* full evaluations: the screen's largest first, then every sample the screen cannot skip,
+     * two at a time */
+    v2d cpv[3 * 15];
+    for (int q = 0; q < 3 * 15; ++q)
+        cpv[q] = (v2d){cp[q], cp[q]};
+    unsigned pend[2], np = 0;
+    pend[np++] = best[0];
+    if (best[1] != best[0])
+        pend[np++] = best[1];
+    for (unsigned i = 0;; ++i) {
+        if (np == 2 || (i == ns && np > 0)) {
+            int nl = (int)np;
+            v2d A = {ta[pend[0]], ta[pend[nl - 1]]}, B = {tb[pend[0]], tb[pend[nl - 1]]};
+            v2d Pf[3], F1[3], F2[3];
+            tri4_eval2v(cpv, A, B, Pf, F1, F2);
+            grid_lanes(A, B, nl, Pf, F1, F2, Nv, 3, tris, 1, M, flat_normal);
+            np = 0;
+        }
+        if (i == ns)
+            break;
+        if (i == best[0] || i == best[1])
+            continue;
+        bool skip_d = dist[i] + dm <= M->dmax;
+        double vm = sqrt(M->xm * M->xm + M->ym * M->ym);
+        bool skip_a = M->any_angle && !pp0[i] && -(ys[i] * M->xm - xs[i] * M->ym) > LIM * vm;
+        if (!(skip_d && skip_a))
+            pend[np++] = i;
+    }
+}
+
 /* The shape grid of a bicubic patch, row a = i / N at a time (its net summed in s once, by
  * row_eval_start), two samples of the row at once: the sums of row_eval2 in the lanes. */
 static void bicubic_grid(const sk_patch_set *set, size_t p, unsigned N, const double *const Nv[4],
@@ -442,6 +726,181 @@ static void bicubic_grid(const sk_patch_set *set, size_t p, unsigned N, const do
             }
             grid_lanes(A, B, nl, P, S, T, Nv, 4, tris, ntri, M, flat_normal);
         }
+    }
+}
+
+/* The screen of a bicubic patch (bicubic_screen): per sample (i / N, j / N), in the order of
+ * the rows, the distance bound (the least plane distance over the flat triangles whose prism holds
+ * the point, else the least of tri_dist_ub over them), the angle's (x, y) and the vanishing Phong normal,
+ * four samples of a row at a time; the rows' sums r, dr and the columns' Bernstein values given.
+ * Returns the samples of the largest distance bound and angle. */
+#define BIC_MAX_N 32
+SCREEN_CLONES
+static void bicubic_screen_pass(unsigned N, const double (*r)[4][3], const double (*dr)[4][3],
+                                const double (*Bt)[4], const double (*dBt)[4],
+                                const double *const Nv[4], const flat_tri *tris, int ntri,
+                                double *dist, double *ys, double *xs, bool *pp0, unsigned *best)
+{
+    v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+    unsigned nj = (N + 4) / 4 * 4, best_d = 0, best_a = 0, k = 0;
+    for (unsigned i = 0; i <= N; ++i) {
+        v4d A = zero + (double)i / N;
+        for (unsigned j = 0; j < nj; j += 4) {
+            v4d B, P[3] = {zero, zero, zero}, S[3] = {zero, zero, zero}, T[3] = {zero, zero, zero};
+            unsigned jl[4];
+            for (int l = 0; l < 4; ++l)
+                jl[l] = j + (unsigned)l <= N ? j + (unsigned)l : N;
+            for (int l = 0; l < 4; ++l)
+                B[l] = (double)jl[l] / N;
+            for (unsigned q = 0; q <= 3; ++q) {
+                v4d Bq = {Bt[jl[0]][q], Bt[jl[1]][q], Bt[jl[2]][q], Bt[jl[3]][q]};
+                v4d dBq = {dBt[jl[0]][q], dBt[jl[1]][q], dBt[jl[2]][q], dBt[jl[3]][q]};
+                for (int x = 0; x < 3; ++x) {
+                    P[x] += Bq * r[i][q][x];
+                    S[x] += Bq * dr[i][q][x];
+                    T[x] += dBq * r[i][q][x];
+                }
+            }
+            v4d n[3], ph[3], c[3], w[4];
+            n[0] = S[1] * T[2] - S[2] * T[1];
+            n[1] = S[2] * T[0] - S[0] * T[2];
+            n[2] = S[0] * T[1] - S[1] * T[0];
+            w[0] = (one - A) * (one - B), w[1] = A * (one - B), w[2] = A * B, w[3] = (one - A) * B;
+            for (int q = 0; q < 3; ++q)
+                ph[q] = w[0] * Nv[0][q] + w[1] * Nv[1][q] + w[2] * Nv[2][q] + w[3] * Nv[3][q];
+            v4d pp = ph[0] * ph[0] + ph[1] * ph[1] + ph[2] * ph[2];
+            c[0] = n[1] * ph[2] - n[2] * ph[1];
+            c[1] = n[2] * ph[0] - n[0] * ph[2];
+            c[2] = n[0] * ph[1] - n[1] * ph[0];
+            v4d y2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+            v4d x = n[0] * ph[0] + n[1] * ph[1] + n[2] * ph[2];
+            v4d ub = zero + INFINITY, vt[4], wt[4];
+            for (int t = 0; t < ntri; ++t) {
+                const flat_tri *F = tris + t;
+                v4d ap[3], t1[3], t2[3];
+                for (int q = 0; q < 3; ++q)
+                    ap[q] = P[q] - F->a[q];
+                t1[0] = ap[1] * F->e2[2] - ap[2] * F->e2[1];
+                t1[1] = ap[2] * F->e2[0] - ap[0] * F->e2[2];
+                t1[2] = ap[0] * F->e2[1] - ap[1] * F->e2[0];
+                t2[0] = F->e1[1] * ap[2] - F->e1[2] * ap[1];
+                t2[1] = F->e1[2] * ap[0] - F->e1[0] * ap[2];
+                t2[2] = F->e1[0] * ap[1] - F->e1[1] * ap[0];
+                v4d vv = t1[0] * F->n[0] + t1[1] * F->n[1] + t1[2] * F->n[2];
+                v4d ww = t2[0] * F->n[0] + t2[1] * F->n[1] + t2[2] * F->n[2];
+                v4d h = (ap[0] * F->n[0] + ap[1] * F->n[1] + ap[2] * F->n[2]) *
+                        (F->len > 0 ? 1.0 / F->len : 0.0);
+                for (int l = 0; l < 4; ++l)
+                    if (F->nn > 0 && vv[l] >= 0 && ww[l] >= 0 && vv[l] + ww[l] <= F->nn)
+                        ub[l] = fmin(ub[l], fabs(h[l]));
+                vt[t] = vv, wt[t] = ww;
+            }
+            for (int l = 0; l < 4 && j + (unsigned)l <= N; ++l, ++k) {
+                ys[k] = sqrt(y2[l]), xs[k] = x[l];
+                pp0[k] = !(pp[l] > 0);
+                dist[k] = ub[l];
+                if (!(ub[l] < INFINITY)) {
+                    double px[3] = {P[0][l], P[1][l], P[2][l]}, d = INFINITY;
+                    for (int t = 0; t < ntri; ++t)
+                        d = fmin(d, tri_dist_ub(px, tris + t, vt[t][l], wt[t][l]));
+                    dist[k] = d;
+                }
+                if (dist[k] > dist[best_d])
+                    best_d = k;
+                if (ys[k] * xs[best_a] - xs[k] * ys[best_a] > 0)
+                    best_a = k;
+            }
+        }
+    }
+    best[0] = best_d, best[1] = best_a;
+}
+
+/* The shape grid of a bicubic patch, screened as tri4_screen's (the same bounds, with the
+ * derivatives' bound 3 times the longest difference of the net along s or t and Nmax over the
+ * four corners: the bilinear Phong weights are convex); the full evaluations are bicubic_grid's
+ * sums in the lanes, each lane its sample's row. */
+static void bicubic_screen(const sk_patch_set *set, size_t p, unsigned N,
+                           const double *const Nv[4], const double *const X[4],
+                           const flat_tri *tris, int ntri, shape_max *M, bool *flat_normal)
+{
+    const double *cp = sk_patch_cp(set, p);
+    double C = 0.0, D2max = 0.0, Nmax = 0.0;
+    for (int q = 0; q < 48; ++q)
+        C = fmax(C, fabs(cp[q]));
+    for (int i = 0; i < 4; ++i) {
+        for (int q = 0; q < 3; ++q)
+            C = fmax(C, fabs(X[i][q]));
+        Nmax = fmax(Nmax, sk__norm3(Nv[i]));
+    }
+    for (unsigned j = 0; j <= 3; ++j)
+        for (unsigned i = 0; i <= 3; ++i) {
+            const double *b = cp + 3 * sk_tensor_index(3, i, j);
+            double d[3];
+            if (i < 3) {
+                sk__sub3(d, cp + 3 * sk_tensor_index(3, i + 1, j), b);
+                D2max = fmax(D2max, 9.0 * sk__dot3(d, d));
+            }
+            if (j < 3) {
+                sk__sub3(d, cp + 3 * sk_tensor_index(3, i, j + 1), b);
+                D2max = fmax(D2max, 9.0 * sk__dot3(d, d));
+            }
+        }
+    double dm = 1e-12 * C, dD = 1e-12 * C, Dmax = sqrt(D2max) * (1.0 + 1e-12) + dD;
+    double E = 2.0 * dD * Dmax + dD * dD + 1e-14 * Dmax * Dmax;
+    double LIM = (1.6 * E + 2e-13 * Dmax * Dmax) * (1.0 + 1e-12) * Nmax;
+    double r[BIC_MAX_N + 1][4][3], dr[BIC_MAX_N + 1][4][3], Bt[BIC_MAX_N + 1][4],
+        dBt[BIC_MAX_N + 1][4];
+    for (unsigned i = 0; i <= N; ++i) {
+        row_eval R;
+        row_eval_start(&R, set, p, (double)i / N);
+        memcpy(r[i], R.r, sizeof R.r);
+        memcpy(dr[i], R.dr, sizeof R.dr);
+        sk__bernstein_n(3, (double)i / N, Bt[i], dBt[i]);
+    }
+    enum { NS = (BIC_MAX_N + 1) * (BIC_MAX_N + 1) };
+    double dist[NS], ys[NS], xs[NS];
+    bool pp0[NS];
+    unsigned best[2], ns = (N + 1) * (N + 1);
+    bicubic_screen_pass(N, (const double (*)[4][3])r, (const double (*)[4][3])dr,
+                        (const double (*)[4])Bt, (const double (*)[4])dBt, Nv, tris, ntri, dist,
+                        ys, xs, pp0, best);
+    unsigned pend[2], np = 0;
+    pend[np++] = best[0];
+    if (best[1] != best[0])
+        pend[np++] = best[1];
+    for (unsigned k = 0;; ++k) {
+        if (np == 2 || (k == ns && np > 0)) {
+            int nl = (int)np;
+            v2d zero = {0.0, 0.0}, A, B;
+            v2d P[3] = {zero, zero, zero}, S[3] = {zero, zero, zero}, T[3] = {zero, zero, zero};
+            unsigned il[2], jl[2];
+            for (int l = 0; l < 2; ++l) {
+                unsigned q = pend[l < nl ? l : 0];
+                il[l] = q / (N + 1), jl[l] = q % (N + 1);
+                A[l] = (double)il[l] / N, B[l] = (double)jl[l] / N;
+            }
+            for (unsigned q = 0; q <= 3; ++q) { /* bicubic_grid's sums, lane by lane */
+                v2d Bq = {Bt[jl[0]][q], Bt[jl[1]][q]}, dBq = {dBt[jl[0]][q], dBt[jl[1]][q]};
+                for (int x = 0; x < 3; ++x) {
+                    v2d rr = {r[il[0]][q][x], r[il[1]][q][x]};
+                    v2d dd = {dr[il[0]][q][x], dr[il[1]][q][x]};
+                    P[x] += Bq * rr;
+                    S[x] += Bq * dd;
+                    T[x] += dBq * rr;
+                }
+            }
+            grid_lanes(A, B, nl, P, S, T, Nv, 4, tris, ntri, M, flat_normal);
+            np = 0;
+        }
+        if (k == ns)
+            break;
+        if (k == best[0] || k == best[1])
+            continue;
+        bool skip_d = dist[k] + dm <= M->dmax;
+        double vm = sqrt(M->xm * M->xm + M->ym * M->ym);
+        bool skip_a = M->any_angle && !pp0[k] && -(ys[k] * M->xm - xs[k] * M->ym) > LIM * vm;
+        if (!(skip_d && skip_a))
+            pend[np++] = k;
     }
 }
 
@@ -505,8 +964,12 @@ void sk__patch_shape(const sk__shape_ctx *c, size_t p, double *overshoot, double
     bool flat_normal = false; /* 180: a vanishing normal somewhere */
     bool tri4 = pa->kind == SK_PATCH_TRIANGLE && pa->degree == 4;
     bool bicubic = pa->kind != SK_PATCH_TRIANGLE && pa->degree == 3 && pa->degree_v == 3;
-    if (tri4)
+    if (tri4 && c->tab)
+        tri4_screen(c, sk_patch_cp(&s->surface, p), Nv, X, tris, &M, &flat_normal);
+    else if (tri4)
         tri4_grid(sk_patch_cp(&s->surface, p), N, Nv, tris, ntri, &M, &flat_normal);
+    else if (bicubic && N <= BIC_MAX_N)
+        bicubic_screen(&s->surface, p, N, Nv, X, tris, ntri, &M, &flat_normal);
     else if (bicubic)
         bicubic_grid(&s->surface, p, N, Nv, tris, ntri, &M, &flat_normal);
     for (unsigned i = 0; !tri4 && !bicubic && i <= N; ++i) {

@@ -238,6 +238,8 @@ typedef struct sk__shape_ctx {
     uint64_t *keys; /* sorted deleted edges, (min id << 32) | max id */
     size_t nkeys;
     unsigned n;     /* grid steps per patch side */
+    double *tab;    /* the screen's Bernstein table of the triangle grid (shape.c), or NULL */
+    unsigned tab_ns; /* its samples, (n + 1) (n + 2) / 2 */
 } sk__shape_ctx;
 sk_status sk__shape_ctx_init(sk__shape_ctx *c, const sk_smooth *s, unsigned samples,
                              sk_error *err);

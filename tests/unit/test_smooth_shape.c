@@ -447,6 +447,24 @@ static void test_grid_matches_reference(void **state)
         print_message("%s: %zu patches (%zu quads) match the reference grid to the bit\n",
                       names[mi], np, quads);
         assert_true(quads > 0);
+        /* other grids on the cow: 7 and 9 steps (36 and 55 triangle samples, 8 and 10 a quad row:
+         * the screen's lanes part-filled differently), and 33 (above the screen's tables: the
+         * full grids; every 7th patch against the reference, quads among them) */
+        static const unsigned other_n[] = {7, 9, 33};
+        for (size_t k = 0; mi == 0 && k < sizeof other_n / sizeof *other_n; ++k) {
+            assert_int_equal(sk_smooth_patch_shapes(s, other_n[k], sh, &err), SK_OK);
+            size_t step = other_n[k] > 30 ? 7 : 1, nq = 0;
+            for (size_t p = 0; p < np; p += step) {
+                nq += s->surface.patches[p].kind != SK_PATCH_TRIANGLE;
+                double over, fair;
+                ref_shape(s, p, other_n[k], &over, &fair);
+                if (!(sh[p].overshoot == over) || !(sh[p].fairness_deg == fair))
+                    fail_msg("%s, %u steps, patch %zu: overshoot %.17g (reference %.17g), "
+                             "fairness %.17g (reference %.17g)", names[mi], other_n[k], p,
+                             sh[p].overshoot, over, sh[p].fairness_deg, fair);
+            }
+            assert_true(nq > 0);
+        }
         free(sh);
         sk_smooth_destroy(&s);
     }

@@ -322,6 +322,11 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                 "up to K times (default 6, 0: never) with the edge deletion changed near them\n"
                 "and their slivers flipped, keeping a build with fewer (rerouted_rounds;\n"
                 "not in the --tolerance search, which refines at singular patches itself)"),
+        OPT_INT("--refine-base", a->so.base_refinements, 0, 4, "N",
+                "vc1: split every triangle of the base (after the flips and the crease\n"
+                "detection on the input) into four at its edge midpoints N times before the\n"
+                "edge deletion: new vertices on the input's facets with the facets' normals,\n"
+                "the input's creases kept (default 0; not with --tolerance)"),
         OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
                    "vc1: free tangent control points by least squares to the wire frame\n"
                    "moved to lower the patches' bending energy (fair, default), or the\n"

@@ -192,6 +192,13 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
  * The _keep variant never flips the edges with keep[e] set (crease edges; NULL = none). */
 sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
                                     sk_error *err);
+/* One 1-to-4 midpoint refinement of base (refine_base.c): *out (vertex nv + e on edge e), the
+ * old normals and the facets' normals of the new vertices in *out_normals, the halves of the
+ * crease pairs that are edges of base in *out_creases (*out_ncreases pairs). */
+sk_status sk__refine_base_midpoint(const sk_mesh *base, const double *normals,
+                                   const uint32_t *creases, size_t ncreases, sk_mesh **out,
+                                   double **out_normals, uint32_t **out_creases, size_t *out_ncreases,
+                                   sk_error *err);
 sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
                                          size_t *flipped, sk_error *err);
 

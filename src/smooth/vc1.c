@@ -797,6 +797,23 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
     if (hinge_end && !file_normals &&
         (st = refit_hinge_ends(s, base, normals, hinge_end, mesh->num_vertices, err)) != SK_OK)
         goto fail;
+    for (unsigned k = 0; k < opts.base_refinements; ++k) { /* refine_base.c */
+        sk_mesh *r = NULL;
+        double *n2 = NULL;
+        uint32_t *c2 = NULL;
+        size_t nc2 = 0;
+        if ((st = sk__refine_base_midpoint(base, normals, s->creases, s->num_creases, &r, &n2,
+                                           &c2, &nc2, err)) != SK_OK)
+            goto fail;
+        sk_mesh_destroy(&work);
+        sk__free(normals);
+        sk__free(s->creases);
+        work = r;
+        base = work;
+        normals = n2;
+        s->creases = c2;
+        s->num_creases = nc2;
+    }
     clock_now(t0);
     sk__free(keep);
     keep = NULL;
@@ -812,7 +829,8 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
     s->normals = normals;
     normals = NULL;
     sk__build_ctx ctx = {.mesh = mesh, .base = base,
-                         .flippable = opts.keep_triangulation ? NULL : work, .keep = keep,
+                         .flippable = opts.keep_triangulation || opts.base_refinements ? NULL : work,
+                         .keep = keep,
                          .file_normals = file_normals, .alpha = alpha, .max_nu = max_nu,
                          .opts = &opts};
     if ((st = build_rounds(s, &ctx, hint, nhint, t0, err)) != SK_OK)

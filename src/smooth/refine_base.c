@@ -119,7 +119,8 @@ sk_status sk__refine_base_split(const sk_mesh *base, const double *normals, cons
     uint32_t *c2 = sk__malloc_array(4 * ncreases + 1, sizeof(uint32_t));
     sk_soup *soup = NULL;
     sk_mesh *r = NULL;
-    sk_status st = mid && c2 ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory refining the base");
+    sk_status st =
+        mid && c2 ? SK_OK : sk__fail(err, SK_ERR_NOMEM, "out of memory refining the base");
     size_t nnew = 0;
     for (size_t e = 0; st == SK_OK && e < ne; ++e)
         mid[e] = split[e] && !base->e_deleted[e] ? (uint32_t)(nv + nnew++) : SK_INVALID;

@@ -810,8 +810,8 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
         }
         st = sk__refine_base_flags(base, SK_REFINE_FOLD_DEG, split, &nsplit, err);
         if (st == SK_OK)
-            st = sk__refine_base_split(base, normals, split, s->creases, s->num_creases, &r, &n2, &c2,
-                                   &nc2, &nsplit, err);
+            st = sk__refine_base_split(base, normals, split, s->creases, s->num_creases, &r, &n2,
+                                       &c2, &nc2, &nsplit, err);
         sk__free(split);
         if (st != SK_OK)
             goto fail;
@@ -839,7 +839,8 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
     s->normals = normals;
     normals = NULL;
     sk__build_ctx ctx = {.mesh = mesh, .base = base,
-                         .flippable = opts.keep_triangulation || opts.base_refinements ? NULL : work,
+                         .flippable =
+                             opts.keep_triangulation || opts.base_refinements ? NULL : work,
                          .keep = keep,
                          .file_normals = file_normals, .alpha = alpha, .max_nu = max_nu,
                          .opts = &opts};

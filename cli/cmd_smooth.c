@@ -323,10 +323,11 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                 "and their slivers flipped, keeping a build with fewer (rerouted_rounds;\n"
                 "not in the --tolerance search, which refines at singular patches itself)"),
         OPT_INT("--refine-base", a->so.base_refinements, 0, 4, "N",
-                "vc1: split every triangle of the base (after the flips and the crease\n"
-                "detection on the input) into four at its edge midpoints N times before the\n"
-                "edge deletion: new vertices on the input's facets with the facets' normals,\n"
-                "the input's creases kept (default 0; not with --tolerance)"),
+                "vc1: refine the input N times before the edge deletion (after the normals\n"
+                "and the crease detection on it; no edge flips): every edge but the near-folds\n"
+                "(facets over 120 degrees apart) split at its midpoint, on the input's facets\n"
+                "with the facets' normal, the input's creases kept (default 0; not with\n"
+                "--tolerance)"),
         OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
                    "vc1: free tangent control points by least squares to the wire frame\n"
                    "moved to lower the patches' bending energy (fair, default), or the\n"

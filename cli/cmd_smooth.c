@@ -322,6 +322,12 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                 "up to K times (default 6, 0: never) with the edge deletion changed near them\n"
                 "and their slivers flipped, keeping a build with fewer (rerouted_rounds;\n"
                 "not in the --tolerance search, which refines at singular patches itself)"),
+        OPT_INT("--refine-base", a->so.base_refinements, 0, 4, "N",
+                "vc1: refine the input N times before the edge deletion (after the normals\n"
+                "and the crease detection on it; no edge flips): every edge but the near-folds\n"
+                "(facets over 120 degrees apart) split at its midpoint, on the input's facets\n"
+                "with the facets' normal, the input's creases kept (default 0; not with\n"
+                "--tolerance)"),
         OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
                    "vc1: free tangent control points by least squares to the wire frame\n"
                    "moved to lower the patches' bending energy (fair, default), or the\n"

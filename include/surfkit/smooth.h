@@ -132,6 +132,13 @@ typedef struct sk_smooth_opts {
                                   singular patches. 0 = none (the default; the measurements and
                                   why it is not on in the tolerance route: CHANGELOG.md) */
     const sk_mesh *fit_mesh;   /* the scan fitted with fit_weight (NULL = the input mesh) */
+    unsigned base_refinements; /* VC1: refinements of the input before the edge deletion (after
+                                  the normals, their fold refits and the crease detection on the
+                                  input; no edge flips then): every edge but the near-folds (facet
+                                  normals over 120 degrees apart) split at its midpoint, the new
+                                  vertex on the input's facets with the facets' normal, crease
+                                  halves kept as creases (src/smooth/refine_base.c); 0 = none; not
+                                  with sk_smooth_tolerance */
 } sk_smooth_opts;
 
 typedef struct sk_smooth_stats {

@@ -95,6 +95,9 @@ static sk_status check_input(const sk_mesh *mesh, const sk_tolerance_opts *o, sk
         return sk__fail(err, SK_ERR_ARG, "no mesh");
     if (o->smooth.scheme != SK_SMOOTH_VC1)
         return sk__fail(err, SK_ERR_ARG, "the tolerance route builds VC1 surfaces only");
+    if (o->smooth.base_refinements)
+        return sk__fail(err, SK_ERR_ARG, "the tolerance route refines locally itself: "
+                        "smooth.base_refinements must be 0 there");
     if (!(o->tolerance >= 0) || !(o->tolerance_rel >= 0) || o->face_samples < 0 ||
         o->face_samples > 64 || o->tess > 64)
         return sk__fail(err, SK_ERR_ARG, "bad tolerance options (tolerance %g, relative %g, face "

@@ -192,6 +192,23 @@ sk_status sk__split_odd_components(const sk_mesh *m, const double *normals, sk_m
  * The _keep variant never flips the edges with keep[e] set (crease edges; NULL = none). */
 sk_status sk__improve_triangulation(sk_mesh *m, const double *normals, size_t *flipped,
                                     sk_error *err);
+/* One refinement of base (refine_base.c): the edges e with split[e] get their midpoint as a new
+ * vertex (numbered from base's vertex count on, in edge order; *out_split of them), with the
+ * normalised sum of the edge's unit facet normals as normal; each triangle becomes 4, 3 or 2 (the
+ * quad left by two split edges cut along its shorter diagonal). *out_normals: the old normals,
+ * then the new ones; *out_creases: the crease pairs that are edges of base, split ones as their
+ * two halves (*out_ncreases pairs). */
+/* split[e] (sk_num_edges(base) flags) for the uniform refinement of the base: every edge but the
+ * near-folds, whose facet normals are more than fold_deg apart, except that a closed component
+ * whose count of split edges would be odd gets its flattest near-fold split too (*count: the
+ * edges split). */
+#define SK_REFINE_FOLD_DEG 120.0
+sk_status sk__refine_base_flags(const sk_mesh *base, double fold_deg, uint8_t *split,
+                                size_t *count, sk_error *err);
+sk_status sk__refine_base_split(const sk_mesh *base, const double *normals, const uint8_t *split,
+                                const uint32_t *creases, size_t ncreases, sk_mesh **out,
+                                double **out_normals, uint32_t **out_creases, size_t *out_ncreases,
+                                size_t *out_split, sk_error *err);
 sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, const uint8_t *keep,
                                          size_t *flipped, sk_error *err);
 

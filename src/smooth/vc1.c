@@ -777,8 +777,9 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
             base = work;
         }
     }
-    /* a better triangulation of the same vertices (crease edges kept) */
-    if (!opts.keep_triangulation) {
+    /* a better triangulation of the same vertices (crease edges kept); not before a refinement of
+     * the base, whose new vertices must lie on the input's facets (refine_base.c) */
+    if (!opts.keep_triangulation && !opts.base_refinements) {
         clock_now(t0);
         if (!work && (st = sk_mesh_copy(mesh, &work, err)) != SK_OK)
             goto fail;
@@ -797,12 +798,38 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
     if (hinge_end && !file_normals &&
         (st = refit_hinge_ends(s, base, normals, hinge_end, mesh->num_vertices, err)) != SK_OK)
         goto fail;
+    for (unsigned k = 0; k < opts.base_refinements; ++k) { /* refine_base.c */
+        sk_mesh *r = NULL;
+        double *n2 = NULL;
+        uint32_t *c2 = NULL;
+        size_t nc2 = 0, nsplit = 0;
+        uint8_t *split = sk__malloc_array(sk_num_edges(base) + 1, 1);
+        if (!split) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+            goto fail;
+        }
+        st = sk__refine_base_flags(base, SK_REFINE_FOLD_DEG, split, &nsplit, err);
+        if (st == SK_OK)
+            st = sk__refine_base_split(base, normals, split, s->creases, s->num_creases, &r, &n2,
+                                       &c2, &nc2, &nsplit, err);
+        sk__free(split);
+        if (st != SK_OK)
+            goto fail;
+        sk_mesh_destroy(&work);
+        sk__free(normals);
+        sk__free(s->creases);
+        work = r;
+        base = work;
+        normals = n2;
+        s->creases = c2;
+        s->num_creases = nc2;
+    }
     clock_now(t0);
     sk__free(keep);
     keep = NULL;
     if (s->num_creases && (st = crease_flags_of(s, base, &keep, err)) != SK_OK)
         goto fail;
-    if (keep && !opts.keep_triangulation) {
+    if (keep && work && !opts.keep_triangulation) {
         /* no one-face sector between two crease edges in a line (crease_g0.c); with the input's
          * triangulation kept, such a crease line is dropped below instead */
         s->stats.flipped_edges += sk__crease_split_sectors(work, keep);
@@ -812,7 +839,9 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
     s->normals = normals;
     normals = NULL;
     sk__build_ctx ctx = {.mesh = mesh, .base = base,
-                         .flippable = opts.keep_triangulation ? NULL : work, .keep = keep,
+                         .flippable =
+                             opts.keep_triangulation || opts.base_refinements ? NULL : work,
+                         .keep = keep,
                          .file_normals = file_normals, .alpha = alpha, .max_nu = max_nu,
                          .opts = &opts};
     if ((st = build_rounds(s, &ctx, hint, nhint, t0, err)) != SK_OK)

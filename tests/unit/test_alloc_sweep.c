@@ -358,6 +358,31 @@ static sk_status p_smooth_export(const char *off, size_t size, double *res, size
     return st;
 }
 
+/* VC1 over the disk refined twice beyond itself (issue 13, refine_base.c) */
+static sk_status p_smooth_refined(const char *off, size_t size, double *res, size_t *nres)
+{
+    sk_soup *s = NULL;
+    sk_mesh *m = NULL;
+    sk_status st = read_mesh(off, size, &s, &m);
+    if (st)
+        return st;
+    sk_smooth *sm = NULL;
+    sk_continuity_report rep;
+    sk_smooth_opts so = {.base_refinements = 2};
+    if ((st = sk_smooth_build(m, &so, &sm, &g_err)) == SK_OK &&
+        (st = sk_smooth_continuity(sm, NULL, &rep, &g_err)) == SK_OK) {
+        res[0] = rep.max_normal_jump_deg;
+        res[1] = rep.max_gap;
+        res[2] = (double)sm->surface.count;
+        res[3] = (double)sm->config->num_vertices;
+        *nres = 4;
+    }
+    sk_smooth_destroy(&sm);
+    sk_mesh_destroy(&m);
+    sk_soup_destroy(&s);
+    return st;
+}
+
 static sk_status p_tolerance(const char *off, size_t size, double *res, size_t *nres)
 {
     sk_soup *s = NULL;
@@ -458,6 +483,7 @@ static void given_kth_allocation_fails_then_every_pipeline_fails_cleanly(void **
         {"lscm-bordered", p_bordered},
         {"fit", p_fit},                     {"square", p_square},
         {"square-split", p_square_split},   {"smooth-tolerance", p_tolerance},
+        {"smooth-refined", p_smooth_refined},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
         sweep(&cases[i], off, size);

@@ -762,6 +762,91 @@ static void test_cow_fold_crease(void **state)
     assert_cow_shape(0);
 }
 
+/* Given the cow and the pig, when their VC1 surfaces are built over the input refined
+ * (opts.base_refinements, refine_base.c), then the cow once: the new vertices are the midpoints
+ * of the input's edges but its near-folds (facet normals more than SK_REFINE_FOLD_DEG apart; some
+ * left whole, none split, the cow's closed component keeping an even vertex count), numbered in
+ * edge order, with the normalised sum of the edge's two facet normals as normal; the old vertices
+ * keep the normals of the unrefined build (input triangulation), and the crease edges are the
+ * input's, split ones as their two halves (detected again on the refined mesh, as `surfkit
+ * subdivide --scheme midpoint` then `smooth` does, they are 543 for the input's 13); and the pig
+ * twice: every vertex system converges and the surface is exactly VC1 and interpolates (over the
+ * pig subdivided twice by sk_mesh_subdivide and built from scratch, vertex 2007's system does not
+ * converge: residual 1.3e-6, SK_ERR_NUMERIC; on the cow vertex 2355, 1.1e-5). */
+static void test_refine_base(void **state)
+{
+    (void)state;
+    sk_mesh *mesh = skt_read_mesh(skt_shared_mesh("cow.off"));
+    size_t nv = mesh->num_vertices, ne = sk_num_edges(mesh), k = 0, folds = 0, folds_split = 0;
+    sk_error err = {0};
+    sk_smooth *s0 = NULL, *s1 = NULL, *s2 = NULL;
+    sk_smooth_opts o = {.keep_triangulation = true};
+    assert_int_equal(sk_smooth_build(mesh, &o, &s0, &err), SK_OK);
+    o.keep_triangulation = false;
+    o.base_refinements = 1;
+    assert_int_equal(sk_smooth_build(mesh, &o, &s1, &err), SK_OK);
+    assert_memory_equal(s1->normals, s0->normals, 3 * nv * sizeof(double));
+    for (uint32_t e = 0; e < ne; ++e) {
+        uint32_t va = sk_from(mesh, 2 * e), vb = sk_to(mesh, 2 * e);
+        const double *a = mesh->positions + 3 * (size_t)va, *b = mesh->positions + 3 * (size_t)vb;
+        double fn[2][3], want[3];
+        face_normal(mesh, mesh->h_face[2 * e], fn[0]);
+        face_normal(mesh, mesh->h_face[2 * e + 1], fn[1]);
+        bool fold = dot(fn[0], fn[1]) < cos(SK_REFINE_FOLD_DEG * M_PI / 180.0);
+        folds += fold;
+        const double *p = s1->config->positions + 3 * (nv + k), *n = s1->normals + 3 * (nv + k);
+        bool split = nv + k < s1->config->num_vertices && p[0] == 0.5 * (a[0] + b[0]) &&
+                     p[1] == 0.5 * (a[1] + b[1]) && p[2] == 0.5 * (a[2] + b[2]);
+        if (!split) { /* left whole: only a near-fold */
+            assert_true(fold);
+            continue;
+        }
+        folds_split += fold;
+        for (int i = 0; i < 3; ++i)
+            want[i] = fn[0][i] + fn[1][i];
+        double l = sqrt(dot(want, want));
+        for (int i = 0; i < 3; ++i)
+            assert_true(fabs(n[i] - want[i] / l) < 1e-12);
+        ++k;
+    }
+    print_message("cow refined once: %zu of %zu edges split, %zu near-folds (%zu split), %zu "
+                  "creases (input %zu)\n", k, ne, folds, folds_split, s1->num_creases,
+                  s0->num_creases);
+    assert_int_equal(s1->config->num_vertices, nv + k);
+    assert_int_equal((nv + k) % 2, 0);
+    assert_true(folds > 0 && k < ne);
+    assert_true(folds_split <= 1); /* the parity exception: one closed component */
+    assert_true(s0->num_creases > 0);
+    assert_true(s1->num_creases > s0->num_creases);
+    assert_true(s1->num_creases <= 2 * s0->num_creases);
+    for (size_t i = 0; i < s1->num_creases; ++i) { /* a half, or an input crease left whole */
+        uint32_t a = s1->creases[2 * i], b = s1->creases[2 * i + 1];
+        bool half = (a < nv) != (b < nv), whole = false;
+        for (size_t j = 0; !half && j < s0->num_creases; ++j)
+            whole = whole || (s0->creases[2 * j] == a && s0->creases[2 * j + 1] == b);
+        assert_true(half || whole);
+    }
+    sk_mesh_destroy(&mesh);
+    mesh = skt_read_mesh(skt_shared_mesh("pig.off"));
+    o.base_refinements = 2;
+    assert_int_equal(sk_smooth_build(mesh, &o, &s2, &err), SK_OK);
+    assert_int_equal(s2->stats.failed_vertices, 0);
+    assert_true(s2->stats.max_residual < 1e-12);
+    sk_continuity_opts co = {.samples = 16, .intersection_tess = (unsigned)-1};
+    sk_continuity_report rep;
+    assert_int_equal(sk_smooth_continuity(s2, &co, &rep, &err), SK_OK);
+    double scale = sk_mesh_diagonal(mesh);
+    print_message("pig refined twice: %zu patches, %zu singular, max jump %.2e deg\n",
+                  s2->surface.count, rep.singular_patches, rep.max_normal_jump_deg);
+    assert_true(rep.max_normal_jump_deg < 1e-7);
+    assert_true(rep.max_vertex_error < 1e-12 * scale);
+    assert_true(rep.max_gap < 1e-12 * scale);
+    sk_smooth_destroy(&s0);
+    sk_smooth_destroy(&s1);
+    sk_smooth_destroy(&s2);
+    sk_mesh_destroy(&mesh);
+}
+
 /* the before/after table of the meshes (SK_SHAPE_TABLE=1; SK_SHAPE_MESH=name for one) */
 static void test_table(void **state)
 {
@@ -1222,6 +1307,7 @@ int main(void)
         cmocka_unit_test(test_cow_flips),
         cmocka_unit_test(test_fold_normals),
         cmocka_unit_test(test_cow_fold_crease),
+        cmocka_unit_test(test_refine_base),
         cmocka_unit_test(test_fair_energy_matrices),
         cmocka_unit_test(test_fair_vs_lsq),
         cmocka_unit_test(test_fair_points_eight),

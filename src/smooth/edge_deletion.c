@@ -362,18 +362,23 @@ static void find_even_vertices(ed_state *S)
     for (uint32_t e = 0; S->crease && e < S->ne; ++e)
         if (S->crease[e] && !m->e_deleted[e])
             S->bnd[sk_from(m, 2 * e)] = S->bnd[sk_to(m, 2 * e)] = 1;
-    for (uint32_t v = 0; v < S->nv; ++v) {
+    long nvl = (long)S->nv;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nvl > 100000)
+#endif
+    for (long i = 0; i < nvl; ++i) {
+        uint32_t v = (uint32_t)i;
         S->comp[v] = SK_INVALID;
         S->partner[v] = SK_INVALID;
         S->medge[v] = SK_INVALID;
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
             continue;
         S->bnd[v] |= sk_is_boundary_v(m, v);
-        if (!S->bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0) {
-            S->even[v] = 1;
-            S->remaining[S->nrem++] = v;
-        }
+        S->even[v] = !S->bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0;
     }
+    for (uint32_t v = 0; v < S->nv; ++v)
+        if (S->even[v])
+            S->remaining[S->nrem++] = v;
     S->st.even_vertices = S->nrem;
     double cos_max = cos(SK_MAX_QUAD_CORNER_DEG * (3.14159265358979323846 / 180.0));
     long ne = (long)S->ne;
@@ -1313,11 +1318,106 @@ static shortcut_ctx *shortcut_ctx_create(ed_state *S)
     return C;
 }
 
-/* the pre-pass of shortcut_pass, one searcher per thread; false when out of memory */
+/* The vertices whose exchanges may gain (screen[v] = 1), by the tight components of D. A
+ * component K of D (connected by deleted edges) with odd(K) its vertices of odd degree in D is
+ * tight when |K| = |odd(K)| / 2 (a single edge between two even vertices). An exchange from x,
+ * closed walk C = W1 Q1 W2 Q2, has C and D share only edges of W1 and W2 (Q1 and Q2 are kept
+ * edges), walks along D from x and from a z within SK_SHORTCUT_RADIUS hops of W1's end y: the
+ * components it meets are K(x) and K(z), their union U. D xor C is D outside U, plus U xor C,
+ * whose odd vertices are odd(U) (C is closed); an edge set holds at least half as many edges as
+ * it has odd vertices, so |U xor C| >= |odd(U)| / 2 = |U| when both components are tight: no
+ * gain. So x may gain only when K(x) is not tight or holds a vertex within SK_SHORTCUT_RADIUS
+ * hops (of any edges, a superset of the ball's) of a component that is not tight. At the lower
+ * bound every component is tight (armadillo Loop x2: no vertex searched). comp, queue, hot:
+ * scratch of nv + 1 entries (comp and queue uint32_t). */
+static void shortcut_screen(const ed_state *S, uint8_t *screen, uint32_t *comp, uint32_t *queue,
+                            uint8_t *hot)
+{
+    const sk_mesh *m = S->m;
+    size_t nv = S->nv;
+    memset(hot, 0, nv + 1);
+    memset(screen, 0, nv + 1);
+    for (size_t v = 0; v < nv; ++v)
+        comp[v] = SK_INVALID;
+    /* the components (comp: their first vertex; a vertex without deleted edges is one alone);
+     * those that are not tight mark the vertices within 2 hops of theirs hot */
+    for (uint32_t s0 = 0; s0 < nv; ++s0) {
+        if (comp[s0] != SK_INVALID || m->v_deleted[s0] || m->v_halfedge[s0] == SK_INVALID)
+            continue;
+        size_t qh = 0, qt = 0, ends = 0, degs = 0;
+        comp[s0] = s0;
+        queue[qt++] = s0;
+        while (qh < qt) {
+            uint32_t v = queue[qh++], h0 = m->v_halfedge[v], h = h0, d = 0;
+            do {
+                if (S->dcnt[sk_edge(h)]) {
+                    uint32_t w = sk_to(m, h);
+                    d++;
+                    if (comp[w] == SK_INVALID) {
+                        comp[w] = s0;
+                        queue[qt++] = w;
+                    }
+                }
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+            degs += d;
+            ends += d & 1u;
+        }
+        if (degs == ends) /* |K| = degs / 2 = |odd(K)| / 2: tight */
+            continue;
+        screen[s0] = 1;
+        for (size_t i = 0; i < qt; ++i) {
+            uint32_t v = queue[i], h0 = m->v_halfedge[v], h = h0;
+            do {
+                uint32_t w = sk_to(m, h), g0 = m->v_halfedge[w], g = g0;
+                hot[w] = 1;
+                do {
+                    hot[sk_to(m, g)] = 1;
+                    g = sk_cw_out(m, g);
+                } while (g != g0);
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+    }
+    /* a tight component holding a hot vertex is searched too */
+    for (uint32_t v = 0; v < nv; ++v)
+        if (hot[v] && comp[v] != SK_INVALID)
+            screen[comp[v]] = 1;
+    for (uint32_t v = 0; v < nv; ++v)
+        hot[v] = comp[v] != SK_INVALID && S->even[v] && screen[comp[v]];
+    memcpy(screen, hot, nv);
+}
+
+/* The pre-pass of shortcut_pass, one searcher per thread, over the even vertices that
+ * shortcut_screen keeps (the others cannot gain on D as it is: pre[x] gets the largest reach any
+ * search has, so the ordered pass tries them again after any exchange that could change that);
+ * false when out of memory. */
+#define SK_SHORTCUT_MAX_REACH (2 * SK_SHORTCUT_MAX_WALK + SK_SHORTCUT_RADIUS)
 static bool shortcut_prescreen(ed_state *S, uint8_t *pre)
 {
     long nv = (long)S->nv;
     int failed = 0;
+    uint8_t *screen = sk__malloc_array(S->nv + 1, 1), *hot = sk__malloc_array(S->nv + 1, 1);
+    uint32_t *comp = sk__malloc_array(S->nv + 1, sizeof *comp);
+    uint32_t *queue = sk__malloc_array(S->nv + 1, sizeof *queue);
+    if (!screen || !hot || !comp || !queue) {
+        sk__free(screen);
+        sk__free(hot);
+        sk__free(comp);
+        sk__free(queue);
+        return false;
+    }
+    shortcut_screen(S, screen, comp, queue, hot);
+    sk__free(hot);
+    sk__free(comp);
+    sk__free(queue);
+    size_t searched = 0;
+    for (long x = 0; x < nv; ++x) {
+        searched += screen[x];
+        if (S->even[x] && !screen[x])
+            pre[x] = SK_SHORTCUT_MAX_REACH;
+    }
+    S->st.shortcut_searched = searched;
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel reduction(| : failed)
 #endif
@@ -1329,13 +1429,14 @@ static bool shortcut_prescreen(ed_state *S, uint8_t *pre)
 #endif
         for (long x = 0; x < nv; ++x) {
             uint32_t reach = 0;
-            if (C && S->even[x]) {
+            if (C && screen[x]) {
                 shortcut_move b = best_exchange(C, (uint32_t)x, &reach);
                 pre[x] = (uint8_t)(reach | (b.gain > 0 ? 0x80u : 0u));
             }
         }
         shortcut_ctx_free(C);
     }
+    sk__free(screen);
     return !failed;
 }
 
@@ -1350,8 +1451,9 @@ static sk_status shortcut_paths(ed_state *S, sk_error *err)
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     } else {
         memset(near, 0xff, S->nv + 1);
-        if (shortcut_pass(C, pre, near) > 0)
+        if (shortcut_pass(C, pre, near) > 0) {
             st = delete_even_edges(S, err);
+        }
     }
     shortcut_ctx_free(C);
     sk__free(pre);

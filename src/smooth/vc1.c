@@ -33,18 +33,30 @@ void sk_smooth_destroy(sk_smooth **smooth)
 static sk_status add_patches(sk_smooth *s, sk_error *err)
 {
     const sk_mesh *m = s->config;
-    size_t nf = m->num_faces, npts = 0;
-    for (uint32_t f = 0; f < nf; ++f)
-        npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;
-    size_t first = s->surface.num_points, base = s->surface.count;
+    size_t nf = m->num_faces, nquads = 0;
+    long nfl = (long)nf;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) reduction(+ : nquads) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f) { /* a quad: its fourth half-edge is not the first */
+        uint32_t h0 = m->f_halfedge[f];
+        nquads += m->h_next[m->h_next[m->h_next[h0]]] != h0;
+    }
+    size_t npts = 15 * nf + nquads, first = s->surface.num_points, base = s->surface.count;
     sk_status st = sk__patch_set_extend_unset(&s->surface, nf, npts, err);
     if (st)
         return st;
     sk__huge_hint(s->surface.points + 3 * first, npts * 3 * sizeof(double));
-    for (uint32_t f = 0; f < nf; ++f) {
-        sk_patch *p = &s->surface.patches[base + f];
-        sk__vc1_patch_header(m, f, p);
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f) {
+        sk_patch *p = &s->surface.patches[base + (size_t)f];
+        sk__vc1_patch_header(m, (uint32_t)f, p);
         p->reserved = 0;
+    }
+    for (size_t f = 0; f < nf; ++f) {
+        sk_patch *p = &s->surface.patches[base + f];
         p->first = first;
         first += sk_bezier_num_points((sk_patch_kind)p->kind, p->degree, p->degree_v);
     }

@@ -280,7 +280,7 @@ typedef struct ed_state {
     const uint8_t *avoid;  /* per edge: not to be deleted (NULL = none), as forbid */
     uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
     uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
-    uint32_t *comp, *queue, *pred, *partner;
+    uint32_t *queue, *pred, *partner;
     uint32_t *medge;     /* per vertex: its mate across a matched (deleted) edge, or SK_INVALID */
     uint8_t *mflag;      /* per edge: an edge of the matching of adjacent even vertices */
     ed_vstate *vs;       /* Initialise's 0-1 search (see initialise_search) */
@@ -304,7 +304,6 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     size_t nv = S->nv, ne = S->ne;
     S->even = sk__calloc_array(nv ? nv : 1, 1);
     S->bnd = sk__calloc_array(nv ? nv : 1, 1);
-    S->comp = sk__malloc_array(nv + 1, sizeof *S->comp);
     S->queue = sk__malloc_array(nv + 1, sizeof *S->queue);
     S->pred = sk__malloc_array(nv + 1, sizeof *S->pred);
     S->partner = sk__malloc_array(nv + 1, sizeof *S->partner);
@@ -320,7 +319,7 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     S->perm = sk__malloc_array(nv + 1, sizeof *S->perm);
     S->iperm = sk__malloc_array(nv + 1, sizeof *S->iperm);
     if (!S->medge || !S->mflag || !S->vs || !S->levelq || !S->adj_off || !S->adj || !S->perm || !S->iperm ||
-        !S->even || !S->bnd || !S->comp || !S->queue || !S->pred ||
+        !S->even || !S->bnd || !S->queue || !S->pred ||
         !S->partner || !S->remaining || !S->dcnt || !S->forbid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     return SK_OK;
@@ -332,7 +331,6 @@ static void ed_free(ed_state *S)
     sk__free(S->bnd);
     sk__free(S->dcnt);
     sk__free(S->forbid);
-    sk__free(S->comp);
     sk__free(S->queue);
     sk__free(S->pred);
     sk__free(S->partner);
@@ -368,7 +366,6 @@ static void find_even_vertices(ed_state *S)
 #endif
     for (long i = 0; i < nvl; ++i) {
         uint32_t v = (uint32_t)i;
-        S->comp[v] = SK_INVALID;
         S->partner[v] = SK_INVALID;
         S->medge[v] = SK_INVALID;
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
@@ -415,40 +412,20 @@ static void find_even_vertices(ed_state *S)
     S->st.lower_bound = (S->nrem + 1) / 2;
 }
 
-/* The counting argument: a closed component needs an even number of even vertices. */
-static sk_status check_parity(ed_state *S, sk_error *err)
+/* The counting argument: a closed component needs an even number of even vertices (checked on
+ * the components of order_search_vertices: root, vertices, even vertices of the first that fails). */
+typedef struct parity_fail {
+    uint32_t root;
+    size_t n_vert, n_even;
+} parity_fail;
+
+static sk_status parity_error(const parity_fail *pf, sk_error *err)
 {
-    const sk_mesh *m = S->m;
-    for (uint32_t s = 0; s < S->nv; ++s) {
-        if (S->comp[s] != SK_INVALID || m->v_deleted[s] || m->v_halfedge[s] == SK_INVALID)
-            continue;
-        size_t qh = 0, qt = 0, n_even = 0, n_vert = 0;
-        bool has_boundary = false;
-        S->comp[s] = s;
-        S->queue[qt++] = s;
-        while (qh < qt) {
-            uint32_t v = S->queue[qh++];
-            n_even += S->even[v];
-            n_vert++;
-            has_boundary |= S->bnd[v];
-            uint32_t h0 = m->v_halfedge[v], h = h0;
-            do {
-                uint32_t w = sk_to(m, h);
-                if (S->comp[w] == SK_INVALID) {
-                    S->comp[w] = s;
-                    S->queue[qt++] = w;
-                }
-                h = sk_cw_out(m, h);
-            } while (h != h0);
-        }
-        if (!has_boundary && (n_even & 1u))
-            return sk__fail(err, SK_ERR_TOPOLOGY,
-                            "closed component of vertex %u: %zu vertices, odd, so its %zu even "
-                            "vertices are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot "
-                            "be paired; no edge deletion exists (--allow-split splits an edge)",
-                            s, n_vert, n_even);
-    }
-    return SK_OK;
+    return sk__fail(err, SK_ERR_TOPOLOGY,
+                    "closed component of vertex %u: %zu vertices, odd, so its %zu even vertices "
+                    "are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot be paired; no "
+                    "edge deletion exists (--allow-split splits an edge)",
+                    pf->root, pf->n_vert, pf->n_even);
 }
 
 static bool push_cand(ed_state *S, cand c)
@@ -557,24 +534,32 @@ static sk_status initialise_search(ed_state *S, sk_error *err)
     return SK_OK;
 }
 
-/* The search's vertex order (once): breadth first over the mesh from each vertex not yet
- * numbered, iperm doubling as the queue; with it the per-vertex state (vs) and the mates. */
-static void order_search_vertices(ed_state *S)
+/* The search's vertex order (once, before the matching): breadth first over the mesh from each
+ * vertex not yet numbered, iperm doubling as the queue. Each search from a vertex with edges is
+ * one component, on which the counting argument is checked: pf->root gets the first component
+ * (by its lowest vertex) that fails it, SK_INVALID when none does. Reads the mesh, even and bnd
+ * only (run_deletion runs it beside the matching). */
+static void order_search_vertices(ed_state *S, parity_fail *pf)
 {
     const sk_mesh *m = S->m;
     uint32_t *perm = S->perm, *iperm = S->iperm, k = 0;
+    pf->root = SK_INVALID;
     for (uint32_t v = 0; v < S->nv; ++v)
         perm[v] = SK_INVALID;
     for (uint32_t s0 = 0; s0 < S->nv; ++s0) {
         if (perm[s0] != SK_INVALID)
             continue;
-        uint32_t qh = k;
+        uint32_t qh = k, start = k;
+        size_t n_even = 0;
+        bool has_boundary = false;
         perm[s0] = k;
         iperm[k++] = s0;
         while (qh < k) {
             uint32_t v = iperm[qh++], h0 = m->v_halfedge[v], h = h0;
             if (m->v_deleted[v] || h0 == SK_INVALID)
                 continue;
+            n_even += S->even[v];
+            has_boundary |= S->bnd[v];
             do {
                 uint32_t w = sk_to(m, h);
                 if (perm[w] == SK_INVALID) {
@@ -584,7 +569,16 @@ static void order_search_vertices(ed_state *S)
                 h = sk_cw_out(m, h);
             } while (h != h0);
         }
+        if (pf->root == SK_INVALID && !m->v_deleted[s0] && m->v_halfedge[s0] != SK_INVALID &&
+            !has_boundary && (n_even & 1u))
+            *pf = (parity_fail){s0, k - start, n_even};
     }
+}
+
+/* The search's per-vertex state: the mates (after the matching) and the boundary flags. */
+static void search_states(ed_state *S)
+{
+    const uint32_t *perm = S->perm, *iperm = S->iperm;
     for (uint32_t i = 0; i < S->nv; ++i) {
         uint32_t v = iperm[i], mate = S->medge[v];
         S->vs[i].mate = mate == SK_INVALID ? SK_INVALID : perm[mate];
@@ -861,10 +855,8 @@ done:
 static sk_status initialise(ed_state *S, sk_error *err)
 {
     bool relaxed_forbid = false;
-    if (S->nrem > 0) {
-        order_search_vertices(S);
-        build_search_graph(S);
-    }
+    if (S->nrem > 0)
+        search_states(S); /* the order and the graph: before the matching (run_deletion) */
     while (S->nrem > 0) {
         S->st.initialise_rounds++;
         sk_status st = initialise_search(S, err);
@@ -1607,12 +1599,45 @@ static sk_status run_deletion(const sk_mesh *m, const uint8_t *crease, const uin
     sk_status st = ed_alloc(&S, err);
     if (st == SK_OK) {
         find_even_vertices(&S);
-        st = check_parity(&S, err);
-        if (st == SK_OK && hint)
-            apply_hint(&S, hint, nhint);
+        parity_fail pf;
+        sk_error merr = {0};
+        sk_status mst = SK_OK;
+        if (hint) { /* the hint changes the even vertices after the counting argument */
+            order_search_vertices(&S, &pf);
+            if (pf.root == SK_INVALID) {
+                apply_hint(&S, hint, nhint);
+                build_search_graph(&S);
+                mst = match_adjacent(&S, &merr);
+            }
+        } else {
+            /* the search's order (with the counting argument) and graph on one thread, the
+             * matching of adjacent even vertices on the other: neither writes what the other
+             * reads (the order and graph read the mesh, even, bnd, forbid) */
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel sections num_threads(2)
+#endif
+            {
+#ifdef SK_HAVE_OPENMP
+#pragma omp section
+#endif
+                {
+                    order_search_vertices(&S, &pf);
+                    build_search_graph(&S);
+                }
+#ifdef SK_HAVE_OPENMP
+#pragma omp section
+#endif
+                mst = match_adjacent(&S, &merr);
+            }
+        }
+        if (pf.root != SK_INVALID) {
+            st = parity_error(&pf, err);
+        } else if (mst != SK_OK) {
+            st = mst;
+            if (err)
+                *err = merr;
+        }
     }
-    if (st == SK_OK)
-        st = match_adjacent(&S, err);
     if (st == SK_OK)
         st = initialise(&S, err);
     if (st == SK_OK)

@@ -29,9 +29,10 @@ void sk_smooth_destroy(sk_smooth **smooth)
     *smooth = NULL;
 }
 
-/* One patch per face of s->config, points in one block: the headers here, the points left for
- * vc1_assemble to write (every one of them; its parallel loop makes the first touch of the
- * block's pages, which a zero fill here made serially: most of the patches stage at 832k
+/* One patch per face of s->config, points in one block: the headers here (in parallel, the
+ * offsets in order), the points left for vc1_assemble to write (every one of them; the block's
+ * pages were touched beside the edge deletion (prefault_surface), else its parallel loop makes
+ * the first touch, which a zero fill here made serially: most of the patches stage at 832k
  * triangles). */
 static sk_status add_patches(sk_smooth *s, sk_error *err)
 {

@@ -50,6 +50,8 @@ typedef struct sk_edge_deletion_stats {
     size_t shortcuts;         /* local improvement: walks along deleted edges replaced by shorter
                                  paths of kept edges (cycle exchanges) */
     size_t shortcut_savings;  /* deleted edges those exchanges saved */
+    size_t shortcut_searched; /* even vertices whose exchanges the parallel pre-pass searched (the
+                                 others provably gain nothing: see docs/edge-deletion.md) */
 } sk_edge_deletion_stats;
 
 /* Deletes interior edges of a triangle mesh so that every interior vertex lies in an odd number of

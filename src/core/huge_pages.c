@@ -12,6 +12,7 @@
 
 #include "core/internal.h"
 
+#include <pthread.h>
 #include <stdint.h>
 
 void sk__huge_hint(void *p, size_t bytes)
@@ -27,4 +28,34 @@ void sk__huge_hint(void *p, size_t bytes)
     (void)p;
     (void)bytes;
 #endif
+}
+
+/* The first touch of every page of [p, p + bytes) on a second thread (one written byte per 4 KiB:
+ * the page fault, the kernel's zeroing, on a virtual machine the host's fault too), so that a
+ * serial stage on this thread runs beside it: on a 2-core machine the second core is idle there.
+ * The memory must be writable and unused until sk__prefault_end (its contents are not kept). */
+_Static_assert(sizeof(pthread_t) <= sizeof(((sk__prefault *)0)->thread), "pthread_t fits");
+
+static void *prefault_thread(void *arg)
+{
+    sk__prefault *pf = arg;
+    volatile char *c = pf->p;
+    for (size_t i = 0; i < pf->bytes; i += 4096)
+        c[i] = 0;
+    return NULL;
+}
+
+void sk__prefault_begin(sk__prefault *pf, void *p, size_t bytes)
+{
+    pf->p = p;
+    pf->bytes = p ? bytes : 0;
+    pf->running = pf->bytes > 0 && pthread_create((pthread_t *)pf->thread, NULL, prefault_thread,
+                                                  pf) == 0;
+}
+
+void sk__prefault_end(sk__prefault *pf)
+{
+    if (pf->running)
+        pthread_join(*(pthread_t *)pf->thread, NULL);
+    pf->running = false;
 }

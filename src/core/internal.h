@@ -111,6 +111,17 @@ int sk__fmt_cad(char buf[32], double v);
 /* Asks the kernel for transparent huge pages on a large fresh buffer (Linux; else nothing). */
 void sk__huge_hint(void *p, size_t bytes);
 
+/* The first touch of a fresh buffer's pages on a second thread, beside a serial stage (begin:
+ * nothing when no thread can be started; end: waits for it; the buffer is not used between). */
+typedef struct sk__prefault {
+    void *p;
+    size_t bytes;
+    bool running;
+    _Alignas(16) unsigned char thread[64]; /* a pthread_t */
+} sk__prefault;
+void sk__prefault_begin(sk__prefault *pf, void *p, size_t bytes);
+void sk__prefault_end(sk__prefault *pf);
+
 /* Base name of a path (pointer into path), for error messages. */
 const char *sk__basename(const char *path);
 

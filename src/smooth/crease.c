@@ -215,11 +215,18 @@ sk_status sk__crease_edges_hinges(const sk_mesh *mesh, const sk_crease_opts *opt
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory detecting creases");
         goto done;
     }
-    for (uint32_t f = 0; f < nf; ++f)
+    long nfl = (long)nf, nel = (long)ne;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f)
         if (!m->f_deleted[f])
-            face_area_vector(m, f, fa + 3 * (size_t)f);
-    for (uint32_t e = 0; e < ne; ++e) {
-        uint32_t h = 2 * e, o = h + 1;
+            face_area_vector(m, (uint32_t)f, fa + 3 * (size_t)f);
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nel > 100000)
+#endif
+    for (long e = 0; e < nel; ++e) {
+        uint32_t h = 2 * (uint32_t)e, o = h + 1;
         dih[e] = 180.0; /* a boundary edge is never crossed by a smooth region */
         if (!m->e_deleted[e] && m->h_face[h] != SK_INVALID && m->h_face[o] != SK_INVALID)
             dih[e] = angle_deg(fa + 3 * (size_t)m->h_face[h], fa + 3 * (size_t)m->h_face[o]);

@@ -280,7 +280,7 @@ typedef struct ed_state {
     const uint8_t *avoid;  /* per edge: not to be deleted (NULL = none), as forbid */
     uint8_t *dcnt;       /* per edge: deleted (after the union of the paths) */
     uint8_t *forbid;     /* per edge: deleting it makes a quad corner above the limit */
-    uint32_t *comp, *queue, *pred, *partner;
+    uint32_t *queue, *pred, *partner;
     uint32_t *medge;     /* per vertex: its mate across a matched (deleted) edge, or SK_INVALID */
     uint8_t *mflag;      /* per edge: an edge of the matching of adjacent even vertices */
     ed_vstate *vs;       /* Initialise's 0-1 search (see initialise_search) */
@@ -304,7 +304,6 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     size_t nv = S->nv, ne = S->ne;
     S->even = sk__calloc_array(nv ? nv : 1, 1);
     S->bnd = sk__calloc_array(nv ? nv : 1, 1);
-    S->comp = sk__malloc_array(nv + 1, sizeof *S->comp);
     S->queue = sk__malloc_array(nv + 1, sizeof *S->queue);
     S->pred = sk__malloc_array(nv + 1, sizeof *S->pred);
     S->partner = sk__malloc_array(nv + 1, sizeof *S->partner);
@@ -320,7 +319,7 @@ static sk_status ed_alloc(ed_state *S, sk_error *err)
     S->perm = sk__malloc_array(nv + 1, sizeof *S->perm);
     S->iperm = sk__malloc_array(nv + 1, sizeof *S->iperm);
     if (!S->medge || !S->mflag || !S->vs || !S->levelq || !S->adj_off || !S->adj || !S->perm || !S->iperm ||
-        !S->even || !S->bnd || !S->comp || !S->queue || !S->pred ||
+        !S->even || !S->bnd || !S->queue || !S->pred ||
         !S->partner || !S->remaining || !S->dcnt || !S->forbid)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     return SK_OK;
@@ -332,7 +331,6 @@ static void ed_free(ed_state *S)
     sk__free(S->bnd);
     sk__free(S->dcnt);
     sk__free(S->forbid);
-    sk__free(S->comp);
     sk__free(S->queue);
     sk__free(S->pred);
     sk__free(S->partner);
@@ -362,18 +360,22 @@ static void find_even_vertices(ed_state *S)
     for (uint32_t e = 0; S->crease && e < S->ne; ++e)
         if (S->crease[e] && !m->e_deleted[e])
             S->bnd[sk_from(m, 2 * e)] = S->bnd[sk_to(m, 2 * e)] = 1;
-    for (uint32_t v = 0; v < S->nv; ++v) {
-        S->comp[v] = SK_INVALID;
+    long nvl = (long)S->nv;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nvl > 100000)
+#endif
+    for (long i = 0; i < nvl; ++i) {
+        uint32_t v = (uint32_t)i;
         S->partner[v] = SK_INVALID;
         S->medge[v] = SK_INVALID;
         if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
             continue;
         S->bnd[v] |= sk_is_boundary_v(m, v);
-        if (!S->bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0) {
-            S->even[v] = 1;
-            S->remaining[S->nrem++] = v;
-        }
+        S->even[v] = !S->bnd[v] && (sk_mesh_valence(m, v) & 1u) == 0;
     }
+    for (uint32_t v = 0; v < S->nv; ++v)
+        if (S->even[v])
+            S->remaining[S->nrem++] = v;
     S->st.even_vertices = S->nrem;
     double cos_max = cos(SK_MAX_QUAD_CORNER_DEG * (3.14159265358979323846 / 180.0));
     long ne = (long)S->ne;
@@ -410,40 +412,20 @@ static void find_even_vertices(ed_state *S)
     S->st.lower_bound = (S->nrem + 1) / 2;
 }
 
-/* The counting argument: a closed component needs an even number of even vertices. */
-static sk_status check_parity(ed_state *S, sk_error *err)
+/* The counting argument: a closed component needs an even number of even vertices (checked on
+ * the components of order_search_vertices: root, vertices, even vertices of the first that fails). */
+typedef struct parity_fail {
+    uint32_t root;
+    size_t n_vert, n_even;
+} parity_fail;
+
+static sk_status parity_error(const parity_fail *pf, sk_error *err)
 {
-    const sk_mesh *m = S->m;
-    for (uint32_t s = 0; s < S->nv; ++s) {
-        if (S->comp[s] != SK_INVALID || m->v_deleted[s] || m->v_halfedge[s] == SK_INVALID)
-            continue;
-        size_t qh = 0, qt = 0, n_even = 0, n_vert = 0;
-        bool has_boundary = false;
-        S->comp[s] = s;
-        S->queue[qt++] = s;
-        while (qh < qt) {
-            uint32_t v = S->queue[qh++];
-            n_even += S->even[v];
-            n_vert++;
-            has_boundary |= S->bnd[v];
-            uint32_t h0 = m->v_halfedge[v], h = h0;
-            do {
-                uint32_t w = sk_to(m, h);
-                if (S->comp[w] == SK_INVALID) {
-                    S->comp[w] = s;
-                    S->queue[qt++] = w;
-                }
-                h = sk_cw_out(m, h);
-            } while (h != h0);
-        }
-        if (!has_boundary && (n_even & 1u))
-            return sk__fail(err, SK_ERR_TOPOLOGY,
-                            "closed component of vertex %u: %zu vertices, odd, so its %zu even "
-                            "vertices are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot "
-                            "be paired; no edge deletion exists (--allow-split splits an edge)",
-                            s, n_vert, n_even);
-    }
-    return SK_OK;
+    return sk__fail(err, SK_ERR_TOPOLOGY,
+                    "closed component of vertex %u: %zu vertices, odd, so its %zu even vertices "
+                    "are odd in number (Euler: sum (6-n) V_n = 6 chi) and cannot be paired; no "
+                    "edge deletion exists (--allow-split splits an edge)",
+                    pf->root, pf->n_vert, pf->n_even);
 }
 
 static bool push_cand(ed_state *S, cand c)
@@ -552,24 +534,32 @@ static sk_status initialise_search(ed_state *S, sk_error *err)
     return SK_OK;
 }
 
-/* The search's vertex order (once): breadth first over the mesh from each vertex not yet
- * numbered, iperm doubling as the queue; with it the per-vertex state (vs) and the mates. */
-static void order_search_vertices(ed_state *S)
+/* The search's vertex order (once, before the matching): breadth first over the mesh from each
+ * vertex not yet numbered, iperm doubling as the queue. Each search from a vertex with edges is
+ * one component, on which the counting argument is checked: pf->root gets the first component
+ * (by its lowest vertex) that fails it, SK_INVALID when none does. Reads the mesh, even and bnd
+ * only (run_deletion runs it beside the matching). */
+static void order_search_vertices(ed_state *S, parity_fail *pf)
 {
     const sk_mesh *m = S->m;
     uint32_t *perm = S->perm, *iperm = S->iperm, k = 0;
+    pf->root = SK_INVALID;
     for (uint32_t v = 0; v < S->nv; ++v)
         perm[v] = SK_INVALID;
     for (uint32_t s0 = 0; s0 < S->nv; ++s0) {
         if (perm[s0] != SK_INVALID)
             continue;
-        uint32_t qh = k;
+        uint32_t qh = k, start = k;
+        size_t n_even = 0;
+        bool has_boundary = false;
         perm[s0] = k;
         iperm[k++] = s0;
         while (qh < k) {
             uint32_t v = iperm[qh++], h0 = m->v_halfedge[v], h = h0;
             if (m->v_deleted[v] || h0 == SK_INVALID)
                 continue;
+            n_even += S->even[v];
+            has_boundary |= S->bnd[v];
             do {
                 uint32_t w = sk_to(m, h);
                 if (perm[w] == SK_INVALID) {
@@ -579,7 +569,16 @@ static void order_search_vertices(ed_state *S)
                 h = sk_cw_out(m, h);
             } while (h != h0);
         }
+        if (pf->root == SK_INVALID && !m->v_deleted[s0] && m->v_halfedge[s0] != SK_INVALID &&
+            !has_boundary && (n_even & 1u))
+            *pf = (parity_fail){s0, k - start, n_even};
     }
+}
+
+/* The search's per-vertex state: the mates (after the matching) and the boundary flags. */
+static void search_states(ed_state *S)
+{
+    const uint32_t *perm = S->perm, *iperm = S->iperm;
     for (uint32_t i = 0; i < S->nv; ++i) {
         uint32_t v = iperm[i], mate = S->medge[v];
         S->vs[i].mate = mate == SK_INVALID ? SK_INVALID : perm[mate];
@@ -856,10 +855,8 @@ done:
 static sk_status initialise(ed_state *S, sk_error *err)
 {
     bool relaxed_forbid = false;
-    if (S->nrem > 0) {
-        order_search_vertices(S);
-        build_search_graph(S);
-    }
+    if (S->nrem > 0)
+        search_states(S); /* the order and the graph: before the matching (run_deletion) */
     while (S->nrem > 0) {
         S->st.initialise_rounds++;
         sk_status st = initialise_search(S, err);
@@ -1313,11 +1310,106 @@ static shortcut_ctx *shortcut_ctx_create(ed_state *S)
     return C;
 }
 
-/* the pre-pass of shortcut_pass, one searcher per thread; false when out of memory */
+/* The vertices whose exchanges may gain (screen[v] = 1), by the tight components of D. A
+ * component K of D (connected by deleted edges) with odd(K) its vertices of odd degree in D is
+ * tight when |K| = |odd(K)| / 2 (a single edge between two even vertices). An exchange from x,
+ * closed walk C = W1 Q1 W2 Q2, has C and D share only edges of W1 and W2 (Q1 and Q2 are kept
+ * edges), walks along D from x and from a z within SK_SHORTCUT_RADIUS hops of W1's end y: the
+ * components it meets are K(x) and K(z), their union U. D xor C is D outside U, plus U xor C,
+ * whose odd vertices are odd(U) (C is closed); an edge set holds at least half as many edges as
+ * it has odd vertices, so |U xor C| >= |odd(U)| / 2 = |U| when both components are tight: no
+ * gain. So x may gain only when K(x) is not tight or holds a vertex within SK_SHORTCUT_RADIUS
+ * hops (of any edges, a superset of the ball's) of a component that is not tight. At the lower
+ * bound every component is tight (armadillo Loop x2: no vertex searched). comp, queue, hot:
+ * scratch of nv + 1 entries (comp and queue uint32_t). */
+static void shortcut_screen(const ed_state *S, uint8_t *screen, uint32_t *comp, uint32_t *queue,
+                            uint8_t *hot)
+{
+    const sk_mesh *m = S->m;
+    size_t nv = S->nv;
+    memset(hot, 0, nv + 1);
+    memset(screen, 0, nv + 1);
+    for (size_t v = 0; v < nv; ++v)
+        comp[v] = SK_INVALID;
+    /* the components (comp: their first vertex; a vertex without deleted edges is one alone);
+     * those that are not tight mark the vertices within 2 hops of theirs hot */
+    for (uint32_t s0 = 0; s0 < nv; ++s0) {
+        if (comp[s0] != SK_INVALID || m->v_deleted[s0] || m->v_halfedge[s0] == SK_INVALID)
+            continue;
+        size_t qh = 0, qt = 0, ends = 0, degs = 0;
+        comp[s0] = s0;
+        queue[qt++] = s0;
+        while (qh < qt) {
+            uint32_t v = queue[qh++], h0 = m->v_halfedge[v], h = h0, d = 0;
+            do {
+                if (S->dcnt[sk_edge(h)]) {
+                    uint32_t w = sk_to(m, h);
+                    d++;
+                    if (comp[w] == SK_INVALID) {
+                        comp[w] = s0;
+                        queue[qt++] = w;
+                    }
+                }
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+            degs += d;
+            ends += d & 1u;
+        }
+        if (degs == ends) /* |K| = degs / 2 = |odd(K)| / 2: tight */
+            continue;
+        screen[s0] = 1;
+        for (size_t i = 0; i < qt; ++i) {
+            uint32_t v = queue[i], h0 = m->v_halfedge[v], h = h0;
+            do {
+                uint32_t w = sk_to(m, h), g0 = m->v_halfedge[w], g = g0;
+                hot[w] = 1;
+                do {
+                    hot[sk_to(m, g)] = 1;
+                    g = sk_cw_out(m, g);
+                } while (g != g0);
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+    }
+    /* a tight component holding a hot vertex is searched too */
+    for (uint32_t v = 0; v < nv; ++v)
+        if (hot[v] && comp[v] != SK_INVALID)
+            screen[comp[v]] = 1;
+    for (uint32_t v = 0; v < nv; ++v)
+        hot[v] = comp[v] != SK_INVALID && S->even[v] && screen[comp[v]];
+    memcpy(screen, hot, nv);
+}
+
+/* The pre-pass of shortcut_pass, one searcher per thread, over the even vertices that
+ * shortcut_screen keeps (the others cannot gain on D as it is: pre[x] gets the largest reach any
+ * search has, so the ordered pass tries them again after any exchange that could change that);
+ * false when out of memory. */
+#define SK_SHORTCUT_MAX_REACH (2 * SK_SHORTCUT_MAX_WALK + SK_SHORTCUT_RADIUS)
 static bool shortcut_prescreen(ed_state *S, uint8_t *pre)
 {
     long nv = (long)S->nv;
     int failed = 0;
+    uint8_t *screen = sk__malloc_array(S->nv + 1, 1), *hot = sk__malloc_array(S->nv + 1, 1);
+    uint32_t *comp = sk__malloc_array(S->nv + 1, sizeof *comp);
+    uint32_t *queue = sk__malloc_array(S->nv + 1, sizeof *queue);
+    if (!screen || !hot || !comp || !queue) {
+        sk__free(screen);
+        sk__free(hot);
+        sk__free(comp);
+        sk__free(queue);
+        return false;
+    }
+    shortcut_screen(S, screen, comp, queue, hot);
+    sk__free(hot);
+    sk__free(comp);
+    sk__free(queue);
+    size_t searched = 0;
+    for (long x = 0; x < nv; ++x) {
+        searched += screen[x];
+        if (S->even[x] && !screen[x])
+            pre[x] = SK_SHORTCUT_MAX_REACH;
+    }
+    S->st.shortcut_searched = searched;
 #ifdef SK_HAVE_OPENMP
 #pragma omp parallel reduction(| : failed)
 #endif
@@ -1329,13 +1421,14 @@ static bool shortcut_prescreen(ed_state *S, uint8_t *pre)
 #endif
         for (long x = 0; x < nv; ++x) {
             uint32_t reach = 0;
-            if (C && S->even[x]) {
+            if (C && screen[x]) {
                 shortcut_move b = best_exchange(C, (uint32_t)x, &reach);
                 pre[x] = (uint8_t)(reach | (b.gain > 0 ? 0x80u : 0u));
             }
         }
         shortcut_ctx_free(C);
     }
+    sk__free(screen);
     return !failed;
 }
 
@@ -1350,8 +1443,9 @@ static sk_status shortcut_paths(ed_state *S, sk_error *err)
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory in edge deletion");
     } else {
         memset(near, 0xff, S->nv + 1);
-        if (shortcut_pass(C, pre, near) > 0)
+        if (shortcut_pass(C, pre, near) > 0) {
             st = delete_even_edges(S, err);
+        }
     }
     shortcut_ctx_free(C);
     sk__free(pre);
@@ -1505,12 +1599,45 @@ static sk_status run_deletion(const sk_mesh *m, const uint8_t *crease, const uin
     sk_status st = ed_alloc(&S, err);
     if (st == SK_OK) {
         find_even_vertices(&S);
-        st = check_parity(&S, err);
-        if (st == SK_OK && hint)
-            apply_hint(&S, hint, nhint);
+        parity_fail pf;
+        sk_error merr = {0};
+        sk_status mst = SK_OK;
+        if (hint) { /* the hint changes the even vertices after the counting argument */
+            order_search_vertices(&S, &pf);
+            if (pf.root == SK_INVALID) {
+                apply_hint(&S, hint, nhint);
+                build_search_graph(&S);
+                mst = match_adjacent(&S, &merr);
+            }
+        } else {
+            /* the search's order (with the counting argument) and graph on one thread, the
+             * matching of adjacent even vertices on the other: neither writes what the other
+             * reads (the order and graph read the mesh, even, bnd, forbid) */
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel sections num_threads(2)
+#endif
+            {
+#ifdef SK_HAVE_OPENMP
+#pragma omp section
+#endif
+                {
+                    order_search_vertices(&S, &pf);
+                    build_search_graph(&S);
+                }
+#ifdef SK_HAVE_OPENMP
+#pragma omp section
+#endif
+                mst = match_adjacent(&S, &merr);
+            }
+        }
+        if (pf.root != SK_INVALID) {
+            st = parity_error(&pf, err);
+        } else if (mst != SK_OK) {
+            st = mst;
+            if (err)
+                *err = merr;
+        }
     }
-    if (st == SK_OK)
-        st = match_adjacent(&S, err);
     if (st == SK_OK)
         st = initialise(&S, err);
     if (st == SK_OK)

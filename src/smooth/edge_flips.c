@@ -218,10 +218,13 @@ sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, cons
     size_t ne = sk_num_edges(m), count = 0;
     *flipped = 0;
     uint32_t *stack = sk__malloc_array(ne + 1, sizeof *stack);
-    uint8_t *queued = sk__calloc_array(ne + 1, 1);
-    if (!stack || !queued) {
+    uint8_t *queued = sk__calloc_array(ne + 1, 1), *want = sk__malloc_array(ne + 1, 1);
+    uint8_t *moved = sk__calloc_array(m->num_vertices + 1, 1);
+    if (!stack || !queued || !want || !moved) {
         sk__free(stack);
         sk__free(queued);
+        sk__free(want);
+        sk__free(moved);
         return sk__fail(err, SK_ERR_NOMEM, "out of memory improving the triangulation");
     }
     /* per-corner uvs and normals do not survive a flip (the VC1 construction reads the corner
@@ -235,15 +238,32 @@ sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, cons
             queued[e] = 1;
         }
     }
+    /* want_flip of every edge on the input, in parallel: it reads the quad a, b, c, d of the edge,
+     * the stars of a and b (their valence) and of c (whether cd is an edge), which a flip changes
+     * only for the four vertices of its own quad (moved). So while none of an edge's a, b, c, d
+     * has moved, the answer stands (a, b unmoved: its two faces and so c, d are those of the
+     * input); the ordered pass below evaluates the others again: the same flips in the same
+     * order as evaluating every edge there. */
+    long nel = (long)ne;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(dynamic, 4096) if (nel > 100000)
+#endif
+    for (long el = 0; el < nel; ++el)
+        want[el] = queued[el] && !(keep && keep[el]) && want_flip(m, normals, 2 * (uint32_t)el);
     size_t cap = SK_FLIP_CAP * ne;
     while (top && count < cap) {
         uint32_t e = stack[--top];
         queued[e] = 0;
-        uint32_t h = 2 * e;
-        if ((keep && keep[e]) || !want_flip(m, normals, h))
+        uint32_t h = 2 * e, o = h + 1;
+        uint32_t q[4] = {sk_from(m, h), sk_to(m, h), sk_to(m, m->h_next[h]),
+                         sk_to(m, m->h_next[o])};
+        bool fresh = !moved[q[0]] && !moved[q[1]] && !moved[q[2]] && !moved[q[3]];
+        if ((keep && keep[e]) || !(fresh ? want[e] : want_flip(m, normals, h)))
             continue;
         flip(m, h);
         ++count;
+        for (int i = 0; i < 4; ++i)
+            moved[q[i]] = 1;
         /* the four edges around the new one */
         uint32_t around[4] = {m->h_next[h], m->h_prev[h], m->h_next[sk_opp(h)],
                               m->h_prev[sk_opp(h)]};
@@ -258,6 +278,8 @@ sk_status sk__improve_triangulation_keep(sk_mesh *m, const double *normals, cons
     *flipped = count;
     sk__free(stack);
     sk__free(queued);
+    sk__free(want);
+    sk__free(moved);
     sk__ok(err);
     return SK_OK;
 }

@@ -8,6 +8,9 @@
 
 #include <stdlib.h>
 #include <string.h>
+#ifdef SK_HAVE_OPENMP
+#include <omp.h>
+#endif
 
 void sk_smooth_destroy(sk_smooth **smooth)
 {
@@ -26,25 +29,38 @@ void sk_smooth_destroy(sk_smooth **smooth)
     *smooth = NULL;
 }
 
-/* One patch per face of s->config, points in one block: the headers here, the points left for
- * vc1_assemble to write (every one of them; its parallel loop makes the first touch of the
- * block's pages, which a zero fill here made serially: most of the patches stage at 832k
+/* One patch per face of s->config, points in one block: the headers here (in parallel, the
+ * offsets in order), the points left for vc1_assemble to write (every one of them; the block's
+ * pages were touched beside the edge deletion (prefault_surface), else its parallel loop makes
+ * the first touch, which a zero fill here made serially: most of the patches stage at 832k
  * triangles). */
 static sk_status add_patches(sk_smooth *s, sk_error *err)
 {
     const sk_mesh *m = s->config;
-    size_t nf = m->num_faces, npts = 0;
-    for (uint32_t f = 0; f < nf; ++f)
-        npts += sk_mesh_face_size(m, f) == 3 ? 15 : 16;
-    size_t first = s->surface.num_points, base = s->surface.count;
+    size_t nf = m->num_faces, nquads = 0;
+    long nfl = (long)nf;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) reduction(+ : nquads) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f) { /* a quad: its fourth half-edge is not the first */
+        uint32_t h0 = m->f_halfedge[f];
+        nquads += m->h_next[m->h_next[m->h_next[h0]]] != h0;
+    }
+    size_t npts = 15 * nf + nquads, first = s->surface.num_points, base = s->surface.count;
     sk_status st = sk__patch_set_extend_unset(&s->surface, nf, npts, err);
     if (st)
         return st;
     sk__huge_hint(s->surface.points + 3 * first, npts * 3 * sizeof(double));
-    for (uint32_t f = 0; f < nf; ++f) {
-        sk_patch *p = &s->surface.patches[base + f];
-        sk__vc1_patch_header(m, f, p);
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f) {
+        sk_patch *p = &s->surface.patches[base + (size_t)f];
+        sk__vc1_patch_header(m, (uint32_t)f, p);
         p->reserved = 0;
+    }
+    for (size_t f = 0; f < nf; ++f) {
+        sk_patch *p = &s->surface.patches[base + f];
         p->first = first;
         first += sk_bezier_num_points((sk_patch_kind)p->kind, p->degree, p->degree_v);
     }
@@ -644,6 +660,31 @@ void sk__vc1_forget_build(sk_smooth *s, const sk_smooth_stats *saved)
     s->stats = *saved;
 }
 
+/* Faces from which the surface's points are touched beside the edge deletion */
+#define VC1_PREFAULT_FACES 100000
+
+/* The surface's patch set reserved for the build on base (at most one triangle of 15 points per
+ * face: the deletion only merges faces) and its pages touched on a second thread while the edge
+ * deletion, mostly serial, runs on this one (pf; sk__prefault_end before the set is used): the
+ * patches' first touch was half the patch stage at 1M triangles. Only with more than one thread
+ * allowed and from VC1_PREFAULT_FACES faces; nothing when the reserve fails (the patch stage
+ * reserves and reports as before). */
+static void prefault_surface(sk_smooth *s, const sk_mesh *base, sk__prefault *pf)
+{
+    size_t nf = base->num_faces, npts = 15 * nf;
+    pf->running = false;
+    int threads = 1;
+#ifdef SK_HAVE_OPENMP
+    threads = omp_get_max_threads();
+#endif
+    if (threads < 2 || nf < VC1_PREFAULT_FACES || s->surface.count != 0)
+        return;
+    sk_error e = {0};
+    if (sk_patch_set_reserve(&s->surface, nf, npts, &e) != SK_OK)
+        return;
+    sk__prefault_begin(pf, s->surface.points, npts * 3 * sizeof(double));
+}
+
 sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
                                 const uint32_t *hint, size_t nhint, const uint8_t *avoid,
                                 uint32_t **singular, double t0[2], sk_error *err)
@@ -651,8 +692,12 @@ sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
     sk_status st = SK_OK;
     sk_smooth_stats saved = s->stats;
     for (int round = 0;; ++round) {
-        if ((st = sk__edge_deletion_hinted(c->base, keep, hint, nhint, avoid, &s->config,
-                                           &s->deleted, &s->stats.deletion, err)) != SK_OK)
+        sk__prefault pf;
+        prefault_surface(s, c->base, &pf);
+        st = sk__edge_deletion_hinted(c->base, keep, hint, nhint, avoid, &s->config, &s->deleted,
+                                      &s->stats.deletion, err);
+        sk__prefault_end(&pf);
+        if (st != SK_OK)
             return st;
         if (keep && (st = sk__crease_setup(s->config, s->normals, c->base, keep,
                                            c->file_normals ? c->mesh : NULL, &s->crease_edge,

@@ -197,6 +197,15 @@ static void test_shortcut_prepass_exact(void **state)
         assert_int_equal(nt[0], nt[1]);
         assert_int_equal(nt[0], st[0].shortcuts);
         assert_int_equal(st[0].deleted_edges, st[1].deleted_edges);
+        /* the screen by tight components: never more than the even vertices; none searched when
+         * the deletion before the exchanges is at the lower bound (every component tight) */
+        print_message("%s: %zu of %zu even vertices searched, %zu exchanges\n",
+                      i < n ? names[i] : "pig Loop x1", st[0].shortcut_searched,
+                      st[0].even_vertices, nt[0]);
+        assert_true(st[0].shortcut_searched <= st[0].even_vertices);
+        assert_int_equal(st[1].shortcut_searched, 0); /* try_all: no pre-pass */
+        if (nt[0] == 0 && st[0].deleted_edges == st[0].lower_bound)
+            assert_int_equal(st[0].shortcut_searched, 0);
         if (nt[0])
             assert_memory_equal(trace[0], trace[1], nt[0] * sizeof *trace[0]);
         applied += nt[0];

@@ -313,5 +313,8 @@ sk_status sk__amg_create(sk__csr *fine, const sk__amg_opts *opts, bool symmetric
         pr[k] = ps[nl - 1 - k];
         opr[k] = ops[nl - 1 - k];
     }
-    return sk__multilevel_create(fine, pr, opr, nl + 1, symmetric, out, err);
+    st = sk__multilevel_create(fine, pr, opr, nl + 1, symmetric, out, err);
+    if (st == SK_OK)
+        sk__multilevel_set_galerkin(*out); /* opr are the products of coarsen */
+    return st;
 }

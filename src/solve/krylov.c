@@ -297,6 +297,9 @@ struct sk__multilevel {
     double scale;   /* of the coarse correction (1 = the plain V-cycle) */
     unsigned gamma; /* coarse corrections per level (1 = V-cycle, 2 = W-cycle) */
     bool kcycle;    /* symmetric: each coarse level solved by two flexible CG steps */
+    bool galerkin;  /* every coarse operator is R A P of the level above (in exact arithmetic):
+                     * the restricted residual after a coarse correction e is then r_c - A_c e,
+                     * formed on the coarse level (W-cycle) */
     sk__multilevel_stats stats;
 };
 
@@ -340,6 +343,11 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
 void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s)
 {
     *s = mg->stats;
+}
+
+void sk__multilevel_set_galerkin(sk__multilevel *mg)
+{
+    mg->galerkin = true;
 }
 
 void sk__multilevel_set_cycle(sk__multilevel *mg, double scale, unsigned gamma, bool kcycle)
@@ -481,6 +489,7 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
     }
     mg->A[L - 1] = *fine;
     memset(fine, 0, sizeof *fine);
+    mg->galerkin = !coarse_ops;
     for (size_t k = 0; k + 1 < L; ++k) {
         mg->P[k] = p[k];
         memset(&p[k], 0, sizeof p[k]);
@@ -548,6 +557,7 @@ done:
 
 typedef struct workspace {
     double **b, **x, **r, **z, **t; /* per level */
+    double **e;                     /* per level: a W-cycle's later coarse corrections */
     double **kc[5];                 /* K-cycle vectors per level */
     double *kv[8];                  /* Krylov vectors, finest size */
     double *cb;                     /* two right-hand sides: the coarsest level's columns */
@@ -567,12 +577,15 @@ static void ws_free(workspace *w, size_t L)
             sk__free(w->z[k]);
         if (w->t)
             sk__free(w->t[k]);
+        if (w->e)
+            sk__free(w->e[k]);
     }
     sk__free(w->b);
     sk__free(w->x);
     sk__free(w->r);
     sk__free(w->z);
     sk__free(w->t);
+    sk__free(w->e);
     for (int i = 0; i < 5; ++i) {
         for (size_t k = 0; w->kc[i] && k < L; ++k)
             sk__free(w->kc[i][k]);
@@ -594,7 +607,8 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
     w->r = sk__calloc_array(L, sizeof *w->r);
     w->z = sk__calloc_array(L, sizeof *w->z);
     w->t = sk__calloc_array(L, sizeof *w->t);
-    if (!w->b || !w->x || !w->r || !w->z || !w->t)
+    w->e = sk__calloc_array(L, sizeof *w->e);
+    if (!w->b || !w->x || !w->r || !w->z || !w->t || !w->e)
         return false;
     for (size_t k = 0; k < L; ++k) {
         size_t n = width * (mg->A[k].rows ? mg->A[k].rows : 1);
@@ -604,6 +618,9 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
         w->z[k] = sk__malloc_array(n, sizeof(double));
         w->t[k] = sk__malloc_array(n, sizeof(double));
         if (!w->b[k] || !w->x[k] || !w->r[k] || !w->z[k] || !w->t[k])
+            return false;
+        if (mg->gamma > 1 && mg->galerkin && k + 1 < L &&
+            !(w->e[k] = sk__malloc_array(n, sizeof(double))))
             return false;
     }
     for (int i = 0; mg->kcycle && i < 5; ++i) {
@@ -644,6 +661,20 @@ static void cycle_multiply(const sk__csr *a, const float *val, double sc, const 
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
         y[i] = sc * s;
+    }
+}
+
+/* r -= scale a x with the values sc val: the restricted residual after a coarse correction
+ * scale P x, R (r_f - A_f (z + scale P x)) = R (r_f - A_f z) - scale (R A_f P) x, formed on the
+ * coarse level where a = R A_f P (Galerkin) instead of on the fine level and restricted. */
+static void residual_update(const sk__csr *a, const float *val, double sc, double scale,
+                            const double *x, double *r)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s += (double)val[k] * x[a->col[k]];
+        r[i] -= scale * (sc * s);
     }
 }
 
@@ -803,22 +834,39 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
         gs_forward(a, fv, sc, mg->dinv[k], r, z);
     /* gamma coarse corrections (a W-cycle for 2); one when the coarse level is solved exactly
-     * (a second would be zero) */
+     * (a second would be zero). With Galerkin operators the later ones take their restricted
+     * residual from the coarse level (residual_update) and the corrections are summed there,
+     * then prolonged once: no fine-level product, restriction or second prolongation. */
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    bool coarse_res = mg->galerkin && cycles > 1;
+    double *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
+    size_t nc = mg->A[k - 1].rows;
     for (unsigned c = 0; c < cycles; ++c) {
-        if (c > 0 || SK_MG_SWEEPS > 1) {
-            cycle_multiply(a, fv, sc, z, t);
-            for (size_t i = 0; i < n; ++i)
-                t[i] = r[i] - t[i];
+        if (coarse_res && c > 0) {
+            residual_update(&mg->A[k - 1], mg->fval[k - 1], mg->fscale[k - 1], mg->scale,
+                            c == 1 ? zc : e, rc);
+        } else {
+            if (c > 0 || SK_MG_SWEEPS > 1) {
+                cycle_multiply(a, fv, sc, z, t);
+                for (size_t i = 0; i < n; ++i)
+                    t[i] = r[i] - t[i];
+            }
+            if (c > 0 || !map)
+                restrict_to(mg, k - 1, t, rc);
         }
-        if (c > 0 || !map)
-            restrict_to(mg, k - 1, t, w->r[k - 1]);
+        double *out = coarse_res && c > 0 ? e : zc;
         if (mg->kcycle && k - 1 > 0)
-            kcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+            kcycle(mg, k - 1, rc, out, w);
         else
-            vcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-        prolong_add(mg, k - 1, mg->scale, w->z[k - 1], z);
+            vcycle(mg, k - 1, rc, out, w);
+        if (!coarse_res)
+            prolong_add(mg, k - 1, mg->scale, zc, z);
+        else if (c > 0)
+            for (size_t i = 0; i < nc; ++i)
+                zc[i] += e[i];
     }
+    if (coarse_res)
+        prolong_add(mg, k - 1, mg->scale, zc, z);
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward(a, fv, sc, mg->dinv[k], r, z);
 }
@@ -1031,6 +1079,23 @@ static void gs_forward2(const sk__csr *a, const float *val, double sc, const dou
     }
 }
 
+/* residual_update for two columns */
+static void residual_update2(const sk__csr *a, const float *val, double sc, double scale,
+                             const double *x, double *r)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        r[2 * i] -= scale * (sc * s0);
+        r[2 * i + 1] -= scale * (sc * s1);
+    }
+}
+
 /* gs_forward_zero_residual for two columns */
 static void gs_forward_zero_residual2(const sk__csr *a, const float *val, double sc,
                                       const double *dinv, const size_t *upper, const double *b,
@@ -1215,20 +1280,35 @@ static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, wo
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
         gs_forward2(a, fv, sc, mg->dinv[k], r, z);
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    bool coarse_res = mg->galerkin && cycles > 1; /* as vcycle */
+    double *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
+    size_t nc = mg->A[k - 1].rows;
     for (unsigned c = 0; c < cycles; ++c) {
-        if (c > 0 || SK_MG_SWEEPS > 1) {
-            cycle_multiply2(a, fv, sc, z, t);
-            for (size_t i = 0; i < 2 * n; ++i)
-                t[i] = r[i] - t[i];
+        if (coarse_res && c > 0) {
+            residual_update2(&mg->A[k - 1], mg->fval[k - 1], mg->fscale[k - 1], mg->scale,
+                             c == 1 ? zc : e, rc);
+        } else {
+            if (c > 0 || SK_MG_SWEEPS > 1) {
+                cycle_multiply2(a, fv, sc, z, t);
+                for (size_t i = 0; i < 2 * n; ++i)
+                    t[i] = r[i] - t[i];
+            }
+            if (c > 0 || !map)
+                restrict_to2(mg, k - 1, t, rc);
         }
-        if (c > 0 || !map)
-            restrict_to2(mg, k - 1, t, w->r[k - 1]);
+        double *out = coarse_res && c > 0 ? e : zc;
         if (mg->kcycle && k - 1 > 0)
-            kcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+            kcycle2(mg, k - 1, rc, out, w);
         else
-            vcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-        prolong_add2(mg, k - 1, mg->scale, w->z[k - 1], z);
+            vcycle2(mg, k - 1, rc, out, w);
+        if (!coarse_res)
+            prolong_add2(mg, k - 1, mg->scale, zc, z);
+        else if (c > 0)
+            for (size_t i = 0; i < 2 * nc; ++i)
+                zc[i] += e[i];
     }
+    if (coarse_res)
+        prolong_add2(mg, k - 1, mg->scale, zc, z);
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward2(a, fv, sc, mg->dinv[k], r, z);
 }

@@ -67,6 +67,10 @@ void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s)
  * CG steps preconditioned by its own cycle (Notay and Vassilevski's K-cycle), the finest CG
  * made flexible. */
 void sk__multilevel_set_cycle(sk__multilevel *mg, double scale, unsigned gamma, bool kcycle);
+/* The coarse operators given to sk__multilevel_create are the Galerkin products R A P of the
+ * level above (as the aggregation AMG builds them; without coarse_ops this holds already): a
+ * W-cycle then forms its later coarse corrections' residuals on the coarse level. */
+void sk__multilevel_set_galerkin(sk__multilevel *mg);
 
 typedef struct sk__krylov_opts {
     double tolerance;      /* stop at ||b - A x|| <= tolerance ||b|| (2-norm) */

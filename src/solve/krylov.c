@@ -927,6 +927,26 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
     return it;
 }
 
+/* y = a x and the sums (d, y) (dd non-NULL: also (y, y) into *yy and (y, d) into *dd) in the
+ * same pass, each in row order as dot sums it: the same bits as the product and dot apart. */
+static double multiply_dots(const sk__csr *a, const double *x, double *y, const double *d,
+                            double *yy)
+{
+    double s1 = 0, s2 = 0;
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s += a->val[k] * x[a->col[k]];
+        y[i] = s;
+        if (yy)
+            s2 += s * s;
+        s1 += d[i] * s;
+    }
+    if (yy)
+        *yy = s2;
+    return s1;
+}
+
 /* Right-preconditioned BiCGStab on level k. */
 static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
                        size_t maxit, workspace *w, double *relres)
@@ -962,8 +982,7 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
         for (size_t i = 0; i < n; ++i)
             p[i] = r[i] + beta * (p[i] - omega * v[i]);
         vcycle(mg, k, p, ph, w);
-        sk__csr_multiply(a, ph, v);
-        double rv = dot(n, rh, v);
+        double rv = multiply_dots(a, ph, v, rh, NULL); /* v = A ph, (rh, v) */
         if (rv == 0)
             break;
         alpha = rho / rv;
@@ -980,12 +999,7 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
             break;
         }
         vcycle(mg, k, s, sh, w);
-        sk__csr_multiply(a, sh, t);
-        double tt = 0, ts = 0;
-        for (size_t i = 0; i < n; ++i) {
-            tt += t[i] * t[i];
-            ts += t[i] * s[i];
-        }
+        double tt = 0, ts = multiply_dots(a, sh, t, s, &tt); /* t = A sh, (t, t), (s, t) */
         omega = tt > 0 ? ts / tt : 0;
         rr = rhr = 0;
         for (size_t i = 0; i < n; ++i) {
@@ -1043,6 +1057,36 @@ static void multiply2(const sk__csr *a, const double *x, double *y)
         }
         y[2 * i] = s0;
         y[2 * i + 1] = s1;
+    }
+}
+
+/* multiply2 with the sums (d, y) per column into s1 (yy non-NULL: (y, y) too), in one pass
+ * (multiply_dots for two columns) */
+static void multiply2_dots(const sk__csr *a, const double *x, double *y, const double *d,
+                           double s1[2], double *yy)
+{
+    double a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, t0 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            s0 += a->val[k] * xc[0];
+            t0 += a->val[k] * xc[1];
+        }
+        y[2 * i] = s0;
+        y[2 * i + 1] = t0;
+        if (yy) {
+            b0 += s0 * s0;
+            b1 += t0 * t0;
+        }
+        a0 += d[2 * i] * s0;
+        a1 += d[2 * i + 1] * t0;
+    }
+    s1[0] = a0;
+    s1[1] = a1;
+    if (yy) {
+        yy[0] = b0;
+        yy[1] = b1;
     }
 }
 
@@ -1366,8 +1410,7 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
                     p[2 * i + c] = r[2 * i + c] +
                                    beta[c] * (p[2 * i + c] - omega[c] * v[2 * i + c]);
         vcycle2(mg, k, p, ph, w);
-        multiply2(a, ph, v);
-        dot2(n, rh, v, d);
+        multiply2_dots(a, ph, v, rh, d, NULL); /* v = A ph, (rh, v) */
         bool go[2] = {on[0], on[1]}; /* on to the second half of this iteration */
         for (int c = 0; c < 2; ++c) {
             if (go[c] && d[c] == 0)
@@ -1398,18 +1441,7 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
         if (!go[0] && !go[1])
             continue; /* the loop's head sees that nothing is left */
         vcycle2(mg, k, s, sh, w);
-        multiply2(a, sh, t);
-        double tt0 = 0, tt1 = 0, ts0 = 0, ts1 = 0;
-        for (size_t i = 0; i < n; ++i) {
-            tt0 += t[2 * i] * t[2 * i];
-            tt1 += t[2 * i + 1] * t[2 * i + 1];
-            ts0 += t[2 * i] * s[2 * i];
-            ts1 += t[2 * i + 1] * s[2 * i + 1];
-        }
-        d[0] = tt0;
-        d[1] = tt1;
-        e[0] = ts0;
-        e[1] = ts1;
+        multiply2_dots(a, sh, t, s, e, d); /* t = A sh, (t, t) into d, (s, t) into e */
         for (int c = 0; c < 2; ++c)
             if (go[c])
                 omega[c] = d[c] > 0 ? e[c] / d[c] : 0;

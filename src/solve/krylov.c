@@ -259,6 +259,160 @@ sk_status sk__csr_galerkin(const sk__csr *r, const sk__csr *a, const sk__csr *p,
     return st;
 }
 
+/* Scratch of one thread of sk__csr_galerkin_map: per coarse column an accumulator, a mark and
+ * a list, for the product row A P (inner) and the row of P^T (A P) (outer). */
+typedef struct galerkin_scratch {
+    double *iacc, *oacc;
+    size_t *imark, *omark;
+    uint32_t *ilist, *olist;
+} galerkin_scratch;
+
+/* Coarse rows [r0, r1) of P^T A P into blk (see sk__csr_galerkin_map); false: out of memory. */
+static bool galerkin_rows(const sk__csr *a, const uint32_t *map, const size_t *start,
+                          const uint32_t *members, size_t r0, size_t r1, galerkin_scratch *g,
+                          product_block *blk, size_t *rowlen)
+{
+    for (size_t row = r0; row < r1; ++row) {
+        size_t olen = 0;
+        for (size_t m = start[row]; m < start[row + 1]; ++m) {
+            uint32_t i = members[m];
+            size_t ilen = 0;
+            /* row i of A P: the entries of row i of A summed by the aggregate of their column, in
+             * column order (product_row with P's one entry 1 per row) */
+            for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+                uint32_t q = map[a->col[k]];
+                if (g->imark[q] != i) {
+                    g->imark[q] = i;
+                    g->iacc[q] = 0;
+                    g->ilist[ilen++] = q;
+                }
+                g->iacc[q] += a->val[k] * 1.0;
+            }
+            /* added into the coarse row (R's entry 1 times it), the members in increasing order
+             * as R = P^T lists them */
+            for (size_t s = 0; s < ilen; ++s) {
+                uint32_t q = g->ilist[s];
+                if (g->omark[q] != row) {
+                    g->omark[q] = row;
+                    g->oacc[q] = 0;
+                    g->olist[olen++] = q;
+                }
+                g->oacc[q] += 1.0 * g->iacc[q];
+            }
+        }
+        for (size_t s = 1; s < olen; ++s) { /* sorted columns (insertion sort, as product_row) */
+            uint32_t key = g->olist[s];
+            size_t t = s;
+            for (; t > 0 && g->olist[t - 1] > key; --t)
+                g->olist[t] = g->olist[t - 1];
+            g->olist[t] = key;
+        }
+        if (blk->len + olen > blk->cap) {
+            size_t ncap = 2 * blk->cap + olen + 1024;
+            uint32_t *c2 = sk__realloc_array(blk->col, ncap, sizeof *c2);
+            if (c2)
+                blk->col = c2;
+            double *v2 = c2 ? sk__realloc_array(blk->val, ncap, sizeof *v2) : NULL;
+            if (v2)
+                blk->val = v2;
+            if (!c2 || !v2)
+                return false;
+            blk->cap = ncap;
+        }
+        for (size_t s = 0; s < olen; ++s) {
+            blk->col[blk->len + s] = g->olist[s];
+            blk->val[blk->len + s] = g->oacc[g->olist[s]];
+        }
+        blk->len += olen;
+        rowlen[row] = olen;
+    }
+    return true;
+}
+
+sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc, sk__csr *out,
+                               sk_error *err)
+{
+    size_t n = a->rows;
+    memset(out, 0, sizeof *out);
+    size_t *start = sk__calloc_array(nc + 1, sizeof *start);
+    uint32_t *members = sk__malloc_array(n ? n : 1, sizeof *members);
+    out->rows = out->cols = nc;
+    out->ptr = sk__calloc_array(nc + 1, sizeof *out->ptr);
+    int fail = !start || !members || !out->ptr;
+    size_t nb = nc >= SK_PRODUCT_PARALLEL_ROWS / 4 ? SK_PRODUCT_BLOCKS : 1;
+    product_block blk[SK_PRODUCT_BLOCKS];
+    memset(blk, 0, sizeof blk);
+    if (!fail) { /* the fine rows of each aggregate, in increasing order (R's rows) */
+        for (size_t i = 0; i < n; ++i)
+            start[map[i] + 1]++;
+        for (size_t c = 0; c < nc; ++c)
+            start[c + 1] += start[c];
+        for (size_t i = 0; i < n; ++i)
+            members[start[map[i]]++] = (uint32_t)i;
+        for (size_t c = nc; c > 0; --c)
+            start[c] = start[c - 1];
+        start[0] = 0;
+    }
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel reduction(| : fail) if (nb > 1 && !fail)
+#endif
+    {
+        galerkin_scratch g;
+        size_t m = nc ? nc : 1;
+        g.iacc = sk__malloc_array(m, sizeof *g.iacc);
+        g.oacc = sk__malloc_array(m, sizeof *g.oacc);
+        g.imark = sk__malloc_array(m, sizeof *g.imark);
+        g.omark = sk__malloc_array(m, sizeof *g.omark);
+        g.ilist = sk__malloc_array(m, sizeof *g.ilist);
+        g.olist = sk__malloc_array(m, sizeof *g.olist);
+        int bad = fail || !g.iacc || !g.oacc || !g.imark || !g.omark || !g.ilist || !g.olist;
+        for (size_t q = 0; !bad && q < nc; ++q)
+            g.imark[q] = g.omark[q] = SIZE_MAX;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 1)
+#endif
+        for (long k = 0; k < (long)nb; ++k)
+            if (!bad)
+                bad = !galerkin_rows(a, map, start, members, (size_t)k * nc / nb,
+                                     (size_t)(k + 1) * nc / nb, &g, &blk[k], out->ptr + 1);
+        fail |= bad;
+        sk__free(g.iacc);
+        sk__free(g.oacc);
+        sk__free(g.imark);
+        sk__free(g.omark);
+        sk__free(g.ilist);
+        sk__free(g.olist);
+    }
+    sk__free(start);
+    sk__free(members);
+    size_t nnz = 0;
+    for (size_t k = 0; k < nb; ++k)
+        nnz += blk[k].len;
+    if (!fail) {
+        out->col = sk__malloc_array(nnz ? nnz : 1, sizeof *out->col);
+        out->val = sk__malloc_array(nnz ? nnz : 1, sizeof *out->val);
+        fail = !out->col || !out->val;
+    }
+    for (size_t k = 0, at = 0; !fail && k < nb; at += blk[k++].len) {
+        if (blk[k].len) {
+            memcpy(out->col + at, blk[k].col, blk[k].len * sizeof *out->col);
+            memcpy(out->val + at, blk[k].val, blk[k].len * sizeof *out->val);
+        }
+    }
+    for (size_t k = 0; k < nb; ++k) {
+        sk__free(blk[k].col);
+        sk__free(blk[k].val);
+    }
+    if (fail) {
+        sk__csr_free(out);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu Galerkin product", nc,
+                        nc);
+    }
+    for (size_t row = 0; row < nc; ++row)
+        out->ptr[row + 1] += out->ptr[row];
+    return SK_OK;
+}
+
 void sk__csr_multiply(const sk__csr *a, const double *x, double *y)
 {
 #if defined(SK_HAVE_OPENMP)

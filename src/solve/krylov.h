@@ -36,6 +36,11 @@ sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_e
 /* out = r a p with r = p^T given (a square n_f x n_f, p n_f x n_c, r n_c x n_f). */
 sk_status sk__csr_galerkin(const sk__csr *r, const sk__csr *a, const sk__csr *p, sk__csr *out,
                            sk_error *err);
+/* out = P^T a P for the piecewise-constant P whose row i is one entry 1 in column map[i] (nc
+ * columns): the entries and bits of sk__csr_galerkin(P^T, a, P) (the same additions in the same
+ * order) in one pass over a, blocks of coarse rows in parallel. */
+sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc, sk__csr *out,
+                               sk_error *err);
 /* y = a x */
 void sk__csr_multiply(const sk__csr *a, const double *x, double *y);
 

@@ -151,96 +151,56 @@ static sk_status boundary_intersections(const sk_mesh *m, const double *uv, size
     return SK_OK;
 }
 
-/* Per face, what the sums of sk_param_metrics_compute take (pass 1: the 3D and uv areas, MIPS,
- * sigma1/sigma2 and the orientation; pass 2: |log area ratio| in area and the stretch in mips). */
-typedef struct face_terms {
-    double area3, area_uv, mips, conf;
-    int orient;
-} face_terms;
-
-/* Faces from which the per-face terms are computed in parallel (the sums stay sequential, in
- * face order: the same bits for any thread count). */
-#define SK_METRICS_PARALLEL_FACES 50000
-
 sk_status sk_param_metrics_compute(const sk_mesh *m, const double *uv, sk_param_metrics *out,
                                    sk_error *err)
 {
     sk_param_metrics r;
     memset(&r, 0, sizeof r);
-    size_t nf = m->num_faces;
-    for (size_t f = 0; f < nf; ++f)
-        if (!m->f_deleted[f] && sk_mesh_face_size(m, (uint32_t)f) != 3)
-            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle", f);
-    face_terms *ft = sk__malloc_array(nf ? nf : 1, sizeof *ft);
-    if (!ft)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static) if (nf > SK_METRICS_PARALLEL_FACES)
-#endif
-    for (long f = 0; f < (long)nf; ++f) {
+    double area3 = 0, area_uv_abs = 0, conf_w = 0;
+    for (size_t f = 0; f < m->num_faces; ++f) {
         if (m->f_deleted[f])
             continue;
+        if (sk_mesh_face_size(m, (uint32_t)f) != 3)
+            return sk__fail(err, SK_ERR_TOPOLOGY, "face %zu is not a triangle", f);
         uint32_t v[3];
         tri_jac tj;
         triangle_jacobian(m, uv, (uint32_t)f, v, &tj);
-        face_terms *t = &ft[f];
-        t->orient = sk_orient2d(uv + 2 * (size_t)v[0], uv + 2 * (size_t)v[1],
-                                uv + 2 * (size_t)v[2]);
-        t->mips = tj.det != 0 ? tj.frob2 / fabs(tj.det) : INFINITY;
-        t->conf = conformal_ratio(tj.frob2, tj.det);
-        t->area3 = tj.area3;
-        t->area_uv = tj.area_uv;
-    }
-    double area3 = 0, area_uv_abs = 0, conf_w = 0;
-    for (size_t f = 0; f < nf; ++f) {
-        if (m->f_deleted[f])
-            continue;
-        const face_terms *t = &ft[f];
         r.faces++;
-        if (t->orient <= 0)
+        int o = sk_orient2d(uv + 2 * (size_t)v[0], uv + 2 * (size_t)v[1], uv + 2 * (size_t)v[2]);
+        if (o <= 0)
             r.flipped++;
-        if (t->orient == 0)
+        if (o == 0)
             r.degenerate++;
-        r.mips_sum += t->mips;
-        conf_w += t->area3 * t->conf;
-        r.conformal_max = fmax(r.conformal_max, t->conf);
-        area3 += t->area3;
-        area_uv_abs += fabs(t->area_uv);
-        r.area_uv += t->area_uv;
+        double mips = tj.det != 0 ? tj.frob2 / fabs(tj.det) : INFINITY;
+        r.mips_sum += mips;
+        double c = conformal_ratio(tj.frob2, tj.det);
+        conf_w += tj.area3 * c;
+        r.conformal_max = fmax(r.conformal_max, c);
+        area3 += tj.area3;
+        area_uv_abs += fabs(tj.area_uv);
+        r.area_uv += tj.area_uv;
     }
-    if (r.faces == 0) {
-        sk__free(ft);
+    if (r.faces == 0)
         return sk__fail(err, SK_ERR_TOPOLOGY, "the mesh has no faces");
-    }
     r.mips_mean = r.mips_sum / (double)r.faces;
     r.conformal_mean = area3 > 0 ? conf_w / area3 : INFINITY;
-    /* second pass: area ratios and stretch with uv scaled to the 3D area (the terms into the
-     * first two fields of ft) */
+    /* second pass: area ratios and stretch with uv scaled to the 3D area */
     double scale = area_uv_abs > 0 ? sqrt(area3 / area_uv_abs) : INFINITY;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static) if (nf > SK_METRICS_PARALLEL_FACES)
-#endif
-    for (long f = 0; f < (long)nf; ++f) {
+    double log_sum = 0;
+    for (size_t f = 0; f < m->num_faces; ++f) {
         if (m->f_deleted[f])
             continue;
         uint32_t v[3];
         tri_jac tj;
         triangle_jacobian(m, uv, (uint32_t)f, v, &tj);
         double ratio = (fabs(tj.area_uv) / area_uv_abs) / (tj.area3 / area3);
+        log_sum += fabs(log(ratio));
         double sd = sqrt(fmax(tj.frob2 * tj.frob2 - 4 * tj.det * tj.det, 0.0));
         double s1 = sqrt(0.5 * (tj.frob2 + sd)) * scale;
         double s2 = s1 > 0 ? fabs(tj.det) * scale * scale / s1 : 0;
-        ft[f].area3 = fabs(log(ratio));
-        ft[f].area_uv = fmax(s1, s2 > 0 ? 1.0 / s2 : INFINITY);
+        double st = fmax(s1, s2 > 0 ? 1.0 / s2 : INFINITY);
+        r.stretch_max = fmax(r.stretch_max, st);
     }
-    double log_sum = 0;
-    for (size_t f = 0; f < nf; ++f) {
-        if (m->f_deleted[f])
-            continue;
-        log_sum += ft[f].area3;
-        r.stretch_max = fmax(r.stretch_max, ft[f].area_uv);
-    }
-    sk__free(ft);
     r.area_log_mean = log_sum / (double)r.faces;
     sk_status st = boundary_intersections(m, uv, &r.boundary_self_intersections, err);
     if (st)

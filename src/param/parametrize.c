@@ -61,11 +61,7 @@ sk_status sk_parametrize_check(const sk_parametrize_opts *opts, sk_error *err)
 static size_t count_flipped(const sk_mesh *m, const double *uv)
 {
     size_t flipped = 0;
-    long nf = (long)m->num_faces;
-#if defined(SK_HAVE_OPENMP)
-#pragma omp parallel for schedule(static) reduction(+ : flipped) if (nf > 50000)
-#endif
-    for (long f = 0; f < nf; ++f) {
+    for (size_t f = 0; f < m->num_faces; ++f) {
         if (m->f_deleted[f])
             continue;
         uint32_t h = m->f_halfedge[f], hb = m->h_next[h], hc = m->h_next[hb];

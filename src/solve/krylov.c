@@ -353,8 +353,9 @@ sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc,
             start[c] = start[c - 1];
         start[0] = 0;
     }
+    const int ready = !fail; /* fail is the reduction's private 0 inside the region */
 #if defined(SK_HAVE_OPENMP)
-#pragma omp parallel reduction(| : fail) if (nb > 1 && !fail)
+#pragma omp parallel reduction(| : fail) if (nb > 1 && ready)
 #endif
     {
         galerkin_scratch g;
@@ -365,7 +366,7 @@ sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc,
         g.omark = sk__malloc_array(m, sizeof *g.omark);
         g.ilist = sk__malloc_array(m, sizeof *g.ilist);
         g.olist = sk__malloc_array(m, sizeof *g.olist);
-        int bad = fail || !g.iacc || !g.oacc || !g.imark || !g.omark || !g.ilist || !g.olist;
+        int bad = !ready || !g.iacc || !g.oacc || !g.imark || !g.omark || !g.ilist || !g.olist;
         for (size_t q = 0; !bad && q < nc; ++q)
             g.imark[q] = g.omark[q] = SIZE_MAX;
 #if defined(SK_HAVE_OPENMP)

@@ -80,14 +80,15 @@ sk_status sk__weights_floater(const sk_mesh *m, double *w, sk_error *err)
                     double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
                     if (!(area > 0))
                         continue;
-                    double ml = sk__cross2(b, c) / area, mr = sk__cross2(c, a) / area,
-                           ms = sk__cross2(a, b) / area;
-                    double mn = fmin(ml, fmin(mr, ms));
+                    double cl = sk__cross2(b, c), cr = sk__cross2(c, a), cs = sk__cross2(a, b);
+                    /* the smallest coordinate with one division: x -> x / area (area > 0) is
+                     * monotone, and so is its rounding, so min(x / area) = min(x) / area */
+                    double mn = fmin(cl, fmin(cr, cs)) / area;
                     if (mn > best) {
                         best = mn;
-                        bl = ml;
-                        br = mr;
-                        bs = ms;
+                        bl = cl / area;
+                        br = cr / area;
+                        bs = cs / area;
                         brk = r;
                     }
                 }

@@ -5,6 +5,7 @@
 #include "param_internal.h"
 #include "core/internal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -215,6 +216,113 @@ sk_status sk__param_solve_route(const sk_mesh *m, sk_param_method method, const 
     return st;
 }
 
+/* Free vertices from which the system is assembled straight into compressed columns, in
+ * parallel (below: through triplets). */
+#define SK_ASSEMBLE_PARALLEL 50000
+
+/* The system of sk_param_solve_weights straight into compressed columns: column c (free vertex
+ * u, idx[u] = c) holds the diagonal of row c and, for each free neighbour v (row idx[v], in the
+ * lower triangle only when symmetric), -w of the half-edge v -> u, which is what row idx[v]
+ * adds as its triplet; rows sorted. The diagonals and right-hand sides are summed over each
+ * row's one-ring in the order of the triplet loop, so the matrix and rhs are those of the
+ * triplets to the bit. *out NULL (SK_OK) when two edges join the same pair of vertices (the
+ * triplets then sum the duplicates). */
+static sk_status assemble_columns(const sk_mesh *m, const double *w, bool symmetric,
+                                  const uint32_t *idx, const uint32_t *vert, size_t n,
+                                  const double *uv, double *rhs, sk_sparse **out, sk_error *err)
+{
+    *out = NULL;
+    sk_sparse *a = sk__calloc_array(1, sizeof *a);
+    if (a)
+        a->colptr = sk__malloc_array(n + 1, sizeof(int));
+    if (!a || !a->colptr) {
+        sk_sparse_destroy(&a);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu system", n, n);
+    }
+    a->n = n;
+    a->storage = symmetric ? SK_SPARSE_LOWER : SK_SPARSE_FULL;
+    size_t total = 0;
+    for (size_t c = 0; c < n; ++c) {
+        uint32_t u = vert[c], h0 = m->v_halfedge[u], h = h0;
+        size_t len = 1;
+        do {
+            uint32_t i = idx[sk_to(m, h)];
+            len += i != SK_INVALID && (!symmetric || i > c);
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        a->colptr[c] = (int)total;
+        total += len;
+        if (total >= (size_t)INT_MAX) {
+            sk_sparse_destroy(&a);
+            return sk__fail(err, SK_ERR_ARG, "a %zu x %zu system with %zu entries is out of range",
+                            n, n, total);
+        }
+    }
+    a->colptr[n] = (int)total;
+    a->nnz = total;
+    a->rowind = sk__malloc_array(total ? total : 1, sizeof(int));
+    a->values = sk__malloc_array(total ? total : 1, sizeof(double));
+    if (!a->rowind || !a->values) {
+        sk_sparse_destroy(&a);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu system", n, n);
+    }
+    int dup = 0;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel for schedule(static, 4096) reduction(| : dup) if (n > SK_ASSEMBLE_PARALLEL)
+#endif
+    for (long cl = 0; cl < (long)n; ++cl) {
+        size_t c = (size_t)cl;
+        uint32_t u = vert[c], h0 = m->v_halfedge[u], h = h0;
+        /* row c: the diagonal and the right-hand side, in the triplet loop's order */
+        double diag = 0, r0 = 0, r1 = 0;
+        do {
+            uint32_t j = sk_to(m, h);
+            double wij = w[h];
+            diag += wij;
+            if (idx[j] == SK_INVALID) {
+                r0 += wij * uv[2 * (size_t)j];
+                r1 += wij * uv[2 * (size_t)j + 1];
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        rhs[c] = r0;
+        rhs[n + c] = r1;
+        /* column c */
+        int *ri = a->rowind + a->colptr[c];
+        double *va = a->values + a->colptr[c];
+        size_t len = 0;
+        ri[len] = (int)c;
+        va[len++] = diag;
+        do {
+            uint32_t i = idx[sk_to(m, h)];
+            if (i != SK_INVALID && (!symmetric || i > c)) {
+                ri[len] = (int)i;
+                va[len++] = -w[h ^ 1u]; /* the half-edge from row i's vertex to u */
+            }
+            h = sk_cw_out(m, h);
+        } while (h != h0);
+        for (size_t s = 1; s < len; ++s) { /* rows ascending (short: insertion sort) */
+            int key = ri[s];
+            double kv = va[s];
+            size_t t = s;
+            for (; t > 0 && ri[t - 1] > key; --t) {
+                ri[t] = ri[t - 1];
+                va[t] = va[t - 1];
+            }
+            ri[t] = key;
+            va[t] = kv;
+        }
+        for (size_t s = 1; s < len; ++s)
+            dup |= ri[s] == ri[s - 1];
+    }
+    if (dup) {
+        sk_sparse_destroy(&a);
+        return SK_OK;
+    }
+    *out = a;
+    return SK_OK;
+}
+
 sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetric,
                                  const uint8_t *fixed, const sk_param_opts *opts, double *uv,
                                  sk_param_stats *stats, sk_error *err)
@@ -228,6 +336,7 @@ sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetr
     uint32_t *idx = sk__malloc_array(nv ? nv : 1, sizeof *idx);
     uint8_t *is_fixed = sk__malloc_array(nv ? nv : 1, 1);
     double *rhs = NULL, *x = NULL;
+    uint32_t *vert = NULL; /* unknown -> vertex */
     sk_triplets t = {0};
     sk_sparse *a = NULL;
     if (!idx || !is_fixed) {
@@ -270,42 +379,57 @@ sk_status sk_param_solve_weights(const sk_mesh *m, const double *w, bool symmetr
     /* assembly: row i = sum_j w_ij p_i - sum_{j free} w_ij p_j = sum_{j fixed} w_ij p_j */
     rhs = sk__calloc_array(2 * n, sizeof *rhs);
     x = sk__malloc_array(2 * n, sizeof *x);
-    size_t guess = 0;
-    for (size_t v = 0; v < nv; ++v)
-        if (idx[v] != SK_INVALID)
-            guess += 1 + sk_mesh_valence(m, (uint32_t)v);
-    if (!rhs || !x || sk_triplets_reserve(&t, guess, err)) {
+    vert = sk__malloc_array(n, sizeof *vert);
+    if (!rhs || !x || !vert) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu system", n, n);
         goto done;
     }
-    for (size_t v = 0; v < nv; ++v) {
-        uint32_t i = idx[v];
-        if (i == SK_INVALID)
-            continue;
-        uint32_t h0 = m->v_halfedge[v], h = h0;
-        double diag = 0;
-        do {
-            uint32_t j = sk_to(m, h);
-            double wij = w[h];
-            diag += wij;
-            if (idx[j] == SK_INVALID) {
-                rhs[i] += wij * uv[2 * (size_t)j];
-                rhs[n + i] += wij * uv[2 * (size_t)j + 1];
-            } else if (!symmetric || idx[j] < i) {
-                sk_triplets_add(&t, i, idx[j], -wij);
-            }
-            h = sk_cw_out(m, h);
-        } while (h != h0);
-        sk_triplets_add(&t, i, i, diag);
+    for (size_t v = 0; v < nv; ++v)
+        if (idx[v] != SK_INVALID)
+            vert[idx[v]] = (uint32_t)v;
+    if (n > SK_ASSEMBLE_PARALLEL &&
+        (st = assemble_columns(m, w, symmetric, idx, vert, n, uv, rhs, &a, err)))
+        goto done;
+    if (!a) { /* small, or edges joining the same two vertices: through triplets */
+        size_t guess = 0;
+        for (size_t v = 0; v < nv; ++v)
+            if (idx[v] != SK_INVALID)
+                guess += 1 + sk_mesh_valence(m, (uint32_t)v);
+        memset(rhs, 0, 2 * n * sizeof *rhs);
+        if (sk_triplets_reserve(&t, guess, err)) {
+            st = sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu system", n, n);
+            goto done;
+        }
+        for (size_t v = 0; v < nv; ++v) {
+            uint32_t i = idx[v];
+            if (i == SK_INVALID)
+                continue;
+            uint32_t h0 = m->v_halfedge[v], h = h0;
+            double diag = 0;
+            do {
+                uint32_t j = sk_to(m, h);
+                double wij = w[h];
+                diag += wij;
+                if (idx[j] == SK_INVALID) {
+                    rhs[i] += wij * uv[2 * (size_t)j];
+                    rhs[n + i] += wij * uv[2 * (size_t)j + 1];
+                } else if (!symmetric || idx[j] < i) {
+                    sk_triplets_add(&t, i, idx[j], -wij);
+                }
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+            sk_triplets_add(&t, i, i, diag);
+        }
+        st = sk_sparse_from_triplets(n, &t, symmetric ? SK_SPARSE_LOWER : SK_SPARSE_FULL, &a,
+                                     err);
+        sk_triplets_free(&t);
+        if (st)
+            goto done;
     }
     if (!(isfinite(rhs[0]))) {
         st = sk__fail(err, SK_ERR_NUMERIC, "non-finite weights (degenerate triangles?)");
         goto done;
     }
-    st = sk_sparse_from_triplets(n, &t, symmetric ? SK_SPARSE_LOWER : SK_SPARSE_FULL, &a, err);
-    sk_triplets_free(&t);
-    if (st)
-        goto done;
     double t1 = sk_seconds();
     if (stats)
         stats->weights_seconds += t1 - t0;
@@ -334,6 +458,7 @@ done:
     sk__free(is_fixed);
     sk__free(rhs);
     sk__free(x);
+    sk__free(vert);
     return st;
 }
 

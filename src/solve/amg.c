@@ -266,8 +266,11 @@ static sk_status coarsen(const sk__csr *a, const sk__amg_opts *o, sk__csr *p, sk
                        : sk__fail(err, SK_ERR_NOMEM, "out of memory");
     if (st || 10 * dim * count > 9 * a->rows)
         goto done;
+    /* piecewise constant: P's columns are the map of sk__csr_galerkin_map */
     if ((st = sk__amg_prolongation(a, dim, agg, count, o->smooth, p, err)) ||
-        (st = sk__csr_transpose(p, &r, err)) || (st = sk__csr_galerkin(&r, a, p, ac, err))) {
+        (!o->smooth && (st = sk__csr_galerkin_map(a, p->col, p->cols, ac, err))) ||
+        (o->smooth && ((st = sk__csr_transpose(p, &r, err)) ||
+                       (st = sk__csr_galerkin(&r, a, p, ac, err))))) {
         sk__csr_free(p);
         goto done;
     }
@@ -313,5 +316,8 @@ sk_status sk__amg_create(sk__csr *fine, const sk__amg_opts *opts, bool symmetric
         pr[k] = ps[nl - 1 - k];
         opr[k] = ops[nl - 1 - k];
     }
-    return sk__multilevel_create(fine, pr, opr, nl + 1, symmetric, out, err);
+    st = sk__multilevel_create(fine, pr, opr, nl + 1, symmetric, out, err);
+    if (st == SK_OK)
+        sk__multilevel_set_galerkin(*out); /* opr are the products of coarsen */
+    return st;
 }

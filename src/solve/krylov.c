@@ -259,6 +259,161 @@ sk_status sk__csr_galerkin(const sk__csr *r, const sk__csr *a, const sk__csr *p,
     return st;
 }
 
+/* Scratch of one thread of sk__csr_galerkin_map: per coarse column an accumulator, a mark and
+ * a list, for the product row A P (inner) and the row of P^T (A P) (outer). */
+typedef struct galerkin_scratch {
+    double *iacc, *oacc;
+    size_t *imark, *omark;
+    uint32_t *ilist, *olist;
+} galerkin_scratch;
+
+/* Coarse rows [r0, r1) of P^T A P into blk (see sk__csr_galerkin_map); false: out of memory. */
+static bool galerkin_rows(const sk__csr *a, const uint32_t *map, const size_t *start,
+                          const uint32_t *members, size_t r0, size_t r1, galerkin_scratch *g,
+                          product_block *blk, size_t *rowlen)
+{
+    for (size_t row = r0; row < r1; ++row) {
+        size_t olen = 0;
+        for (size_t m = start[row]; m < start[row + 1]; ++m) {
+            uint32_t i = members[m];
+            size_t ilen = 0;
+            /* row i of A P: the entries of row i of A summed by the aggregate of their column, in
+             * column order (product_row with P's one entry 1 per row) */
+            for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+                uint32_t q = map[a->col[k]];
+                if (g->imark[q] != i) {
+                    g->imark[q] = i;
+                    g->iacc[q] = 0;
+                    g->ilist[ilen++] = q;
+                }
+                g->iacc[q] += a->val[k] * 1.0;
+            }
+            /* added into the coarse row (R's entry 1 times it), the members in increasing order
+             * as R = P^T lists them */
+            for (size_t s = 0; s < ilen; ++s) {
+                uint32_t q = g->ilist[s];
+                if (g->omark[q] != row) {
+                    g->omark[q] = row;
+                    g->oacc[q] = 0;
+                    g->olist[olen++] = q;
+                }
+                g->oacc[q] += 1.0 * g->iacc[q];
+            }
+        }
+        for (size_t s = 1; s < olen; ++s) { /* sorted columns (insertion sort, as product_row) */
+            uint32_t key = g->olist[s];
+            size_t t = s;
+            for (; t > 0 && g->olist[t - 1] > key; --t)
+                g->olist[t] = g->olist[t - 1];
+            g->olist[t] = key;
+        }
+        if (blk->len + olen > blk->cap) {
+            size_t ncap = 2 * blk->cap + olen + 1024;
+            uint32_t *c2 = sk__realloc_array(blk->col, ncap, sizeof *c2);
+            if (c2)
+                blk->col = c2;
+            double *v2 = c2 ? sk__realloc_array(blk->val, ncap, sizeof *v2) : NULL;
+            if (v2)
+                blk->val = v2;
+            if (!c2 || !v2)
+                return false;
+            blk->cap = ncap;
+        }
+        for (size_t s = 0; s < olen; ++s) {
+            blk->col[blk->len + s] = g->olist[s];
+            blk->val[blk->len + s] = g->oacc[g->olist[s]];
+        }
+        blk->len += olen;
+        rowlen[row] = olen;
+    }
+    return true;
+}
+
+sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc, sk__csr *out,
+                               sk_error *err)
+{
+    size_t n = a->rows;
+    memset(out, 0, sizeof *out);
+    size_t *start = sk__calloc_array(nc + 1, sizeof *start);
+    uint32_t *members = sk__malloc_array(n ? n : 1, sizeof *members);
+    out->rows = out->cols = nc;
+    out->ptr = sk__calloc_array(nc + 1, sizeof *out->ptr);
+    int fail = !start || !members || !out->ptr;
+    size_t nb = nc >= SK_PRODUCT_PARALLEL_ROWS / 4 ? SK_PRODUCT_BLOCKS : 1;
+    product_block blk[SK_PRODUCT_BLOCKS];
+    memset(blk, 0, sizeof blk);
+    if (!fail) { /* the fine rows of each aggregate, in increasing order (R's rows) */
+        for (size_t i = 0; i < n; ++i)
+            start[map[i] + 1]++;
+        for (size_t c = 0; c < nc; ++c)
+            start[c + 1] += start[c];
+        for (size_t i = 0; i < n; ++i)
+            members[start[map[i]]++] = (uint32_t)i;
+        for (size_t c = nc; c > 0; --c)
+            start[c] = start[c - 1];
+        start[0] = 0;
+    }
+    const int ready = !fail; /* fail is the reduction's private 0 inside the region */
+#if defined(SK_HAVE_OPENMP)
+#pragma omp parallel reduction(| : fail) if (nb > 1 && ready)
+#endif
+    {
+        galerkin_scratch g;
+        size_t m = nc ? nc : 1;
+        g.iacc = sk__malloc_array(m, sizeof *g.iacc);
+        g.oacc = sk__malloc_array(m, sizeof *g.oacc);
+        g.imark = sk__malloc_array(m, sizeof *g.imark);
+        g.omark = sk__malloc_array(m, sizeof *g.omark);
+        g.ilist = sk__malloc_array(m, sizeof *g.ilist);
+        g.olist = sk__malloc_array(m, sizeof *g.olist);
+        int bad = !ready || !g.iacc || !g.oacc || !g.imark || !g.omark || !g.ilist || !g.olist;
+        for (size_t q = 0; !bad && q < nc; ++q)
+            g.imark[q] = g.omark[q] = SIZE_MAX;
+#if defined(SK_HAVE_OPENMP)
+#pragma omp for schedule(dynamic, 1)
+#endif
+        for (long k = 0; k < (long)nb; ++k)
+            if (!bad)
+                bad = !galerkin_rows(a, map, start, members, (size_t)k * nc / nb,
+                                     (size_t)(k + 1) * nc / nb, &g, &blk[k], out->ptr + 1);
+        fail |= bad;
+        sk__free(g.iacc);
+        sk__free(g.oacc);
+        sk__free(g.imark);
+        sk__free(g.omark);
+        sk__free(g.ilist);
+        sk__free(g.olist);
+    }
+    sk__free(start);
+    sk__free(members);
+    size_t nnz = 0;
+    for (size_t k = 0; k < nb; ++k)
+        nnz += blk[k].len;
+    if (!fail) {
+        out->col = sk__malloc_array(nnz ? nnz : 1, sizeof *out->col);
+        out->val = sk__malloc_array(nnz ? nnz : 1, sizeof *out->val);
+        fail = !out->col || !out->val;
+    }
+    for (size_t k = 0, at = 0; !fail && k < nb; at += blk[k++].len) {
+        if (blk[k].len) {
+            memcpy(out->col + at, blk[k].col, blk[k].len * sizeof *out->col);
+            memcpy(out->val + at, blk[k].val, blk[k].len * sizeof *out->val);
+        }
+    }
+    for (size_t k = 0; k < nb; ++k) {
+        sk__free(blk[k].col);
+        sk__free(blk[k].val);
+    }
+    if (fail) {
+        sk__csr_free(out);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu Galerkin product", nc,
+                        nc);
+    }
+    for (size_t row = 0; row < nc; ++row)
+        out->ptr[row + 1] += out->ptr[row];
+    return SK_OK;
+}
+
 void sk__csr_multiply(const sk__csr *a, const double *x, double *y)
 {
 #if defined(SK_HAVE_OPENMP)
@@ -297,6 +452,9 @@ struct sk__multilevel {
     double scale;   /* of the coarse correction (1 = the plain V-cycle) */
     unsigned gamma; /* coarse corrections per level (1 = V-cycle, 2 = W-cycle) */
     bool kcycle;    /* symmetric: each coarse level solved by two flexible CG steps */
+    bool galerkin;  /* every coarse operator is R A P of the level above (in exact arithmetic):
+                     * the restricted residual after a coarse correction e is then r_c - A_c e,
+                     * formed on the coarse level (W-cycle) */
     sk__multilevel_stats stats;
 };
 
@@ -340,6 +498,11 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
 void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s)
 {
     *s = mg->stats;
+}
+
+void sk__multilevel_set_galerkin(sk__multilevel *mg)
+{
+    mg->galerkin = true;
 }
 
 void sk__multilevel_set_cycle(sk__multilevel *mg, double scale, unsigned gamma, bool kcycle)
@@ -481,6 +644,7 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
     }
     mg->A[L - 1] = *fine;
     memset(fine, 0, sizeof *fine);
+    mg->galerkin = !coarse_ops;
     for (size_t k = 0; k + 1 < L; ++k) {
         mg->P[k] = p[k];
         memset(&p[k], 0, sizeof p[k]);
@@ -548,6 +712,7 @@ done:
 
 typedef struct workspace {
     double **b, **x, **r, **z, **t; /* per level */
+    double **e;                     /* per level: a W-cycle's later coarse corrections */
     double **kc[5];                 /* K-cycle vectors per level */
     double *kv[8];                  /* Krylov vectors, finest size */
     double *cb;                     /* two right-hand sides: the coarsest level's columns */
@@ -567,12 +732,15 @@ static void ws_free(workspace *w, size_t L)
             sk__free(w->z[k]);
         if (w->t)
             sk__free(w->t[k]);
+        if (w->e)
+            sk__free(w->e[k]);
     }
     sk__free(w->b);
     sk__free(w->x);
     sk__free(w->r);
     sk__free(w->z);
     sk__free(w->t);
+    sk__free(w->e);
     for (int i = 0; i < 5; ++i) {
         for (size_t k = 0; w->kc[i] && k < L; ++k)
             sk__free(w->kc[i][k]);
@@ -594,7 +762,8 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
     w->r = sk__calloc_array(L, sizeof *w->r);
     w->z = sk__calloc_array(L, sizeof *w->z);
     w->t = sk__calloc_array(L, sizeof *w->t);
-    if (!w->b || !w->x || !w->r || !w->z || !w->t)
+    w->e = sk__calloc_array(L, sizeof *w->e);
+    if (!w->b || !w->x || !w->r || !w->z || !w->t || !w->e)
         return false;
     for (size_t k = 0; k < L; ++k) {
         size_t n = width * (mg->A[k].rows ? mg->A[k].rows : 1);
@@ -604,6 +773,9 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
         w->z[k] = sk__malloc_array(n, sizeof(double));
         w->t[k] = sk__malloc_array(n, sizeof(double));
         if (!w->b[k] || !w->x[k] || !w->r[k] || !w->z[k] || !w->t[k])
+            return false;
+        if (mg->gamma > 1 && mg->galerkin && k + 1 < L &&
+            !(w->e[k] = sk__malloc_array(n, sizeof(double))))
             return false;
     }
     for (int i = 0; mg->kcycle && i < 5; ++i) {
@@ -644,6 +816,20 @@ static void cycle_multiply(const sk__csr *a, const float *val, double sc, const 
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
         y[i] = sc * s;
+    }
+}
+
+/* r -= scale a x with the values sc val: the restricted residual after a coarse correction
+ * scale P x, R (r_f - A_f (z + scale P x)) = R (r_f - A_f z) - scale (R A_f P) x, formed on the
+ * coarse level where a = R A_f P (Galerkin) instead of on the fine level and restricted. */
+static void residual_update(const sk__csr *a, const float *val, double sc, double scale,
+                            const double *x, double *r)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s += (double)val[k] * x[a->col[k]];
+        r[i] -= scale * (sc * s);
     }
 }
 
@@ -803,22 +989,39 @@ static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, wor
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
         gs_forward(a, fv, sc, mg->dinv[k], r, z);
     /* gamma coarse corrections (a W-cycle for 2); one when the coarse level is solved exactly
-     * (a second would be zero) */
+     * (a second would be zero). With Galerkin operators the later ones take their restricted
+     * residual from the coarse level (residual_update) and the corrections are summed there,
+     * then prolonged once: no fine-level product, restriction or second prolongation. */
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    bool coarse_res = mg->galerkin && cycles > 1;
+    double *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
+    size_t nc = mg->A[k - 1].rows;
     for (unsigned c = 0; c < cycles; ++c) {
-        if (c > 0 || SK_MG_SWEEPS > 1) {
-            cycle_multiply(a, fv, sc, z, t);
-            for (size_t i = 0; i < n; ++i)
-                t[i] = r[i] - t[i];
+        if (coarse_res && c > 0) {
+            residual_update(&mg->A[k - 1], mg->fval[k - 1], mg->fscale[k - 1], mg->scale,
+                            c == 1 ? zc : e, rc);
+        } else {
+            if (c > 0 || SK_MG_SWEEPS > 1) {
+                cycle_multiply(a, fv, sc, z, t);
+                for (size_t i = 0; i < n; ++i)
+                    t[i] = r[i] - t[i];
+            }
+            if (c > 0 || !map)
+                restrict_to(mg, k - 1, t, rc);
         }
-        if (c > 0 || !map)
-            restrict_to(mg, k - 1, t, w->r[k - 1]);
+        double *out = coarse_res && c > 0 ? e : zc;
         if (mg->kcycle && k - 1 > 0)
-            kcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+            kcycle(mg, k - 1, rc, out, w);
         else
-            vcycle(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-        prolong_add(mg, k - 1, mg->scale, w->z[k - 1], z);
+            vcycle(mg, k - 1, rc, out, w);
+        if (!coarse_res)
+            prolong_add(mg, k - 1, mg->scale, zc, z);
+        else if (c > 0)
+            for (size_t i = 0; i < nc; ++i)
+                zc[i] += e[i];
     }
+    if (coarse_res)
+        prolong_add(mg, k - 1, mg->scale, zc, z);
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward(a, fv, sc, mg->dinv[k], r, z);
 }
@@ -879,6 +1082,26 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
     return it;
 }
 
+/* y = a x and the sums (d, y) (dd non-NULL: also (y, y) into *yy and (y, d) into *dd) in the
+ * same pass, each in row order as dot sums it: the same bits as the product and dot apart. */
+static double multiply_dots(const sk__csr *a, const double *x, double *y, const double *d,
+                            double *yy)
+{
+    double s1 = 0, s2 = 0;
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
+            s += a->val[k] * x[a->col[k]];
+        y[i] = s;
+        if (yy)
+            s2 += s * s;
+        s1 += d[i] * s;
+    }
+    if (yy)
+        *yy = s2;
+    return s1;
+}
+
 /* Right-preconditioned BiCGStab on level k. */
 static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x, double tol,
                        size_t maxit, workspace *w, double *relres)
@@ -914,8 +1137,7 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
         for (size_t i = 0; i < n; ++i)
             p[i] = r[i] + beta * (p[i] - omega * v[i]);
         vcycle(mg, k, p, ph, w);
-        sk__csr_multiply(a, ph, v);
-        double rv = dot(n, rh, v);
+        double rv = multiply_dots(a, ph, v, rh, NULL); /* v = A ph, (rh, v) */
         if (rv == 0)
             break;
         alpha = rho / rv;
@@ -932,12 +1154,7 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
             break;
         }
         vcycle(mg, k, s, sh, w);
-        sk__csr_multiply(a, sh, t);
-        double tt = 0, ts = 0;
-        for (size_t i = 0; i < n; ++i) {
-            tt += t[i] * t[i];
-            ts += t[i] * s[i];
-        }
+        double tt = 0, ts = multiply_dots(a, sh, t, s, &tt); /* t = A sh, (t, t), (s, t) */
         omega = tt > 0 ? ts / tt : 0;
         rr = rhr = 0;
         for (size_t i = 0; i < n; ++i) {
@@ -998,6 +1215,36 @@ static void multiply2(const sk__csr *a, const double *x, double *y)
     }
 }
 
+/* multiply2 with the sums (d, y) per column into s1 (yy non-NULL: (y, y) too), in one pass
+ * (multiply_dots for two columns) */
+static void multiply2_dots(const sk__csr *a, const double *x, double *y, const double *d,
+                           double s1[2], double *yy)
+{
+    double a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, t0 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            s0 += a->val[k] * xc[0];
+            t0 += a->val[k] * xc[1];
+        }
+        y[2 * i] = s0;
+        y[2 * i + 1] = t0;
+        if (yy) {
+            b0 += s0 * s0;
+            b1 += t0 * t0;
+        }
+        a0 += d[2 * i] * s0;
+        a1 += d[2 * i + 1] * t0;
+    }
+    s1[0] = a0;
+    s1[1] = a1;
+    if (yy) {
+        yy[0] = b0;
+        yy[1] = b1;
+    }
+}
+
 /* y = a x with the values sc val (the cycle's single-precision copy) */
 static void cycle_multiply2(const sk__csr *a, const float *val, double sc, const double *x,
                             double *y)
@@ -1028,6 +1275,23 @@ static void gs_forward2(const sk__csr *a, const float *val, double sc, const dou
         }
         x[2 * i] += (b[2 * i] - sc * s0) * dinv[i];
         x[2 * i + 1] += (b[2 * i + 1] - sc * s1) * dinv[i];
+    }
+}
+
+/* residual_update for two columns */
+static void residual_update2(const sk__csr *a, const float *val, double sc, double scale,
+                             const double *x, double *r)
+{
+    for (size_t i = 0; i < a->rows; ++i) {
+        double s0 = 0, s1 = 0;
+        for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
+            const double *xc = x + 2 * (size_t)a->col[k];
+            double v = (double)val[k];
+            s0 += v * xc[0];
+            s1 += v * xc[1];
+        }
+        r[2 * i] -= scale * (sc * s0);
+        r[2 * i + 1] -= scale * (sc * s1);
     }
 }
 
@@ -1215,20 +1479,35 @@ static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, wo
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
         gs_forward2(a, fv, sc, mg->dinv[k], r, z);
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    bool coarse_res = mg->galerkin && cycles > 1; /* as vcycle */
+    double *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
+    size_t nc = mg->A[k - 1].rows;
     for (unsigned c = 0; c < cycles; ++c) {
-        if (c > 0 || SK_MG_SWEEPS > 1) {
-            cycle_multiply2(a, fv, sc, z, t);
-            for (size_t i = 0; i < 2 * n; ++i)
-                t[i] = r[i] - t[i];
+        if (coarse_res && c > 0) {
+            residual_update2(&mg->A[k - 1], mg->fval[k - 1], mg->fscale[k - 1], mg->scale,
+                             c == 1 ? zc : e, rc);
+        } else {
+            if (c > 0 || SK_MG_SWEEPS > 1) {
+                cycle_multiply2(a, fv, sc, z, t);
+                for (size_t i = 0; i < 2 * n; ++i)
+                    t[i] = r[i] - t[i];
+            }
+            if (c > 0 || !map)
+                restrict_to2(mg, k - 1, t, rc);
         }
-        if (c > 0 || !map)
-            restrict_to2(mg, k - 1, t, w->r[k - 1]);
+        double *out = coarse_res && c > 0 ? e : zc;
         if (mg->kcycle && k - 1 > 0)
-            kcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
+            kcycle2(mg, k - 1, rc, out, w);
         else
-            vcycle2(mg, k - 1, w->r[k - 1], w->z[k - 1], w);
-        prolong_add2(mg, k - 1, mg->scale, w->z[k - 1], z);
+            vcycle2(mg, k - 1, rc, out, w);
+        if (!coarse_res)
+            prolong_add2(mg, k - 1, mg->scale, zc, z);
+        else if (c > 0)
+            for (size_t i = 0; i < 2 * nc; ++i)
+                zc[i] += e[i];
     }
+    if (coarse_res)
+        prolong_add2(mg, k - 1, mg->scale, zc, z);
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
         gs_backward2(a, fv, sc, mg->dinv[k], r, z);
 }
@@ -1286,8 +1565,7 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
                     p[2 * i + c] = r[2 * i + c] +
                                    beta[c] * (p[2 * i + c] - omega[c] * v[2 * i + c]);
         vcycle2(mg, k, p, ph, w);
-        multiply2(a, ph, v);
-        dot2(n, rh, v, d);
+        multiply2_dots(a, ph, v, rh, d, NULL); /* v = A ph, (rh, v) */
         bool go[2] = {on[0], on[1]}; /* on to the second half of this iteration */
         for (int c = 0; c < 2; ++c) {
             if (go[c] && d[c] == 0)
@@ -1318,18 +1596,7 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
         if (!go[0] && !go[1])
             continue; /* the loop's head sees that nothing is left */
         vcycle2(mg, k, s, sh, w);
-        multiply2(a, sh, t);
-        double tt0 = 0, tt1 = 0, ts0 = 0, ts1 = 0;
-        for (size_t i = 0; i < n; ++i) {
-            tt0 += t[2 * i] * t[2 * i];
-            tt1 += t[2 * i + 1] * t[2 * i + 1];
-            ts0 += t[2 * i] * s[2 * i];
-            ts1 += t[2 * i + 1] * s[2 * i + 1];
-        }
-        d[0] = tt0;
-        d[1] = tt1;
-        e[0] = ts0;
-        e[1] = ts1;
+        multiply2_dots(a, sh, t, s, e, d); /* t = A sh, (t, t) into d, (s, t) into e */
         for (int c = 0; c < 2; ++c)
             if (go[c])
                 omega[c] = d[c] > 0 ? e[c] / d[c] : 0;

@@ -36,6 +36,11 @@ sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_e
 /* out = r a p with r = p^T given (a square n_f x n_f, p n_f x n_c, r n_c x n_f). */
 sk_status sk__csr_galerkin(const sk__csr *r, const sk__csr *a, const sk__csr *p, sk__csr *out,
                            sk_error *err);
+/* out = P^T a P for the piecewise-constant P whose row i is one entry 1 in column map[i] (nc
+ * columns): the entries and bits of sk__csr_galerkin(P^T, a, P) (the same additions in the same
+ * order) in one pass over a, blocks of coarse rows in parallel. */
+sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc, sk__csr *out,
+                               sk_error *err);
 /* y = a x */
 void sk__csr_multiply(const sk__csr *a, const double *x, double *y);
 
@@ -67,6 +72,10 @@ void sk__multilevel_stats_get(const sk__multilevel *mg, sk__multilevel_stats *s)
  * CG steps preconditioned by its own cycle (Notay and Vassilevski's K-cycle), the finest CG
  * made flexible. */
 void sk__multilevel_set_cycle(sk__multilevel *mg, double scale, unsigned gamma, bool kcycle);
+/* The coarse operators given to sk__multilevel_create are the Galerkin products R A P of the
+ * level above (as the aggregation AMG builds them; without coarse_ops this holds already): a
+ * W-cycle then forms its later coarse corrections' residuals on the coarse level. */
+void sk__multilevel_set_galerkin(sk__multilevel *mg);
 
 typedef struct sk__krylov_opts {
     double tolerance;      /* stop at ||b - A x|| <= tolerance ||b|| (2-norm) */

@@ -162,6 +162,62 @@ static void test_galerkin_zero_row_sums(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* The Galerkin product through the aggregate map is sk__csr_galerkin(P^T, A, P) to the bit
+ * (pattern, order and values, -0 entries included), on a non-symmetric matrix with irregular
+ * values: the mushroom's Laplacian (a few hundred aggregates: one block) and a 260 x 260 grid
+ * (about 17000 aggregates: the parallel blocks), scalar and with two unknowns per vertex. */
+static void test_galerkin_map_same_bits(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("mushroom.off"));
+    for (int kind = 0; kind < 3; ++kind) {
+        unsigned dim = kind == 2 ? 2 : 1;
+        sk__csr a = {0};
+        if (kind != 1) {
+            mesh_laplacian(m, dim, 1e-3, &a);
+        } else { /* a 5-point grid */
+            size_t g = 260, n = g * g;
+            assert_int_equal(sk__csr_alloc(&a, n, n, 5 * n, NULL), SK_OK);
+            size_t q = 0;
+            for (size_t i = 0; i < n; ++i) {
+                size_t x = i % g, y = i / g;
+                size_t nb[5] = {y > 0 ? i - g : SIZE_MAX, x > 0 ? i - 1 : SIZE_MAX, i,
+                                x + 1 < g ? i + 1 : SIZE_MAX, y + 1 < g ? i + g : SIZE_MAX};
+                for (int k = 0; k < 5; ++k)
+                    if (nb[k] != SIZE_MAX) {
+                        a.col[q] = (uint32_t)nb[k];
+                        a.val[q++] = nb[k] == i ? 4.5 : -1.0;
+                    }
+                a.ptr[i + 1] = q;
+            }
+        }
+        for (size_t k = 0; k < a.ptr[a.rows]; ++k) /* irregular, non-symmetric, some -0 */
+            a.val[k] = k % 97 == 5 ? -0.0 : a.val[k] * (1.0 + 0.3 * sin(1.7 * (double)k));
+        size_t count = 0;
+        uint32_t *agg = malloc(a.rows * sizeof *agg);
+        assert_int_equal(sk__amg_aggregate(&a, dim, agg, &count, NULL), SK_OK);
+        sk__csr p = {0}, r = {0}, ac = {0}, am = {0};
+        assert_int_equal(sk__amg_prolongation(&a, dim, agg, count, false, &p, NULL), SK_OK);
+        assert_int_equal(sk__csr_transpose(&p, &r, NULL), SK_OK);
+        assert_int_equal(sk__csr_galerkin(&r, &a, &p, &ac, NULL), SK_OK);
+        assert_int_equal(sk__csr_galerkin_map(&a, p.col, p.cols, &am, NULL), SK_OK);
+        if (kind == 1)
+            assert_true(count > 10000);
+        assert_int_equal(am.rows, ac.rows);
+        assert_int_equal(am.cols, ac.cols);
+        assert_memory_equal(am.ptr, ac.ptr, (ac.rows + 1) * sizeof *ac.ptr);
+        assert_memory_equal(am.col, ac.col, ac.ptr[ac.rows] * sizeof *ac.col);
+        assert_memory_equal(am.val, ac.val, ac.ptr[ac.rows] * sizeof *ac.val);
+        free(agg);
+        sk__csr_free(&a);
+        sk__csr_free(&p);
+        sk__csr_free(&r);
+        sk__csr_free(&ac);
+        sk__csr_free(&am);
+    }
+    sk_mesh_destroy(&m);
+}
+
 /* Interleaved blocks of two unknowns are aggregated as the scalar graph's vertices. */
 static void test_blocks_like_scalar(void **state)
 {
@@ -443,6 +499,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aggregates_partition),
         cmocka_unit_test(test_galerkin_zero_row_sums),
+        cmocka_unit_test(test_galerkin_map_same_bits),
         cmocka_unit_test(test_blocks_like_scalar),
         cmocka_unit_test(test_solve_matches_cholmod),
         cmocka_unit_test(test_cycle_scaled_far_beyond_float),

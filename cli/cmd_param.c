@@ -216,6 +216,10 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                    "atlas: a chart within stretch S (as --max-stretch) at --area-theta takes\n"
                    "the least area term (plain MIPS, 1/8, 1/4) that stays within S: lower\n"
                    "angle distortion (default 1.08; 1 or less: off)"),
+        OPT_DOUBLE("--slit-price", a->ao.slit_price, -1, 1, 0, "P",
+                   "atlas: slits into the charts where the MIPS mean they save is at least P\n"
+                   "per unit of seam length / sqrt(area) they add (default 0.001; 0 or\n"
+                   "negative: none)"),
         OPT_DOUBLE("--crease-angle", a->ao.crease_angle, -1, 180, 0, "DEG",
                    "atlas: charts follow edges with a dihedral angle >= DEG (default 60;\n"
                    "negative: off), regions under 2% of the area aside"),
@@ -264,6 +268,8 @@ static int parse_args(int argc, char **argv, param_args *a)
         a->po.linear = &a->linear; /* with mips: refused below */
     if (cli_given(&args, "--padding") && !(a->ao.padding > 0))
         a->ao.padding = -1; /* 0 means the default in sk_atlas_opts */
+    if (cli_given(&args, "--slit-price") && !(a->ao.slit_price > 0))
+        a->ao.slit_price = -1; /* none; 0 means the default in sk_atlas_opts */
     if (cli_given(&args, "--area-bound") && !(a->ao.area_bound > 1))
         a->ao.area_bound = -1; /* off; 0 means the default in sk_atlas_opts */
     a->ao.seed = a->po.seed; /* 0 (not given) and 1 are the same */
@@ -276,7 +282,7 @@ static int parse_args(int argc, char **argv, param_args *a)
                          sk_format_name(ofmt), a->out);
     /* the atlas: asked for by its options, else taken when the input is not one disk */
     static const char *const atlas_only[] = {"--max-distortion", "--max-stretch", "--area-theta",
-                                             "--area-bound",
+                                             "--area-bound", "--slit-price",
                                              "--crease-angle", "--resolution", "--padding",
                                              "--split-seams",
                                              "--mips-charts", "--charts", "--merge-faces",

@@ -60,6 +60,7 @@ static void write_json(FILE *fp, const void *ctx)
     json_kuint(&j, "crease_regions", s->crease_regions);
     json_kuint(&j, "area_refinements", s->area_refinements);
     json_kuint(&j, "area_bounded", s->area_bounded);
+    json_kuint(&j, "slits", s->slits);
     json_kuint(&j, "merges", s->merges);
     json_kuint(&j, "pack_cuts", s->pack_cuts);
     if (r->charts_target) {

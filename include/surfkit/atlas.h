@@ -70,6 +70,12 @@ typedef struct sk_atlas_opts {
      * (splits, merges) are those of the refined layout. 0 = the default (1.08); 1 or less (or
      * negative) = off (area_theta on every chart). */
     double area_bound;
+    /* Slits (cuts from a chart's boundary into it, to its vertex of the largest MIPS excess among
+     * those of positive curvature; up to 8 per chart, charts of 32..2000 triangles, after the
+     * merging): a chart keeps the sequence of slits that maximizes (MIPS mean saved) -
+     * slit_price * (seam_length_rel added), i.e. slit_price is what one unit of seam length /
+     * sqrt(area) may cost in MIPS mean. 0 = the default (1e-3); negative = no slits. */
+    double slit_price;
     /* Charts follow sharp edges: the first charts are the regions of faces joined across edges
      * whose dihedral angle (between the face normals) is below crease_angle degrees, a region
      * with less than 2% of its component's area (the scattered sharp edges of a scan) merged into
@@ -115,6 +121,7 @@ typedef struct sk_atlas_stats {
     size_t crease_regions;   /* first charts: the crease regions (the components when no crease
                                 cuts them) */
     size_t pack_cuts;        /* charts cut in two for a tighter packing (no_pack_cuts) */
+    size_t slits;            /* slits kept (slit_price) */
     double charts_seconds, param_seconds, pack_seconds, check_seconds, total_seconds;
 } sk_atlas_stats;
 

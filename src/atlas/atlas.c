@@ -847,7 +847,7 @@ typedef struct deferred {
  * range's faces), the wave of disks to parametrize together, and the charts accepted so far. */
 typedef struct builder {
     const sk_mesh *m;
-    double max_conf, max_stretch, area_theta, area_bound;
+    double max_conf, max_stretch, area_theta, area_bound, slit_price;
     sk__chart_work w;
     accepted acc;
     sk_atlas *a;
@@ -1117,6 +1117,220 @@ static sk_status merge_to(builder *b, const sk_atlas_opts *o, size_t target, siz
     return st;
 }
 
+/* Adds, per mesh vertex of the triangle (p0, p1, p2 at mesh vertices v0, v1, v2; uv q0, q1,
+ * q2), the triangle's MIPS excess (energy - 2) to score and its 3D corner angle to angle;
+ * returns the MIPS energy. */
+static double slit_scores(const double *const p[3], const double *const q[3], const uint32_t v[3],
+                          double *score, double *angle)
+{
+    double a3, auv, mips, conf;
+    sk__tri_distortion(p[0], p[1], p[2], q[0], q[1], q[2], &a3, &auv, &mips, &conf);
+    for (int k = 0; k < 3; ++k) {
+        double e1[3], e2[3], x[3];
+        sk__sub3(e1, p[(k + 1) % 3], p[k]);
+        sk__sub3(e2, p[(k + 2) % 3], p[k]);
+        sk__cross3(x, e1, e2);
+        score[v[k]] += mips - 2.0;
+        angle[v[k]] += atan2(sk__norm3(x), sk__dot3(e1, e2));
+    }
+    return mips;
+}
+
+/* The slit pass (issue 11; the idea of OptCuts, Li et al. 2018: cut where the distortion is, as
+ * long as the distortion saved pays for the seam). Every final chart of SLIT_MIN_FACES to
+ * SLIT_MAX_FACES triangles gets up to SLIT_ROUNDS slits, one after another, each from the
+ * chart's boundary along the shortest path of inner edges to its inner vertex of the largest
+ * MIPS excess (the sum over the vertex's triangles of their MIPS energy - 2 in the current
+ * layout) among those of positive curvature (angle sum below 2 pi: a slit at a saddle would make
+ * the two sides overlap), the chart laid out again by judge_disk each time (a split verdict ends
+ * the sequence). Of the slit sequence the chart keeps the prefix that maximizes
+ * (MIPS mean saved) - price * (seam_length_rel added), price = sk_atlas_opts.slit_price: the
+ * slits pay as a whole, so a slit of little gain that opens the way to better ones is kept. A
+ * sequence stops early when the MIPS excess left in the chart cannot pay for the next slit (no
+ * later prefix could beat the best). Charts above SLIT_MAX_FACES (the merging's default cap) are
+ * not tried: each try is a layout, and on the large charts of bunny00 and armadillo none paid. */
+#define SLIT_MIN_FACES 32
+#define SLIT_MAX_FACES 2000
+#define SLIT_ROUNDS 8
+static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
+{
+    const sk_mesh *m = b->m;
+    sk_atlas *a = b->a;
+    accepted *acc = &b->acc;
+    size_t nf = m->num_faces, nc = acc->charts;
+    double price = b->slit_price;
+    if (!(price > 0) || nc == 0)
+        return SK_OK;
+    sk_status st = SK_OK;
+    uint32_t *start = sk__calloc_array(nc + 2, sizeof(uint32_t));
+    uint32_t *byc = sk__malloc_array(nf, sizeof(uint32_t));
+    uint32_t *cut = sk__malloc_array(SLIT_ROUNDS * (3 * nf + 1), sizeof(uint32_t));
+    double *score = sk__calloc_array(m->num_vertices + 1, sizeof(double));
+    double *angle = sk__calloc_array(m->num_vertices + 1, sizeof(double));
+    uint8_t *alive = sk__malloc_array(2 * nc + 1, 1);
+    sk_mesh *chart = NULL;
+    uint32_t *vert_h = NULL;
+    double *cuv = NULL, *best_uv = NULL;
+    if (!start || !byc || !cut || !score || !angle || !alive) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    memset(alive, 1, nc);
+    double area = 0;
+    for (size_t f = 0; f < nf; ++f) {
+        start[a->face_chart[f] + 1]++;
+        area += b->w.fnormal[4 * f + 3];
+    }
+    for (size_t c = 0; c < nc; ++c)
+        start[c + 1] += start[c];
+    for (size_t f = 0; f < nf; ++f)
+        byc[start[a->face_chart[f]]++] = (uint32_t)f;
+    for (size_t c = nc; c > 0; --c)
+        start[c] = start[c - 1];
+    start[0] = 0;
+    double seam_unit = sqrt(area);
+    size_t slits = 0;
+    for (size_t c = 0; c < nc; ++c) {
+        uint32_t *cf = byc + start[c];
+        size_t n = start[c + 1] - start[c];
+        if (n < SLIT_MIN_FACES || n > SLIT_MAX_FACES)
+            continue;
+        /* the chart's layout as accepted: its MIPS sum and the scores */
+        double before = 0;
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t h = m->f_halfedge[cf[i]], v[3];
+            const double *p[3], *q[3];
+            for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+                v[k] = sk_from(m, h);
+                p[k] = m->positions + 3 * (size_t)v[k];
+                q[k] = acc->uv + 2 * (size_t)a->corner_uv[h];
+            }
+            before += slit_scores(p, q, v, score, angle);
+        }
+        size_t ncut = 0, cut_at[SLIT_ROUNDS + 1] = {0}, best_k = 0;
+        double net = 0, best_net = 0;
+        bool best_lscm = false;
+        for (int round = 0; round < SLIT_ROUNDS; ++round) {
+            /* a slit opens a vertex of positive curvature only */
+            for (size_t i = 0; i < n; ++i) {
+                uint32_t h = m->f_halfedge[cf[i]];
+                for (int k = 0; k < 3; ++k, h = m->h_next[h])
+                    if (angle[sk_from(m, h)] >= 2.0 * M_PI)
+                        score[sk_from(m, h)] = 0;
+            }
+            uint32_t stamp = ++b->stamp;
+            for (size_t i = 0; i < n; ++i)
+                b->w.label[cf[i]] = stamp;
+            size_t added = 0;
+            double len = 0;
+            st = sk__chart_cut_slit(m, cf, n, stamp, &b->w, score, cut + ncut, &added, &len, err);
+            for (size_t i = 0; i < n; ++i) {
+                uint32_t h = m->f_halfedge[cf[i]];
+                for (int k = 0; k < 3; ++k, h = m->h_next[h])
+                    score[sk_from(m, h)] = angle[sk_from(m, h)] = 0;
+            }
+            if (st)
+                goto done;
+            if (added == 0)
+                break;
+            /* the slits from here can save at most the excess left (MIPS >= 2 per triangle):
+             * when that cannot pay for this slit's seam, no later prefix beats the best one */
+            if (net + (before - 2.0 * (double)n) / (double)nf - price * len / seam_unit <=
+                best_net) {
+                for (size_t i = ncut; i < ncut + added; ++i)
+                    b->w.cut[cut[i]] = 0;
+                break;
+            }
+            ncut += added;
+            if ((st = sk__chart_extract(m, cf, n, stamp, &b->w, &chart, &vert_h, err)))
+                goto done;
+            bool disk = false, sphere = false;
+            if ((st = is_disk(chart, &disk, &sphere, err)))
+                goto done;
+            sk__chart_quality q;
+            bool split = !disk;
+            sk_atlas_stats cs;
+            memset(&cs, 0, sizeof cs);
+            if (disk && (st = judge_disk(chart, o->seed + stamp, b->max_conf, b->max_stretch,
+                                         !o->mips_only, b->area_theta, b->area_bound, &cuv, &q,
+                                         &split, &cs, err)))
+                goto done;
+            if (split) {
+                ncut -= added;
+                for (size_t i = ncut; i < ncut + added; ++i)
+                    b->w.cut[cut[i]] = 0;
+                break;
+            }
+            cut_at[round + 1] = ncut;
+            /* the new layout: its MIPS sum and the scores for the next slit */
+            double after = 0;
+            for (size_t f = 0; f < chart->num_faces; ++f) {
+                uint32_t h = chart->f_halfedge[f], v[3];
+                const double *p[3], *q3[3];
+                for (int k = 0; k < 3; ++k, h = chart->h_next[h]) {
+                    uint32_t l = sk_from(chart, h);
+                    v[k] = sk_from(m, vert_h[l]);
+                    p[k] = chart->positions + 3 * (size_t)l;
+                    q3[k] = cuv + 2 * (size_t)l;
+                }
+                after += slit_scores(p, q3, v, score, angle);
+            }
+            net += (before - after) / (double)nf - price * len / seam_unit;
+            before = after;
+            if (net > best_net) {
+                best_net = net;
+                best_k = (size_t)round + 1;
+                best_lscm = cs.lscm_charts > 0;
+                sk__free(best_uv);
+                best_uv = cuv;
+                cuv = NULL;
+            }
+            sk_mesh_destroy(&chart);
+            sk__free(vert_h);
+            vert_h = NULL;
+        }
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t h = m->f_halfedge[cf[i]];
+            for (int k = 0; k < 3; ++k, h = m->h_next[h])
+                score[sk_from(m, h)] = angle[sk_from(m, h)] = 0;
+        }
+        sk_mesh_destroy(&chart);
+        sk__free(vert_h);
+        vert_h = NULL;
+        /* keep the best prefix of the slits */
+        for (size_t i = cut_at[best_k]; i < ncut; ++i)
+            b->w.cut[cut[i]] = 0;
+        if (best_k == 0)
+            continue;
+        uint32_t stamp = ++b->stamp;
+        for (size_t i = 0; i < n; ++i)
+            b->w.label[cf[i]] = stamp;
+        if ((st = sk__chart_extract(m, cf, n, stamp, &b->w, &chart, &vert_h, err)))
+            goto done;
+        if ((st = accept_chart(acc, m, cf, n, chart, best_uv, best_lscm, &b->w, a, err)))
+            goto done;
+        sk__free(best_uv);
+        best_uv = NULL;
+        alive[c] = 0;
+        alive[acc->charts - 1] = 1;
+        slits += best_k;
+    }
+    b->s.slits = slits;
+    st = compact_charts(m, acc, alive, a, err);
+done:
+    sk_mesh_destroy(&chart);
+    sk__free(vert_h);
+    sk__free(cuv);
+    sk__free(best_uv);
+    sk__free(start);
+    sk__free(byc);
+    sk__free(cut);
+    sk__free(score);
+    sk__free(angle);
+    sk__free(alive);
+    return st;
+}
+
 /* Charts, then the packing and the atlas-wide measures. */
 static sk_status make_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
 {
@@ -1154,6 +1368,11 @@ static sk_status make_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
         double tg = sk_seconds();
         size_t cap = o->merge_faces ? (size_t)o->merge_faces : SK__ATLAS_MERGE_FACES;
         st = merge_to(b, o, 1, cap, b->comp, err); /* the crease regions stay apart */
+        tp += sk_seconds() - tg;
+    }
+    if (!st && b->slit_price > 0) {
+        double tg = sk_seconds();
+        st = slit_charts(b, o, err);
         tp += sk_seconds() - tg;
     }
     b->s.param_seconds = tp;
@@ -1200,6 +1419,7 @@ sk_status sk_atlas_build(const sk_mesh *m, const sk_atlas_opts *opts, sk_atlas *
     /* the bound as a stretch (exp of area_log_dev, as max_stretch) */
     double ab = o.area_bound == 0 ? SK__ATLAS_AREA_BOUND : o.area_bound;
     b.area_bound = ab > 1.0 ? log(ab) : 0.0;
+    b.slit_price = o.slit_price == 0 ? SK__ATLAS_SLIT_PRICE : o.slit_price < 0 ? 0 : o.slit_price;
     sk_atlas_stats *s = &b.s;
     double crease = o.crease_angle == 0 ? SK__ATLAS_CREASE_ANGLE : o.crease_angle;
     if ((st = builder_init(&b, m, crease, err)) || (st = make_charts(&b, &o, err)))

@@ -61,6 +61,15 @@ sk_status sk__chart_cut_holes(const sk_mesh *m, const uint32_t *faces, size_t nf
                               sk__chart_work *w, size_t *ncut, sk_error *err);
 #define SK__ATLAS_MAX_HOLES 64
 
+/* A slit into the chart faces[0..nf) (labelled stamp, one piece with a boundary): the shortest
+ * path along the chart's inner edges from its boundary to its inner vertex of the largest
+ * score (per mesh vertex), cut in w->cut; the edges go to cut_edges (room for 3 nf), their
+ * number to *ncut (0: no inner vertex of positive score, or none reached) and their 3D length
+ * to *length. */
+sk_status sk__chart_cut_slit(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
+                             sk__chart_work *w, const double *score, uint32_t *cut_edges,
+                             size_t *ncut, double *length, sk_error *err);
+
 /* Reorders faces[0..nf) (labelled stamp) by edge-connected component; sizes (nf entries of room)
  * receives the component sizes in order; returns their number. */
 size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
@@ -127,6 +136,8 @@ sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__c
 #define SK__ATLAS_AREA_THETA 0.5
 /* sk_atlas_opts.area_bound's default: see bound_area in atlas.c and docs/param.md. */
 #define SK__ATLAS_AREA_BOUND 1.08
+/* sk_atlas_opts.slit_price's default: see slit_charts in atlas.c and docs/param.md. */
+#define SK__ATLAS_SLIT_PRICE 1e-3
 
 /* MIPS with the area term (sk_mips_opts.area_theta = theta, free boundary) from the layout in uv,
  * scaled and measured into q; *ok false (uv then undefined) when it failed or flipped. Errors are

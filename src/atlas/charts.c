@@ -529,13 +529,13 @@ static uint32_t heap_pop(cut_graph *g, double *d)
 /* Local vertices, inner-edge adjacency and boundary loops of the chart; false (g->nloops 0) when
  * the chart holds a cut edge already. */
 static bool cut_graph_build(cut_graph *g, const sk_mesh *m, const uint32_t *faces, size_t nf,
-                            uint32_t stamp, const sk__chart_work *w)
+                            uint32_t stamp, const sk__chart_work *w, bool allow_cuts)
 {
     for (size_t i = 0; i < nf; ++i) {
         uint32_t h = m->f_halfedge[faces[i]];
         for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
             uint32_t v = sk_from(m, h), o = m->h_face[h ^ 1u];
-            if (w->cut[h >> 1] && o != SK_INVALID && w->label[o] == stamp)
+            if (!allow_cuts && w->cut[h >> 1] && o != SK_INVALID && w->label[o] == stamp)
                 return false;
             if (g->vloc[v] == SK_INVALID)
                 g->vloc[v] = (uint32_t)g->nv++;
@@ -620,34 +620,112 @@ static size_t cut_one_path(cut_graph *g, const sk_mesh *m, sk__chart_work *w)
     return n;
 }
 
+/* The cut graph's arrays for a chart of nf faces (vloc all SK_INVALID). */
+static sk_status cut_graph_alloc(cut_graph *g, const sk_mesh *m, size_t nf, sk_error *err)
+{
+    memset(g, 0, sizeof *g);
+    size_t nv = m->num_vertices ? m->num_vertices : 1, nc = 3 * nf + 1;
+    g->vloc = sk__malloc_array(nv, sizeof(uint32_t));
+    g->adj_off = sk__calloc_array(nc + 1, sizeof(uint32_t));
+    g->adj = sk__malloc_array(nc, sizeof(uint32_t));
+    g->loop = sk__malloc_array(nc, sizeof(uint32_t));
+    g->source = sk__calloc_array(nc, 1);
+    g->attached = sk__calloc_array(nc, 1);
+    g->hloop = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
+    g->dist = sk__malloc_array(nc, sizeof(double));
+    g->prev = sk__calloc_array(nc, sizeof(uint32_t));
+    g->heap_cap = 3 * nf + nc; /* every inner half-edge pushes at most once, plus the sources */
+    g->heap_d = sk__malloc_array(g->heap_cap, sizeof(double));
+    g->heap_v = sk__malloc_array(g->heap_cap, sizeof(uint32_t));
+    if (!g->vloc || !g->adj_off || !g->adj || !g->loop || !g->source || !g->attached ||
+        !g->hloop || !g->dist || !g->prev || !g->heap_d || !g->heap_v) {
+        cut_graph_free(g);
+        memset(g, 0, sizeof *g);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    }
+    for (size_t v = 0; v < m->num_vertices; ++v)
+        g->vloc[v] = SK_INVALID;
+    return SK_OK;
+}
+
+sk_status sk__chart_cut_slit(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
+                             sk__chart_work *w, const double *score, uint32_t *cut_edges,
+                             size_t *ncut, double *length, sk_error *err)
+{
+    cut_graph g;
+    *ncut = 0;
+    *length = 0;
+    sk_status st = cut_graph_alloc(&g, m, nf, err);
+    if (st)
+        return st;
+    if (!cut_graph_build(&g, m, faces, nf, stamp, w, true) || g.nloops < 1)
+        goto done;
+    /* the target: the inner vertex of the largest score */
+    uint32_t t = SK_INVALID;
+    double best = 0;
+    for (size_t i = 0; i < nf; ++i) {
+        uint32_t h = m->f_halfedge[faces[i]];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            uint32_t v = sk_from(m, h), l = g.vloc[v];
+            if (g.loop[l] == SK_INVALID && score[v] > best) {
+                best = score[v];
+                t = l;
+            }
+        }
+    }
+    if (t == SK_INVALID)
+        goto done;
+    /* Dijkstra from every boundary vertex to t */
+    g.heap_n = 0;
+    for (size_t v = 0; v < g.nv; ++v) {
+        g.prev[v] = SK_INVALID;
+        g.dist[v] = INFINITY;
+        if (g.loop[v] != SK_INVALID) {
+            g.dist[v] = 0;
+            heap_push(&g, 0, (uint32_t)v);
+        }
+    }
+    bool reached = false;
+    while (g.heap_n > 0) {
+        double d;
+        uint32_t v = heap_pop(&g, &d);
+        if (d > g.dist[v])
+            continue;
+        if (v == t) {
+            reached = true;
+            break;
+        }
+        for (uint32_t i = g.adj_off[v]; i < g.adj_off[v + 1]; ++i) {
+            uint32_t h = g.adj[i], u = g.vloc[sk_to(m, h)];
+            double nd = d + sk_mesh_edge_length(m, h >> 1);
+            if (nd < g.dist[u]) {
+                g.dist[u] = nd;
+                g.prev[u] = h;
+                heap_push(&g, nd, u);
+            }
+        }
+    }
+    if (!reached)
+        goto done;
+    for (uint32_t v = t; g.prev[v] != SK_INVALID; v = g.vloc[sk_from(m, g.prev[v])]) {
+        w->cut[g.prev[v] >> 1] = 1;
+        cut_edges[(*ncut)++] = g.prev[v] >> 1;
+        *length += sk_mesh_edge_length(m, g.prev[v] >> 1);
+    }
+done:
+    cut_graph_free(&g);
+    return st;
+}
+
 sk_status sk__chart_cut_holes(const sk_mesh *m, const uint32_t *faces, size_t nf, uint32_t stamp,
                               sk__chart_work *w, size_t *ncut, sk_error *err)
 {
     cut_graph g;
-    memset(&g, 0, sizeof g);
     *ncut = 0;
-    size_t nv = m->num_vertices ? m->num_vertices : 1, nc = 3 * nf + 1;
-    g.vloc = sk__malloc_array(nv, sizeof(uint32_t));
-    g.adj_off = sk__calloc_array(nc + 1, sizeof(uint32_t));
-    g.adj = sk__malloc_array(nc, sizeof(uint32_t));
-    g.loop = sk__malloc_array(nc, sizeof(uint32_t));
-    g.source = sk__calloc_array(nc, 1);
-    g.attached = sk__calloc_array(nc, 1);
-    g.hloop = sk__malloc_array(m->num_halfedges ? m->num_halfedges : 1, sizeof(uint32_t));
-    g.dist = sk__malloc_array(nc, sizeof(double));
-    g.prev = sk__calloc_array(nc, sizeof(uint32_t));
-    g.heap_cap = 3 * nf + nc; /* every inner half-edge pushes at most once, plus the sources */
-    g.heap_d = sk__malloc_array(g.heap_cap, sizeof(double));
-    g.heap_v = sk__malloc_array(g.heap_cap, sizeof(uint32_t));
-    sk_status st = SK_OK;
-    if (!g.vloc || !g.adj_off || !g.adj || !g.loop || !g.source || !g.attached ||
-        !g.hloop || !g.dist || !g.prev || !g.heap_d || !g.heap_v) {
-        st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
-        goto done;
-    }
-    for (size_t v = 0; v < m->num_vertices; ++v)
-        g.vloc[v] = SK_INVALID;
-    if (!cut_graph_build(&g, m, faces, nf, stamp, w) || g.nloops < 2 ||
+    sk_status st = cut_graph_alloc(&g, m, nf, err);
+    if (st)
+        return st;
+    if (!cut_graph_build(&g, m, faces, nf, stamp, w, false) || g.nloops < 2 ||
         g.nloops > SK__ATLAS_MAX_HOLES + 1)
         goto done;
     /* the outer loop: the longest */

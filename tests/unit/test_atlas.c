@@ -576,10 +576,16 @@ static void test_disk_stays_one_chart(void **state)
     sk_atlas_opts o = base_opts();
     o.area_theta = -1; /* the bounds on the plain layouts (the area term: test_area_term) */
     o.max_stretch = 1.5;
+    o.slit_price = -1; /* slits cut into a chart without splitting it (test_slits) */
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_int_equal(st.charts, 1);
     assert_int_equal(st.seam_edges, 0);
     assert_int_equal(a->num_uvs, m->num_vertices);
+    sk_atlas_destroy(&a);
+    o.slit_price = 0; /* with the slits (default) still one chart */
+    assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
+    assert_int_equal(st.charts, 1);
+    assert_int_equal(st.flipped + st.overlaps, 0);
     sk_atlas_destroy(&a);
     o.max_stretch = 1.1; /* nefertiti's one chart has exp(mean |log area scale|) about 1.3 */
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
@@ -665,6 +671,53 @@ static void test_area_term(void **state)
     sk_mesh_destroy(&m);
 }
 
+/* The slits (sk_atlas_opts.slit_price, default 1e-3) against none, on blobby, pig and elephant
+ * without pack cuts: the same charts (a slit cuts into a chart, never splits it), slits kept,
+ * and the trade each chart took: the MIPS mean saved is at least the price times the seam
+ * length / sqrt(area) the slits added (every chart keeps a slit sequence only when it pays),
+ * and positive; no flips, no overlaps. */
+static void test_slits(void **state)
+{
+    (void)state;
+    const char *names[] = {"blobby.off", "pig.off", "elephant.off"};
+    for (size_t i = 0; i < 3; ++i) {
+        sk_mesh *m = skt_read_mesh(skt_shared_mesh(names[i]));
+        sk_atlas *on = NULL, *off = NULL;
+        sk_atlas_stats son, soff;
+        sk_atlas_opts o = base_opts();
+        o.no_pack_cuts = true;
+        assert_int_equal(sk_atlas_build(m, &o, &on, &son, NULL), SK_OK);
+        o.slit_price = -1;
+        assert_int_equal(sk_atlas_build(m, &o, &off, &soff, NULL), SK_OK);
+        print_message("%s: slits: %zu kept, %zu charts, MIPS %.6f, seams %.3f; none: %zu charts, "
+                      "MIPS %.6f, seams %.3f\n", names[i], son.slits, son.charts, son.mips_mean,
+                      son.seam_length_rel, soff.charts, soff.mips_mean, soff.seam_length_rel);
+        assert_true(son.slits > 0);
+        assert_int_equal(soff.slits, 0);
+        assert_int_equal(son.charts, soff.charts);
+        assert_true(son.seam_edges > soff.seam_edges);
+        double saved = soff.mips_mean - son.mips_mean;
+        double added = son.seam_length_rel - soff.seam_length_rel;
+        assert_true(saved > 0);
+        assert_true(saved >= 1e-3 * added - 1e-9);
+        assert_int_equal(son.flipped + son.overlaps + soff.flipped + soff.overlaps, 0);
+        /* the same partition into charts, up to their numbering */
+        uint32_t *map = malloc(son.charts * sizeof *map);
+        for (size_t c = 0; c < son.charts; ++c)
+            map[c] = SK_INVALID;
+        for (size_t f = 0; f < m->num_faces; ++f) {
+            uint32_t c = on->face_chart[f];
+            if (map[c] == SK_INVALID)
+                map[c] = off->face_chart[f];
+            assert_int_equal(map[c], off->face_chart[f]);
+        }
+        free(map);
+        sk_atlas_destroy(&on);
+        sk_atlas_destroy(&off);
+        sk_mesh_destroy(&m);
+    }
+}
+
 /* The area bound (default 1.08) against the area term alone (area_bound off), on blobby and
  * elephant without pack cuts: the same charts (the decisions are the area term's), and per
  * chart: one within the bound at theta 0.5 stays within it with an angle distortion no higher
@@ -681,6 +734,7 @@ static void test_area_bound(void **state)
         sk_atlas_stats son, soff;
         sk_atlas_opts o = base_opts();
         o.no_pack_cuts = true; /* the pack cuts depend on the layouts' outlines */
+        o.slit_price = -1;     /* the slits depend on the final layouts (test_slits) */
         assert_int_equal(sk_atlas_build(m, &o, &on, &son, NULL), SK_OK);
         o.area_bound = -1;
         assert_int_equal(sk_atlas_build(m, &o, &off, &soff, NULL), SK_OK);
@@ -1132,6 +1186,7 @@ int main(void)
         cmocka_unit_test(test_lscm_first_and_mips_only),
         cmocka_unit_test(test_area_term),
         cmocka_unit_test(test_area_bound),
+        cmocka_unit_test(test_slits),
         cmocka_unit_test(test_predictor_needs_bounds),
         cmocka_unit_test(test_max_charts),
         cmocka_unit_test(test_creases),

@@ -5,7 +5,7 @@ per mesh and label with the CPU microseconds per input triangle of each build st
 over the runs) and the shape figures (which must not differ)."""
 import json, sys
 
-STAGES = ("normals", "edge_flips", "edge_deletion", "vertex_systems", "fair_points", "patches",
+STAGES = ("normals", "flips", "edge_deletion", "vertex_systems", "fair_points", "patches",
           "repair")
 best, shape, order = {}, {}, []
 for line in sys.stdin:
@@ -20,8 +20,8 @@ for line in sys.stdin:
         best[key] = {}
     per = 1e6 / int(nf)
     for k in STAGES:
-        if k in r["stage_seconds"]:
-            v = r["stage_seconds"][k] * per
+        if k in r["stage_cpu_seconds"]:
+            v = r["stage_cpu_seconds"][k] * per
             best[key][k] = min(v, best[key].get(k, v))
     shape[key] = (r["singular_patches"], r["singular_before_repair"], r["max_overshoot"],
                   r["max_fairness_deg"], r["mean_fairness_deg"], r.get("fair_steps", 0))

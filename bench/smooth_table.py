@@ -37,12 +37,12 @@ for line in sys.stdin:
     rows.append((name, scheme, nf, r, note, even, bound))
 
 print("| mesh | scheme | triangles | singular (before repair) | max overshoot (patch) | > 0.5 | fairness max / mean deg | "
-      "deleted / bound (ratio) | max normal jump deg | normals | deletion | systems | fair | patches | repair | report | total s | note |")
-print("|" + "---|" * 18)
+      "deleted / bound (ratio) | max normal jump deg | normals | flips | deletion | systems | fair | patches | repair | report | total s | note |")
+print("|" + "---|" * 19)
 for row in rows:
     name, scheme, nf, r, note = row[:5]
     if r is None:
-        print(f"| {name} | {scheme} | {nf} | | | | | | | | | | | | | | | {note} |"); continue
+        print(f"| {name} | {scheme} | {nf} | | | | | | | | | | | | | | | | {note} |"); continue
     even, bound = row[5], row[6]
     st = r['stage_seconds']
     if scheme.startswith("vc1"):
@@ -53,7 +53,7 @@ for row in rows:
         dele = f"{r['deleted_edges']} / {bound} ({ratio:.3f})"
     else:
         dele = "-"
-    sec = [st.get(k, 0.0) for k in ("normals", "edge_deletion", "vertex_systems", "fair_points", "patches", "repair", "report")]
+    sec = [st.get(k, 0.0) for k in ("normals", "flips", "edge_deletion", "vertex_systems", "fair_points", "patches", "repair", "report")]
     before = f" ({r['singular_before_repair']})" if 'singular_before_repair' in r else ""
     print(f"| {name} | {scheme} | {nf} | {r['singular_patches']}{before} | {r['max_overshoot']:.3f} ({r['max_overshoot_patch']}) | "
           f"{r['overshoot_patches']} | {r['max_fairness_deg']:.1f} / {r['mean_fairness_deg']:.2f} | {dele} | "

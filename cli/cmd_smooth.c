@@ -143,8 +143,7 @@ static void write_report(FILE *fp, const report_ctx *c)
         json_key(&j, k ? "stage_cpu_seconds" : "stage_seconds");
         json_obj_open(&j);
         for (size_t i = 0; i < sizeof stage / sizeof *stage; ++i)
-            if (k || i != 1) /* (the wall seconds have no flips entry) */
-                json_knum(&j, stage[i], k ? cpu[i] : wall[i]);
+            json_knum(&j, stage[i], k ? cpu[i] : wall[i]);
         json_obj_close(&j);
     }
     json_knum(&j, "seconds", c->seconds);

@@ -185,6 +185,38 @@ static bool product_rows(const sk__csr *a, const sk__csr *b, size_t r0, size_t r
 
 /* Row-by-row product (Gustavson): blocks of rows in parallel, each into its own buffer, then
  * joined in row order. */
+/* The row blocks blk[0..nb) concatenated into out's columns and values (freed here; out->ptr
+ * holds the row lengths, summed into offsets); false when fail is set or memory runs out (out is
+ * freed then). */
+static bool gather_blocks(product_block *blk, size_t nb, bool fail, sk__csr *out)
+{
+    size_t nnz = 0;
+    for (size_t k = 0; k < nb; ++k)
+        nnz += blk[k].len;
+    if (!fail) {
+        out->col = sk__malloc_array(nnz ? nnz : 1, sizeof *out->col);
+        out->val = sk__malloc_array(nnz ? nnz : 1, sizeof *out->val);
+        fail = !out->col || !out->val;
+    }
+    for (size_t k = 0, at = 0; !fail && k < nb; at += blk[k++].len) {
+        if (blk[k].len) {
+            memcpy(out->col + at, blk[k].col, blk[k].len * sizeof *out->col);
+            memcpy(out->val + at, blk[k].val, blk[k].len * sizeof *out->val);
+        }
+    }
+    for (size_t k = 0; k < nb; ++k) {
+        sk__free(blk[k].col);
+        sk__free(blk[k].val);
+    }
+    if (fail) {
+        sk__csr_free(out);
+        return false;
+    }
+    for (size_t row = 0; row < out->rows; ++row)
+        out->ptr[row + 1] += out->ptr[row];
+    return true;
+}
+
 sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_error *err)
 {
     size_t nr = a->rows, nc = b->cols;
@@ -221,30 +253,8 @@ sk_status sk__csr_product(const sk__csr *a, const sk__csr *b, sk__csr *out, sk_e
         sk__free(mark);
         sk__free(list);
     }
-    size_t nnz = 0;
-    for (size_t k = 0; k < nb; ++k)
-        nnz += blk[k].len;
-    if (!fail) {
-        out->col = sk__malloc_array(nnz ? nnz : 1, sizeof *out->col);
-        out->val = sk__malloc_array(nnz ? nnz : 1, sizeof *out->val);
-        fail = !out->col || !out->val;
-    }
-    for (size_t k = 0, at = 0; !fail && k < nb; at += blk[k++].len) {
-        if (blk[k].len) {
-            memcpy(out->col + at, blk[k].col, blk[k].len * sizeof *out->col);
-            memcpy(out->val + at, blk[k].val, blk[k].len * sizeof *out->val);
-        }
-    }
-    for (size_t k = 0; k < nb; ++k) {
-        sk__free(blk[k].col);
-        sk__free(blk[k].val);
-    }
-    if (fail) {
-        sk__csr_free(out);
+    if (!gather_blocks(blk, nb, fail, out))
         return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu matrix product", nr, nc);
-    }
-    for (size_t row = 0; row < nr; ++row)
-        out->ptr[row + 1] += out->ptr[row];
     return SK_OK;
 }
 
@@ -386,31 +396,9 @@ sk_status sk__csr_galerkin_map(const sk__csr *a, const uint32_t *map, size_t nc,
     }
     sk__free(start);
     sk__free(members);
-    size_t nnz = 0;
-    for (size_t k = 0; k < nb; ++k)
-        nnz += blk[k].len;
-    if (!fail) {
-        out->col = sk__malloc_array(nnz ? nnz : 1, sizeof *out->col);
-        out->val = sk__malloc_array(nnz ? nnz : 1, sizeof *out->val);
-        fail = !out->col || !out->val;
-    }
-    for (size_t k = 0, at = 0; !fail && k < nb; at += blk[k++].len) {
-        if (blk[k].len) {
-            memcpy(out->col + at, blk[k].col, blk[k].len * sizeof *out->col);
-            memcpy(out->val + at, blk[k].val, blk[k].len * sizeof *out->val);
-        }
-    }
-    for (size_t k = 0; k < nb; ++k) {
-        sk__free(blk[k].col);
-        sk__free(blk[k].val);
-    }
-    if (fail) {
-        sk__csr_free(out);
+    if (!gather_blocks(blk, nb, fail, out))
         return sk__fail(err, SK_ERR_NOMEM, "out of memory for a %zu x %zu Galerkin product", nc,
                         nc);
-    }
-    for (size_t row = 0; row < nc; ++row)
-        out->ptr[row + 1] += out->ptr[row];
     return SK_OK;
 }
 

@@ -1136,6 +1136,72 @@ static double slit_scores(const double *const p[3], const double *const q[3], co
     return mips;
 }
 
+/* slit_scores over the chart's faces cf[0..n) of m in the accepted layout (uv per corner through
+ * corner_uv); returns their MIPS sum. */
+static double accepted_scores(const sk_mesh *m, const double *uv, const uint32_t *corner_uv,
+                              const uint32_t *cf, size_t n, double *score, double *angle)
+{
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t h = m->f_halfedge[cf[i]], v[3];
+        const double *p[3], *q[3];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
+            v[k] = sk_from(m, h);
+            p[k] = m->positions + 3 * (size_t)v[k];
+            q[k] = uv + 2 * (size_t)corner_uv[h];
+        }
+        sum += slit_scores(p, q, v, score, angle);
+    }
+    return sum;
+}
+
+/* slit_scores over an extracted chart laid out as cuv (per chart vertex; vert_h maps a chart
+ * vertex to a halfedge of m leaving its mesh vertex); returns their MIPS sum. */
+static double layout_scores(const sk_mesh *m, const sk_mesh *chart, const uint32_t *vert_h,
+                            const double *cuv, double *score, double *angle)
+{
+    double sum = 0;
+    for (size_t f = 0; f < chart->num_faces; ++f) {
+        uint32_t h = chart->f_halfedge[f], v[3];
+        const double *p[3], *q[3];
+        for (int k = 0; k < 3; ++k, h = chart->h_next[h]) {
+            uint32_t l = sk_from(chart, h);
+            v[k] = sk_from(m, vert_h[l]);
+            p[k] = chart->positions + 3 * (size_t)l;
+            q[k] = cuv + 2 * (size_t)l;
+        }
+        sum += slit_scores(p, q, v, score, angle);
+    }
+    return sum;
+}
+
+/* Zeroes score and angle at the vertices of the chart's faces cf[0..n). */
+static void clear_scores(const sk_mesh *m, const uint32_t *cf, size_t n, double *score,
+                         double *angle)
+{
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t h = m->f_halfedge[cf[i]];
+        for (int k = 0; k < 3; ++k, h = m->h_next[h])
+            score[sk_from(m, h)] = angle[sk_from(m, h)] = 0;
+    }
+}
+
+/* The faces grouped by chart (a counting sort): chart c's faces are byc[start[c]..start[c+1]);
+ * start has nc + 1 entries, zeroed by the caller. */
+static void faces_by_chart(const uint32_t *face_chart, size_t nf, size_t nc, uint32_t *start,
+                           uint32_t *byc)
+{
+    for (size_t f = 0; f < nf; ++f)
+        start[face_chart[f] + 1]++;
+    for (size_t c = 0; c < nc; ++c)
+        start[c + 1] += start[c];
+    for (size_t f = 0; f < nf; ++f)
+        byc[start[face_chart[f]]++] = (uint32_t)f;
+    for (size_t c = nc; c > 0; --c)
+        start[c] = start[c - 1];
+    start[0] = 0;
+}
+
 /* The slit pass (issue 11; the idea of OptCuts, Li et al. 2018: cut where the distortion is, as
  * long as the distortion saved pays for the seam). Every final chart of SLIT_MIN_FACES to
  * SLIT_MAX_FACES triangles gets up to SLIT_ROUNDS slits, one after another, each from the
@@ -1177,17 +1243,9 @@ static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
     }
     memset(alive, 1, nc);
     double area = 0;
-    for (size_t f = 0; f < nf; ++f) {
-        start[a->face_chart[f] + 1]++;
-        area += b->w.fnormal[4 * f + 3];
-    }
-    for (size_t c = 0; c < nc; ++c)
-        start[c + 1] += start[c];
     for (size_t f = 0; f < nf; ++f)
-        byc[start[a->face_chart[f]]++] = (uint32_t)f;
-    for (size_t c = nc; c > 0; --c)
-        start[c] = start[c - 1];
-    start[0] = 0;
+        area += b->w.fnormal[4 * f + 3];
+    faces_by_chart(a->face_chart, nf, nc, start, byc);
     double seam_unit = sqrt(area);
     size_t slits = 0;
     for (size_t c = 0; c < nc; ++c) {
@@ -1196,17 +1254,7 @@ static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
         if (n < SLIT_MIN_FACES || n > SLIT_MAX_FACES)
             continue;
         /* the chart's layout as accepted: its MIPS sum and the scores */
-        double before = 0;
-        for (size_t i = 0; i < n; ++i) {
-            uint32_t h = m->f_halfedge[cf[i]], v[3];
-            const double *p[3], *q[3];
-            for (int k = 0; k < 3; ++k, h = m->h_next[h]) {
-                v[k] = sk_from(m, h);
-                p[k] = m->positions + 3 * (size_t)v[k];
-                q[k] = acc->uv + 2 * (size_t)a->corner_uv[h];
-            }
-            before += slit_scores(p, q, v, score, angle);
-        }
+        double before = accepted_scores(m, acc->uv, a->corner_uv, cf, n, score, angle);
         size_t ncut = 0, cut_at[SLIT_ROUNDS + 1] = {0}, best_k = 0;
         double net = 0, best_net = 0;
         bool best_lscm = false;
@@ -1224,11 +1272,7 @@ static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
             size_t added = 0;
             double len = 0;
             st = sk__chart_cut_slit(m, cf, n, stamp, &b->w, score, cut + ncut, &added, &len, err);
-            for (size_t i = 0; i < n; ++i) {
-                uint32_t h = m->f_halfedge[cf[i]];
-                for (int k = 0; k < 3; ++k, h = m->h_next[h])
-                    score[sk_from(m, h)] = angle[sk_from(m, h)] = 0;
-            }
+            clear_scores(m, cf, n, score, angle);
             if (st)
                 goto done;
             if (added == 0)
@@ -1263,18 +1307,7 @@ static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
             }
             cut_at[round + 1] = ncut;
             /* the new layout: its MIPS sum and the scores for the next slit */
-            double after = 0;
-            for (size_t f = 0; f < chart->num_faces; ++f) {
-                uint32_t h = chart->f_halfedge[f], v[3];
-                const double *p[3], *q3[3];
-                for (int k = 0; k < 3; ++k, h = chart->h_next[h]) {
-                    uint32_t l = sk_from(chart, h);
-                    v[k] = sk_from(m, vert_h[l]);
-                    p[k] = chart->positions + 3 * (size_t)l;
-                    q3[k] = cuv + 2 * (size_t)l;
-                }
-                after += slit_scores(p, q3, v, score, angle);
-            }
+            double after = layout_scores(m, chart, vert_h, cuv, score, angle);
             net += (before - after) / (double)nf - price * len / seam_unit;
             before = after;
             if (net > best_net) {
@@ -1289,11 +1322,7 @@ static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
             sk__free(vert_h);
             vert_h = NULL;
         }
-        for (size_t i = 0; i < n; ++i) {
-            uint32_t h = m->f_halfedge[cf[i]];
-            for (int k = 0; k < 3; ++k, h = m->h_next[h])
-                score[sk_from(m, h)] = angle[sk_from(m, h)] = 0;
-        }
+        clear_scores(m, cf, n, score, angle);
         sk_mesh_destroy(&chart);
         sk__free(vert_h);
         vert_h = NULL;

@@ -1338,6 +1338,9 @@ static sk_status slit_charts(builder *b, const sk_atlas_opts *o, sk_error *err)
             goto done;
         if ((st = accept_chart(acc, m, cf, n, chart, best_uv, best_lscm, &b->w, a, err)))
             goto done;
+        sk_mesh_destroy(&chart);
+        sk__free(vert_h);
+        vert_h = NULL;
         sk__free(best_uv);
         best_uv = NULL;
         alive[c] = 0;

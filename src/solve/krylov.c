@@ -150,29 +150,38 @@ typedef struct product_block {
     size_t len, cap;
 } product_block;
 
+/* The row with columns list[0..len) and values acc[list[s]] appended to blk; false: out of
+ * memory (blk keeps what it had). */
+static bool block_append(product_block *blk, const uint32_t *list, const double *acc, size_t len)
+{
+    if (blk->len + len > blk->cap) {
+        size_t ncap = 2 * blk->cap + len + 1024;
+        uint32_t *c2 = sk__realloc_array(blk->col, ncap, sizeof *c2);
+        if (c2)
+            blk->col = c2;
+        double *v2 = c2 ? sk__realloc_array(blk->val, ncap, sizeof *v2) : NULL;
+        if (v2)
+            blk->val = v2;
+        if (!c2 || !v2)
+            return false;
+        blk->cap = ncap;
+    }
+    for (size_t s = 0; s < len; ++s) {
+        blk->col[blk->len + s] = list[s];
+        blk->val[blk->len + s] = acc[list[s]];
+    }
+    blk->len += len;
+    return true;
+}
+
 /* Rows [r0, r1) of a * b appended to blk, their lengths into rowlen[row]; false: out of memory. */
 static bool product_rows(const sk__csr *a, const sk__csr *b, size_t r0, size_t r1, double *acc,
                          size_t *mark, uint32_t *list, product_block *blk, size_t *rowlen)
 {
     for (size_t row = r0; row < r1; ++row) {
         size_t len = product_row(a, b, row, acc, mark, list);
-        if (blk->len + len > blk->cap) {
-            size_t ncap = 2 * blk->cap + len + 1024;
-            uint32_t *c2 = sk__realloc_array(blk->col, ncap, sizeof *c2);
-            if (c2)
-                blk->col = c2;
-            double *v2 = c2 ? sk__realloc_array(blk->val, ncap, sizeof *v2) : NULL;
-            if (v2)
-                blk->val = v2;
-            if (!c2 || !v2)
-                return false;
-            blk->cap = ncap;
-        }
-        for (size_t s = 0; s < len; ++s) {
-            blk->col[blk->len + s] = list[s];
-            blk->val[blk->len + s] = acc[list[s]];
-        }
-        blk->len += len;
+        if (!block_append(blk, list, acc, len))
+            return false;
         rowlen[row] = len;
     }
     return true;
@@ -317,23 +326,8 @@ static bool galerkin_rows(const sk__csr *a, const uint32_t *map, const size_t *s
                 g->olist[t] = g->olist[t - 1];
             g->olist[t] = key;
         }
-        if (blk->len + olen > blk->cap) {
-            size_t ncap = 2 * blk->cap + olen + 1024;
-            uint32_t *c2 = sk__realloc_array(blk->col, ncap, sizeof *c2);
-            if (c2)
-                blk->col = c2;
-            double *v2 = c2 ? sk__realloc_array(blk->val, ncap, sizeof *v2) : NULL;
-            if (v2)
-                blk->val = v2;
-            if (!c2 || !v2)
-                return false;
-            blk->cap = ncap;
-        }
-        for (size_t s = 0; s < olen; ++s) {
-            blk->col[blk->len + s] = g->olist[s];
-            blk->val[blk->len + s] = g->oacc[g->olist[s]];
-        }
-        blk->len += olen;
+        if (!block_append(blk, g->olist, g->oacc, olen))
+            return false;
         rowlen[row] = olen;
     }
     return true;

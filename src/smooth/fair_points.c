@@ -836,7 +836,7 @@ static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, const uin
     const sk_mesh *m = s->config;
     long np = (long)s->surface.count;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (np >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long p = 0; p < np; ++p) {
         const sk_patch *pa = &s->surface.patches[p];

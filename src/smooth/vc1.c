@@ -137,7 +137,7 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     long nvl = (long)nv;
     int too_many = -1;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (nvl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long i = 0; i < nvl; ++i) {
         uint32_t v = (uint32_t)i;
@@ -195,7 +195,7 @@ static void vc1_interior_points(sk__vc1_work *W)
     const sk_mesh *m = W->m;
     long nvl = (long)m->num_vertices;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nvl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long i = 0; i < nvl; ++i)
         if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
@@ -208,7 +208,7 @@ static void vc1_assemble(sk_smooth *s, const sk__vc1_work *W)
 {
     long nfl = (long)W->m->num_faces;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nfl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long f = 0; f < nfl; ++f)
         sk__vc1_assemble_patch(W, (uint32_t)f, sk_patch_cp(&s->surface, (size_t)f));
@@ -296,7 +296,8 @@ static sk_status fit_guard(sk_smooth *s, sk__vc1_work *W, const double *P0, cons
         long nfl = (long)nf;
         size_t nnew = 0, nold = 0;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : nnew, nold)
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : nnew, nold) \
+    if (nfl >= SK_SMOOTH_TEAM_MIN)
 #endif
         for (long f = 0; f < nfl; ++f) { /* 1: made singular by the fit, 2: singular before */
             bad[f] = sing[f] == SK_SING_UNKNOWN && sk__patch_singular(s, (size_t)f, NULL)

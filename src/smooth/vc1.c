@@ -592,7 +592,14 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     if ((st = sk__vc1_repair_regularity(s, &W, status, sing, singular, err)) != SK_OK)
         goto done;
     clock_since(t3, &s->stats.seconds_repair, &s->stats.cpu_repair);
-    if (plan.hmap) { /* the round's steps and gains added to the build's it started from */
+    if (plan.hmap) {
+        /* the round's steps and gains added to the build's it started from; its time is the
+         * repair stage's (sk__vc1_reroute_singular), the other stages keep the first build's */
+        const sk_smooth_stats *f = &prev->stats;
+        s->stats.seconds_deletion = f->seconds_deletion, s->stats.cpu_deletion = f->cpu_deletion;
+        s->stats.seconds_systems = f->seconds_systems, s->stats.cpu_systems = f->cpu_systems;
+        s->stats.seconds_patches = f->seconds_patches, s->stats.cpu_patches = f->cpu_patches;
+        s->stats.seconds_fair = f->seconds_fair, s->stats.cpu_fair = f->cpu_fair;
         s->stats.singular_before_repair = prev->stats.singular_before_repair;
         s->stats.repaired_vertices += prev->stats.repaired_vertices;
         s->stats.fair_steps += prev->stats.fair_steps;

@@ -419,15 +419,12 @@ struct sk__multilevel {
     sk__csr *A;    /* L operators, A[L-1] the finest */
     sk__csr *P;    /* L-1 prolongations */
     sk__csr *R;    /* L-1 restrictions R[k] = P[k]^T (freed where pmap[k] is set) */
-    float **dinv; /* 1 / diagonal per level above the coarsest (0 for a zero diagonal: that
-                   * unknown is not smoothed), single precision as the cycle's vectors */
+    double **dinv; /* 1 / diagonal per level (0 for a zero diagonal: that unknown is not smoothed) */
     size_t **upper; /* per level and row: the first entry right of the diagonal */
     float **fval;   /* per level above the coarsest: the values over fscale in single
                      * precision, which the cycle's sweeps and residuals read (a third less memory
                      * traffic; the Krylov iterations keep the double values) */
-    double fscale;  /* a power of two near the finest operator's largest value: the cycle works
-                     * on every level's operator over it (the coarse ones are within a few
-                     * powers of two of it), in single precision without overflow or underflow */
+    double *fscale; /* per level: a power of two near the largest value (no float overflow) */
     uint32_t **pmap; /* per prolongation: when every row of P[k] is one entry 1 (piecewise
                       * constant, the aggregation AMG's), row i's column; else NULL. The cycle
                       * then restricts and prolongs through the map alone (the same sums as
@@ -472,6 +469,7 @@ void sk__multilevel_destroy(sk__multilevel **mgp)
     sk__free(mg->dinv);
     sk__free(mg->upper);
     sk__free(mg->fval);
+    sk__free(mg->fscale);
     sk__free(mg->pmap);
     sk_solver_destroy(&mg->solver);
     sk_sparse_destroy(&mg->coarse);
@@ -545,26 +543,34 @@ done:
     return st;
 }
 
-/* Level k's smoother data above the coarsest level: the single-precision values over fscale,
- * 1 / their diagonal, the first entry right of the diagonal per row. */
+/* Level k's smoother data: 1 / diagonal, the first entry right of the diagonal per row, and
+ * above the coarsest level the single-precision values over a power of two near the largest. */
 static sk_status smoother_setup(sk__multilevel *mg, size_t k, sk_error *err)
 {
     const sk__csr *a = &mg->A[k];
     size_t nnz = a->ptr[a->rows];
-    if (k == 0)
-        return SK_OK; /* solved directly */
-    mg->dinv[k] = sk__calloc_array(a->rows ? a->rows : 1, sizeof(float));
+    mg->dinv[k] = sk__calloc_array(a->rows ? a->rows : 1, sizeof(double));
     mg->upper[k] = sk__malloc_array(a->rows ? a->rows : 1, sizeof(size_t));
-    mg->fval[k] = sk__malloc_array(nnz ? nnz : 1, sizeof(float));
-    if (!mg->dinv[k] || !mg->upper[k] || !mg->fval[k])
+    if (k > 0)
+        mg->fval[k] = sk__malloc_array(nnz ? nnz : 1, sizeof(float));
+    if (!mg->dinv[k] || !mg->upper[k] || (k > 0 && !mg->fval[k]))
         return sk__fail(err, SK_ERR_NOMEM, "out of memory");
+    double big = 0;
     for (size_t q = 0; q < nnz; ++q)
-        mg->fval[k][q] = (float)(a->val[q] / mg->fscale);
+        big = fmax(big, fabs(a->val[q]));
+    int e = 0;
+    if (isfinite(big) && big > 0)
+        frexp(big, &e);
+    double sc = mg->fscale[k] = ldexp(1, e);
+    for (size_t q = 0; k > 0 && q < nnz; ++q)
+        mg->fval[k][q] = (float)(a->val[q] / sc);
     for (size_t i = 0; i < a->rows; ++i) {
         size_t q = a->ptr[i];
         for (; q < a->ptr[i + 1] && a->col[q] <= i; ++q)
-            if (a->col[q] == i && mg->fval[k][q] != 0) /* the sweeps' own (single) diagonal */
-                mg->dinv[k][i] = (float)(1.0 / (double)mg->fval[k][q]);
+            if (a->col[q] == i && a->val[q] != 0) /* the sweeps' own (single) diagonal */
+                mg->dinv[k][i] = k == 0 ? 1.0 / a->val[q]
+                               : mg->fval[k][q] != 0 ? 1.0 / (sc * (double)mg->fval[k][q])
+                                                     : 0;
         mg->upper[k][i] = q;
     }
     return SK_OK;
@@ -602,10 +608,11 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
         mg->dinv = sk__calloc_array(L, sizeof *mg->dinv);
         mg->upper = sk__calloc_array(L, sizeof *mg->upper);
         mg->fval = sk__calloc_array(L, sizeof *mg->fval);
+        mg->fscale = sk__calloc_array(L, sizeof *mg->fscale);
         mg->pmap = sk__calloc_array(L, sizeof *mg->pmap);
     }
     if (!mg || !mg->A || !mg->P || !mg->R || !mg->dinv || !mg->upper || !mg->fval ||
-        !mg->pmap) {
+        !mg->fscale || !mg->pmap) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory");
         if (mg) /* keep the ownership promise */
             mg->L = 0;
@@ -652,14 +659,6 @@ sk_status sk__multilevel_create(sk__csr *fine, sk__csr *p, sk__csr *coarse_ops, 
         if (mg->pmap[k]) /* the map restricts: R is not read again */
             sk__csr_free(&mg->R[k]);
     }
-    double big = 0;
-    const sk__csr *af = &mg->A[L - 1];
-    for (size_t q = 0; q < af->ptr[af->rows]; ++q)
-        big = fmax(big, fabs(af->val[q]));
-    int ex = 0;
-    if (isfinite(big) && big > 0)
-        frexp(big, &ex);
-    mg->fscale = ldexp(1, ex);
     for (size_t k = 0; k < L; ++k) {
         if ((st = smoother_setup(mg, k, err)))
             goto done;
@@ -694,12 +693,11 @@ done:
  * ------------------------------------------------------------------------------------------- */
 
 typedef struct workspace {
-    double **b, **x;                /* per level: the nested iteration's (double) */
-    float **r, **z, **t;            /* per level: the cycle's (single precision) */
-    float **e;                      /* per level: a W-cycle's later coarse corrections */
-    float **kc[5];                  /* K-cycle vectors per level */
+    double **b, **x, **r, **z, **t; /* per level */
+    double **e;                     /* per level: a W-cycle's later coarse corrections */
+    double **kc[5];                 /* K-cycle vectors per level */
     double *kv[8];                  /* Krylov vectors, finest size */
-    double *cb;                     /* the coarsest level's right-hand sides and solutions */
+    double *cb;                     /* two right-hand sides: the coarsest level's columns */
     int fail;
 } workspace;
 
@@ -753,13 +751,13 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
         size_t n = width * (mg->A[k].rows ? mg->A[k].rows : 1);
         w->b[k] = sk__malloc_array(n, sizeof(double));
         w->x[k] = sk__malloc_array(n, sizeof(double));
-        w->r[k] = sk__malloc_array(n, sizeof(float));
-        w->z[k] = sk__malloc_array(n, sizeof(float));
-        w->t[k] = sk__malloc_array(n, sizeof(float));
+        w->r[k] = sk__malloc_array(n, sizeof(double));
+        w->z[k] = sk__malloc_array(n, sizeof(double));
+        w->t[k] = sk__malloc_array(n, sizeof(double));
         if (!w->b[k] || !w->x[k] || !w->r[k] || !w->z[k] || !w->t[k])
             return false;
         if (mg->gamma > 1 && mg->galerkin && k + 1 < L &&
-            !(w->e[k] = sk__malloc_array(n, sizeof(float))))
+            !(w->e[k] = sk__malloc_array(n, sizeof(double))))
             return false;
     }
     for (int i = 0; mg->kcycle && i < 5; ++i) {
@@ -767,15 +765,15 @@ static bool ws_alloc(workspace *w, const sk__multilevel *mg, size_t width)
             return false;
         for (size_t k = 0; k < L; ++k)
             if (!(w->kc[i][k] = sk__malloc_array(width * (mg->A[k].rows ? mg->A[k].rows : 1),
-                                                 sizeof(float))))
+                                                 sizeof(double))))
                 return false;
     }
     size_t nf = width * (mg->A[L - 1].rows ? mg->A[L - 1].rows : 1);
     for (int i = 0; i < 8; ++i)
         if (!(w->kv[i] = sk__malloc_array(nf, sizeof(double))))
             return false;
-    if (!(w->cb = sk__malloc_array(2 * width * (mg->A[0].rows ? mg->A[0].rows : 1),
-                                   sizeof(double))))
+    if (width > 1 && !(w->cb = sk__malloc_array(2 * width * (mg->A[0].rows ? mg->A[0].rows : 1),
+                                                sizeof(double))))
         return false;
     return true;
 }
@@ -788,24 +786,9 @@ static double dot(size_t n, const double *a, const double *b)
     return s;
 }
 
-/* (a, b) of two single-precision vectors, summed in double */
-static double fdot(size_t n, const float *a, const float *b)
-{
-    double s = 0;
-    for (size_t i = 0; i < n; ++i)
-        s += (double)a[i] * b[i];
-    return s;
-}
-
-/* The cycle's vectors (every level's residual, correction and work vectors, the K-cycle's) are
- * single precision, as its matrix values and 1 / diagonals are: the preconditioner reads and
- * writes half the bytes; sums are formed in double and rounded once when stored. The Krylov
- * iteration around it stays in double (its products with the double matrix set the accuracy):
- * the preconditioner differs from the double one by rounding (relative 6e-8) only. */
-
 /* y = a x with the values sc val (the cycle's single-precision copy). */
-static void cycle_multiply(const sk__csr *a, const float *val, const float *x,
-                           float *y)
+static void cycle_multiply(const sk__csr *a, const float *val, double sc, const double *x,
+                           double *y)
 {
 #if defined(SK_HAVE_OPENMP)
 #pragma omp parallel for schedule(static, 4096) if (a->rows > 100000)
@@ -814,32 +797,32 @@ static void cycle_multiply(const sk__csr *a, const float *val, const float *x,
         double s = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
-        y[i] = (float)s;
+        y[i] = sc * s;
     }
 }
 
 /* r -= scale a x with the values sc val: the restricted residual after a coarse correction
  * scale P x, R (r_f - A_f (z + scale P x)) = R (r_f - A_f z) - scale (R A_f P) x, formed on the
  * coarse level where a = R A_f P (Galerkin) instead of on the fine level and restricted. */
-static void residual_update(const sk__csr *a, const float *val, double scale,
-                            const float *x, float *r)
+static void residual_update(const sk__csr *a, const float *val, double sc, double scale,
+                            const double *x, double *r)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
-        r[i] = (float)(r[i] - scale * s);
+        r[i] -= scale * (sc * s);
     }
 }
 
-static void gs_forward(const sk__csr *a, const float *val, const float *dinv,
-                       const float *b, float *x)
+static void gs_forward(const sk__csr *a, const float *val, double sc, const double *dinv,
+                       const double *b, double *x)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
-        x[i] = (float)(x[i] + (b[i] - s) * dinv[i]);
+        x[i] += (b[i] - sc * s) * dinv[i];
     }
 }
 
@@ -847,9 +830,10 @@ static void gs_forward(const sk__csr *a, const float *val, const float *dinv,
  * t = b - a x from it: after row i's update b_i minus its row's sum through the diagonal is
  * zero (up to rounding) unless the row is not smoothed, so only the entries right of the
  * diagonal are read: one pass over the matrix instead of two. */
-static void gs_forward_zero_residual(const sk__csr *a, const float *val,
-                                     const float *dinv, const size_t *upper, const float *b,
-                                     float *x, float *t, const uint32_t *map, float *y, size_t nc)
+static void gs_forward_zero_residual(const sk__csr *a, const float *val, double sc,
+                                     const double *dinv, const size_t *upper, const double *b,
+                                     double *x, double *t, const uint32_t *map, double *y,
+                                     size_t nc)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s = 0;
@@ -858,9 +842,9 @@ static void gs_forward_zero_residual(const sk__csr *a, const float *val,
             --end; /* the diagonal: x_i is still zero */
         for (size_t k = a->ptr[i]; k < end; ++k)
             s += (double)val[k] * x[a->col[k]];
-        s = b[i] - s;
-        x[i] = (float)(s * dinv[i]);
-        t[i] = dinv[i] == 0 ? (float)s : 0;
+        s = b[i] - sc * s;
+        x[i] = s * dinv[i];
+        t[i] = dinv[i] == 0 ? s : 0;
     }
     if (map) { /* y = R t at once: t_i added into its coarse unknown, not stored */
         memset(y, 0, nc * sizeof *y);
@@ -868,7 +852,7 @@ static void gs_forward_zero_residual(const sk__csr *a, const float *val,
             double s = 0;
             for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k)
                 s += (double)val[k] * x[a->col[k]];
-            y[map[i]] = (float)(y[map[i]] + (t[i] - s));
+            y[map[i]] += t[i] - sc * s;
         }
         return;
     }
@@ -876,18 +860,18 @@ static void gs_forward_zero_residual(const sk__csr *a, const float *val,
         double s = 0;
         for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
-        t[i] = (float)(t[i] - s);
+        t[i] -= sc * s;
     }
 }
 
-static void gs_backward(const sk__csr *a, const float *val, const float *dinv,
-                        const float *b, float *x)
+static void gs_backward(const sk__csr *a, const float *val, double sc, const double *dinv,
+                        const double *b, double *x)
 {
     for (size_t i = a->rows; i-- > 0;) {
         double s = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k)
             s += (double)val[k] * x[a->col[k]];
-        x[i] = (float)(x[i] + (b[i] - s) * dinv[i]);
+        x[i] += (b[i] - sc * s) * dinv[i];
     }
 }
 
@@ -903,25 +887,6 @@ static void restrict_to(const sk__multilevel *mg, size_t j, const double *t, dou
     memset(y, 0, mg->A[j].rows * sizeof *y);
     for (size_t i = 0; i < mg->P[j].rows; ++i)
         y[map[i]] += t[i];
-}
-
-/* restrict_to of the cycle's single-precision vectors */
-static void frestrict_to(const sk__multilevel *mg, size_t j, const float *t, float *y)
-{
-    const uint32_t *map = mg->pmap[j];
-    if (map) {
-        memset(y, 0, mg->A[j].rows * sizeof *y);
-        for (size_t i = 0; i < mg->P[j].rows; ++i)
-            y[map[i]] += t[i];
-        return;
-    }
-    const sk__csr *r = &mg->R[j];
-    for (size_t i = 0; i < r->rows; ++i) {
-        double s = 0;
-        for (size_t k = r->ptr[i]; k < r->ptr[i + 1]; ++k)
-            s += r->val[k] * t[r->col[k]];
-        y[i] = (float)s;
-    }
 }
 
 /* y += scale P_j x; through the map 0 + x_c as the row sum over P's one entry 1. */
@@ -943,25 +908,6 @@ static void prolong_add(const sk__multilevel *mg, size_t j, double scale, const 
     }
 }
 
-/* prolong_add of the cycle's single-precision vectors */
-static void fprolong_add(const sk__multilevel *mg, size_t j, double scale, const float *x,
-                         float *y)
-{
-    const sk__csr *p = &mg->P[j];
-    const uint32_t *map = mg->pmap[j];
-    if (map) {
-        for (size_t i = 0; i < p->rows; ++i)
-            y[i] = (float)(y[i] + scale * x[map[i]]);
-        return;
-    }
-    for (size_t i = 0; i < p->rows; ++i) {
-        double s = 0;
-        for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k)
-            s += p->val[k] * x[p->col[k]];
-        y[i] = (float)(y[i] + scale * s);
-    }
-}
-
 static void coarse_solve(sk__multilevel *mg, const double *r, double *z, workspace *w)
 {
     int bad = 0;
@@ -975,136 +921,91 @@ static void coarse_solve(sk__multilevel *mg, const double *r, double *z, workspa
     }
 }
 
-/* coarse_solve of a single-precision right-hand side (the direct solve in double) */
-static void fcoarse_solve(sk__multilevel *mg, const float *r, float *z, workspace *w)
-{
-    size_t n = mg->A[0].rows;
-    double *in = w->cb, *out = w->cb + n;
-    for (size_t i = 0; i < n; ++i)
-        in[i] = r[i];
-    coarse_solve(mg, in, out, w);
-    for (size_t i = 0; i < n; ++i)
-        z[i] = (float)(mg->fscale * out[i]); /* the solution for the operator over fscale */
-}
-
-static void vcycle(sk__multilevel *mg, size_t k, const float *r, float *z, workspace *w);
+static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w);
 
 /* x = about A_j^-1 r by two steps of flexible CG preconditioned by the cycle of level j, the
  * second skipped when the first reduced the residual four times (the K-cycle of Notay and
  * Vassilevski 2008). */
-static void kcycle(sk__multilevel *mg, size_t j, const float *r, float *x, workspace *w)
+static void kcycle(sk__multilevel *mg, size_t j, const double *r, double *x, workspace *w)
 {
     const sk__csr *a = &mg->A[j];
     size_t n = a->rows;
-    float *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
-          *u = w->kc[4][j];
+    double *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
+           *u = w->kc[4][j];
     vcycle(mg, j, r, c, w);
-    cycle_multiply(a, mg->fval[j], c, v);
-    double rho1 = fdot(n, c, v), t1 = rho1 > 0 ? fdot(n, c, r) / rho1 : 1;
+    cycle_multiply(a, mg->fval[j], mg->fscale[j], c, v);
+    double rho1 = dot(n, c, v), t1 = rho1 > 0 ? dot(n, c, r) / rho1 : 1;
     for (size_t i = 0; i < n; ++i)
-        r2[i] = (float)(r[i] - t1 * v[i]);
+        r2[i] = r[i] - t1 * v[i];
     double gam = 0, t2 = 0;
-    if (rho1 > 0 && fdot(n, r2, r2) > 0.0625 * fdot(n, r, r)) {
+    if (rho1 > 0 && dot(n, r2, r2) > 0.0625 * dot(n, r, r)) {
         vcycle(mg, j, r2, d, w);
-        cycle_multiply(a, mg->fval[j], d, u);
-        gam = fdot(n, d, v);
-        double rho2 = fdot(n, d, u) - gam * gam / rho1;
+        cycle_multiply(a, mg->fval[j], mg->fscale[j], d, u);
+        gam = dot(n, d, v);
+        double rho2 = dot(n, d, u) - gam * gam / rho1;
         if (rho2 > 0) {
-            t2 = fdot(n, d, r2) / rho2;
+            t2 = dot(n, d, r2) / rho2;
             t1 -= gam * t2 / rho1;
         }
     }
     for (size_t i = 0; i < n; ++i)
-        x[i] = (float)(t1 * c[i] + (t2 != 0 ? t2 * d[i] : 0));
+        x[i] = t1 * c[i] + (t2 != 0 ? t2 * d[i] : 0);
 }
 
 /* z = V-cycle(k) applied to r (z and r of level k; z is overwritten). */
-static void vcycle(sk__multilevel *mg, size_t k, const float *r, float *z, workspace *w)
+static void vcycle(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w)
 {
     if (k == 0) {
-        fcoarse_solve(mg, r, z, w);
+        coarse_solve(mg, r, z, w);
         return;
     }
     const sk__csr *a = &mg->A[k];
     size_t n = a->rows;
-    float *t = w->t[k];
+    double *t = w->t[k];
     /* the first sweep from zero, fused with the first residual */
     const float *fv = mg->fval[k];
+    double sc = mg->fscale[k];
     const uint32_t *map = SK_MG_SWEEPS == 1 ? mg->pmap[k - 1] : NULL; /* t restricted at once */
-    gs_forward_zero_residual(a, fv, mg->dinv[k], mg->upper[k], r, z, t, map, w->r[k - 1],
+    gs_forward_zero_residual(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t, map, w->r[k - 1],
                              mg->A[k - 1].rows);
     for (int s = 1; s < SK_MG_SWEEPS; ++s)
-        gs_forward(a, fv, mg->dinv[k], r, z);
+        gs_forward(a, fv, sc, mg->dinv[k], r, z);
     /* gamma coarse corrections (a W-cycle for 2); one when the coarse level is solved exactly
      * (a second would be zero). With Galerkin operators the later ones take their restricted
      * residual from the coarse level (residual_update) and the corrections are summed there,
      * then prolonged once: no fine-level product, restriction or second prolongation. */
     unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
     bool coarse_res = mg->galerkin && cycles > 1;
-    float *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
+    double *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
     size_t nc = mg->A[k - 1].rows;
     for (unsigned c = 0; c < cycles; ++c) {
         if (coarse_res && c > 0) {
-            residual_update(&mg->A[k - 1], mg->fval[k - 1], mg->scale,
+            residual_update(&mg->A[k - 1], mg->fval[k - 1], mg->fscale[k - 1], mg->scale,
                             c == 1 ? zc : e, rc);
         } else {
             if (c > 0 || SK_MG_SWEEPS > 1) {
-                cycle_multiply(a, fv, z, t);
+                cycle_multiply(a, fv, sc, z, t);
                 for (size_t i = 0; i < n; ++i)
                     t[i] = r[i] - t[i];
             }
             if (c > 0 || !map)
-                frestrict_to(mg, k - 1, t, rc);
+                restrict_to(mg, k - 1, t, rc);
         }
-        float *out = coarse_res && c > 0 ? e : zc;
+        double *out = coarse_res && c > 0 ? e : zc;
         if (mg->kcycle && k - 1 > 0)
             kcycle(mg, k - 1, rc, out, w);
         else
             vcycle(mg, k - 1, rc, out, w);
         if (!coarse_res)
-            fprolong_add(mg, k - 1, mg->scale, zc, z);
+            prolong_add(mg, k - 1, mg->scale, zc, z);
         else if (c > 0)
             for (size_t i = 0; i < nc; ++i)
                 zc[i] += e[i];
     }
     if (coarse_res)
-        fprolong_add(mg, k - 1, mg->scale, zc, z);
+        prolong_add(mg, k - 1, mg->scale, zc, z);
     for (int s = 0; s < SK_MG_SWEEPS; ++s)
-        gs_backward(a, fv, mg->dinv[k], r, z);
-}
-
-/* 2^-e with 2^e near the largest |r_i| (1 for r = 0): r times it is within float's range. */
-static double input_scale(size_t n, const double *r)
-{
-    double big = 0;
-    for (size_t i = 0; i < n; ++i)
-        big = fmax(big, fabs(r[i]));
-    int e = 0;
-    if (isfinite(big) && big > 0)
-        frexp(big, &e);
-    return ldexp(1, -e);
-}
-
-/* z = the cycle of level k applied to the double vector r: r times a power of two s (its largest
- * entry near 1) rounded to single precision into level k's own residual vector (free while no
- * finer level's cycle runs), the cycle run on the operators over fscale, the result widened back
- * and times 1 / (s fscale), exactly as the cycle is linear; the coarsest level: its direct solve
- * in double. */
-static void precondition(sk__multilevel *mg, size_t k, const double *r, double *z,
-                         workspace *w)
-{
-    if (k == 0) {
-        coarse_solve(mg, r, z, w);
-        return;
-    }
-    size_t n = mg->A[k].rows;
-    float *fr = w->r[k], *fz = w->z[k];
-    double s = input_scale(n, r), back = 1 / (s * mg->fscale);
-    for (size_t i = 0; i < n; ++i)
-        fr[i] = (float)(s * r[i]);
-    vcycle(mg, k, fr, fz, w);
-    for (size_t i = 0; i < n; ++i)
-        z[i] = back * fz[i];
+        gs_backward(a, fv, sc, mg->dinv[k], r, z);
 }
 
 /* Preconditioned CG on level k from the given x; returns the iterations, *relres the true
@@ -1127,7 +1028,7 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
     double rn = sqrt(dot(n, r, r));
     size_t it = 0;
     if (rn > tol * bn && maxit > 0) {
-        precondition(mg, k, r, z, w);
+        vcycle(mg, k, r, z, w);
         memcpy(p, z, n * sizeof *p);
         double rz = dot(n, r, z);
         for (; it < maxit;) {
@@ -1146,7 +1047,7 @@ static size_t pcg(sk__multilevel *mg, size_t k, const double *b, double *x, doub
             rn = sqrt(dot(n, r, r));
             if (rn <= tol * bn)
                 break;
-            precondition(mg, k, r, z, w);
+            vcycle(mg, k, r, z, w);
             double rz2 = dot(n, r, z);
             /* flexible (Polak-Ribiere) for the K-cycle, whose preconditioner is not linear */
             double beta = (mg->kcycle ? rz2 - dot(n, rold, z) : rz2) / rz;
@@ -1217,7 +1118,7 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
         rho = rho2;
         for (size_t i = 0; i < n; ++i)
             p[i] = r[i] + beta * (p[i] - omega * v[i]);
-        precondition(mg, k, p, ph, w);
+        vcycle(mg, k, p, ph, w);
         double rv = multiply_dots(a, ph, v, rh, NULL); /* v = A ph, (rh, v) */
         if (rv == 0)
             break;
@@ -1234,7 +1135,7 @@ static size_t bicgstab(sk__multilevel *mg, size_t k, const double *b, double *x,
                 x[i] += alpha * ph[i];
             break;
         }
-        precondition(mg, k, s, sh, w);
+        vcycle(mg, k, s, sh, w);
         double tt = 0, ts = multiply_dots(a, sh, t, s, &tt); /* t = A sh, (t, t), (s, t) */
         omega = tt > 0 ? ts / tt : 0;
         rr = rhr = 0;
@@ -1326,72 +1227,61 @@ static void multiply2_dots(const sk__csr *a, const double *x, double *y, const d
     }
 }
 
-/* fdot for two interleaved columns */
-static void fdot2(size_t n, const float *a, const float *b, double out[2])
-{
-    double s0 = 0, s1 = 0;
-    for (size_t i = 0; i < n; ++i) {
-        s0 += (double)a[2 * i] * b[2 * i];
-        s1 += (double)a[2 * i + 1] * b[2 * i + 1];
-    }
-    out[0] = s0;
-    out[1] = s1;
-}
-
 /* y = a x with the values sc val (the cycle's single-precision copy) */
-static void cycle_multiply2(const sk__csr *a, const float *val, const float *x,
-                            float *y)
+static void cycle_multiply2(const sk__csr *a, const float *val, double sc, const double *x,
+                            double *y)
 {
     for (long i = 0; i < (long)a->rows; ++i) {
         double s0 = 0, s1 = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
-            const float *xc = x + 2 * (size_t)a->col[k];
+            const double *xc = x + 2 * (size_t)a->col[k];
             double v = (double)val[k];
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
-        y[2 * i] = (float)s0;
-        y[2 * i + 1] = (float)s1;
+        y[2 * i] = sc * s0;
+        y[2 * i + 1] = sc * s1;
     }
 }
 
-static void gs_forward2(const sk__csr *a, const float *val, const float *dinv,
-                        const float *b, float *x)
+static void gs_forward2(const sk__csr *a, const float *val, double sc, const double *dinv,
+                        const double *b, double *x)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s0 = 0, s1 = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
-            const float *xc = x + 2 * (size_t)a->col[k];
+            const double *xc = x + 2 * (size_t)a->col[k];
             double v = (double)val[k];
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
-        x[2 * i] = (float)(x[2 * i] + (b[2 * i] - s0) * dinv[i]);
-        x[2 * i + 1] = (float)(x[2 * i + 1] + (b[2 * i + 1] - s1) * dinv[i]);
+        x[2 * i] += (b[2 * i] - sc * s0) * dinv[i];
+        x[2 * i + 1] += (b[2 * i + 1] - sc * s1) * dinv[i];
     }
 }
 
 /* residual_update for two columns */
-static void residual_update2(const sk__csr *a, const float *val, double scale,
-                             const float *x, float *r)
+static void residual_update2(const sk__csr *a, const float *val, double sc, double scale,
+                             const double *x, double *r)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s0 = 0, s1 = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
-            const float *xc = x + 2 * (size_t)a->col[k];
+            const double *xc = x + 2 * (size_t)a->col[k];
             double v = (double)val[k];
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
-        r[2 * i] = (float)(r[2 * i] - scale * s0);
-        r[2 * i + 1] = (float)(r[2 * i + 1] - scale * s1);
+        r[2 * i] -= scale * (sc * s0);
+        r[2 * i + 1] -= scale * (sc * s1);
     }
 }
 
 /* gs_forward_zero_residual for two columns */
-static void gs_forward_zero_residual2(const sk__csr *a, const float *val,
-                                      const float *dinv, const size_t *upper, const float *b,
-                                      float *x, float *t, const uint32_t *map, float *y, size_t nc)
+static void gs_forward_zero_residual2(const sk__csr *a, const float *val, double sc,
+                                      const double *dinv, const size_t *upper, const double *b,
+                                      double *x, double *t, const uint32_t *map, double *y,
+                                      size_t nc)
 {
     for (size_t i = 0; i < a->rows; ++i) {
         double s0 = 0, s1 = 0;
@@ -1399,52 +1289,51 @@ static void gs_forward_zero_residual2(const sk__csr *a, const float *val,
         if (end > a->ptr[i] && a->col[end - 1] == i)
             --end; /* the diagonal: x_i is still zero */
         for (size_t k = a->ptr[i]; k < end; ++k) {
-            const float *xc = x + 2 * (size_t)a->col[k];
+            const double *xc = x + 2 * (size_t)a->col[k];
             double v = (double)val[k];
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
-        s0 = b[2 * i] - s0;
-        s1 = b[2 * i + 1] - s1;
-        x[2 * i] = (float)(s0 * dinv[i]);
-        x[2 * i + 1] = (float)(s1 * dinv[i]);
-        t[2 * i] = dinv[i] == 0 ? (float)s0 : 0;
-        t[2 * i + 1] = dinv[i] == 0 ? (float)s1 : 0;
+        s0 = b[2 * i] - sc * s0;
+        s1 = b[2 * i + 1] - sc * s1;
+        x[2 * i] = s0 * dinv[i];
+        x[2 * i + 1] = s1 * dinv[i];
+        t[2 * i] = dinv[i] == 0 ? s0 : 0;
+        t[2 * i + 1] = dinv[i] == 0 ? s1 : 0;
     }
     if (map)
         memset(y, 0, 2 * nc * sizeof *y);
     for (size_t i = 0; i < a->rows; ++i) {
         double s0 = 0, s1 = 0;
         for (size_t k = upper[i]; k < a->ptr[i + 1]; ++k) {
-            const float *xc = x + 2 * (size_t)a->col[k];
+            const double *xc = x + 2 * (size_t)a->col[k];
             double v = (double)val[k];
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
         if (map) { /* y = R t at once, as gs_forward_zero_residual */
-            float *yc = y + 2 * (size_t)map[i];
-            yc[0] = (float)(yc[0] + (t[2 * i] - s0));
-            yc[1] = (float)(yc[1] + (t[2 * i + 1] - s1));
+            y[2 * (size_t)map[i]] += t[2 * i] - sc * s0;
+            y[2 * (size_t)map[i] + 1] += t[2 * i + 1] - sc * s1;
         } else {
-            t[2 * i] = (float)(t[2 * i] - s0);
-            t[2 * i + 1] = (float)(t[2 * i + 1] - s1);
+            t[2 * i] -= sc * s0;
+            t[2 * i + 1] -= sc * s1;
         }
     }
 }
 
-static void gs_backward2(const sk__csr *a, const float *val, const float *dinv,
-                         const float *b, float *x)
+static void gs_backward2(const sk__csr *a, const float *val, double sc, const double *dinv,
+                         const double *b, double *x)
 {
     for (size_t i = a->rows; i-- > 0;) {
         double s0 = 0, s1 = 0;
         for (size_t k = a->ptr[i]; k < a->ptr[i + 1]; ++k) {
-            const float *xc = x + 2 * (size_t)a->col[k];
+            const double *xc = x + 2 * (size_t)a->col[k];
             double v = (double)val[k];
             s0 += v * xc[0];
             s1 += v * xc[1];
         }
-        x[2 * i] = (float)(x[2 * i] + (b[2 * i] - s0) * dinv[i]);
-        x[2 * i + 1] = (float)(x[2 * i + 1] + (b[2 * i + 1] - s1) * dinv[i]);
+        x[2 * i] += (b[2 * i] - sc * s0) * dinv[i];
+        x[2 * i + 1] += (b[2 * i + 1] - sc * s1) * dinv[i];
     }
 }
 
@@ -1460,31 +1349,6 @@ static void restrict_to2(const sk__multilevel *mg, size_t j, const double *t, do
     for (size_t i = 0; i < mg->P[j].rows; ++i) {
         y[2 * (size_t)map[i]] += t[2 * i];
         y[2 * (size_t)map[i] + 1] += t[2 * i + 1];
-    }
-}
-
-/* frestrict_to for two columns */
-static void frestrict_to2(const sk__multilevel *mg, size_t j, const float *t, float *y)
-{
-    const uint32_t *map = mg->pmap[j];
-    if (map) {
-        memset(y, 0, 2 * mg->A[j].rows * sizeof *y);
-        for (size_t i = 0; i < mg->P[j].rows; ++i) {
-            y[2 * (size_t)map[i]] += t[2 * i];
-            y[2 * (size_t)map[i] + 1] += t[2 * i + 1];
-        }
-        return;
-    }
-    const sk__csr *r = &mg->R[j];
-    for (size_t i = 0; i < r->rows; ++i) {
-        double s0 = 0, s1 = 0;
-        for (size_t k = r->ptr[i]; k < r->ptr[i + 1]; ++k) {
-            const float *tc = t + 2 * (size_t)r->col[k];
-            s0 += r->val[k] * tc[0];
-            s1 += r->val[k] * tc[1];
-        }
-        y[2 * i] = (float)s0;
-        y[2 * i + 1] = (float)s1;
     }
 }
 
@@ -1513,32 +1377,6 @@ static void prolong_add2(const sk__multilevel *mg, size_t j, double scale, const
     }
 }
 
-/* fprolong_add for two columns */
-static void fprolong_add2(const sk__multilevel *mg, size_t j, double scale, const float *x,
-                          float *y)
-{
-    const sk__csr *p = &mg->P[j];
-    const uint32_t *map = mg->pmap[j];
-    if (map) {
-        for (size_t i = 0; i < p->rows; ++i) {
-            const float *xc = x + 2 * (size_t)map[i];
-            y[2 * i] = (float)(y[2 * i] + scale * xc[0]);
-            y[2 * i + 1] = (float)(y[2 * i + 1] + scale * xc[1]);
-        }
-        return;
-    }
-    for (size_t i = 0; i < p->rows; ++i) {
-        double s0 = 0, s1 = 0;
-        for (size_t k = p->ptr[i]; k < p->ptr[i + 1]; ++k) {
-            const float *xc = x + 2 * (size_t)p->col[k];
-            s0 += p->val[k] * xc[0];
-            s1 += p->val[k] * xc[1];
-        }
-        y[2 * i] = (float)(y[2 * i] + scale * s0);
-        y[2 * i + 1] = (float)(y[2 * i + 1] + scale * s1);
-    }
-}
-
 /* The coarsest solve of both columns (each by itself, as coarse_solve does). */
 static void coarse_solve2(sk__multilevel *mg, const double *r, double *z, workspace *w)
 {
@@ -1556,55 +1394,38 @@ static void coarse_solve2(sk__multilevel *mg, const double *r, double *z, worksp
     }
 }
 
-/* coarse_solve2 of single-precision columns (as fcoarse_solve) */
-static void fcoarse_solve2(sk__multilevel *mg, const float *r, float *z, workspace *w)
-{
-    size_t n = mg->A[0].rows;
-    double *in = w->cb, *out = w->cb + 2 * n;
-    for (size_t i = 0; i < n; ++i) {
-        in[i] = r[2 * i];
-        in[n + i] = r[2 * i + 1];
-    }
-    for (size_t c = 0; c < 2; ++c)
-        coarse_solve(mg, in + c * n, out + c * n, w);
-    for (size_t i = 0; i < n; ++i) {
-        z[2 * i] = (float)(mg->fscale * out[i]);
-        z[2 * i + 1] = (float)(mg->fscale * out[n + i]);
-    }
-}
-
-static void vcycle2(sk__multilevel *mg, size_t k, const float *r, float *z, workspace *w);
+static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w);
 
 /* kcycle for two columns: the second step is taken when either column needs it, and a column
  * that does not need it keeps its one-step result. */
-static void kcycle2(sk__multilevel *mg, size_t j, const float *r, float *x, workspace *w)
+static void kcycle2(sk__multilevel *mg, size_t j, const double *r, double *x, workspace *w)
 {
     const sk__csr *a = &mg->A[j];
     size_t n = a->rows;
-    float *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
-          *u = w->kc[4][j];
+    double *c = w->kc[0][j], *v = w->kc[1][j], *r2 = w->kc[2][j], *d = w->kc[3][j],
+           *u = w->kc[4][j];
     double rho1[2], t1[2], gam[2] = {0, 0}, t2[2] = {0, 0}, e[2], f[2];
     bool two[2];
     vcycle2(mg, j, r, c, w);
-    cycle_multiply2(a, mg->fval[j], c, v);
-    fdot2(n, c, v, rho1);
-    fdot2(n, c, r, e);
+    cycle_multiply2(a, mg->fval[j], mg->fscale[j], c, v);
+    dot2(n, c, v, rho1);
+    dot2(n, c, r, e);
     for (int q = 0; q < 2; ++q)
         t1[q] = rho1[q] > 0 ? e[q] / rho1[q] : 1;
     for (size_t i = 0; i < n; ++i)
         for (int q = 0; q < 2; ++q)
-            r2[2 * i + q] = (float)(r[2 * i + q] - t1[q] * v[2 * i + q]);
-    fdot2(n, r2, r2, e);
-    fdot2(n, r, r, f);
+            r2[2 * i + q] = r[2 * i + q] - t1[q] * v[2 * i + q];
+    dot2(n, r2, r2, e);
+    dot2(n, r, r, f);
     for (int q = 0; q < 2; ++q)
         two[q] = rho1[q] > 0 && e[q] > 0.0625 * f[q];
     if (two[0] || two[1]) {
         vcycle2(mg, j, r2, d, w);
-        cycle_multiply2(a, mg->fval[j], d, u);
+        cycle_multiply2(a, mg->fval[j], mg->fscale[j], d, u);
         double du[2], dr[2];
-        fdot2(n, d, v, gam);
-        fdot2(n, d, u, du);
-        fdot2(n, d, r2, dr);
+        dot2(n, d, v, gam);
+        dot2(n, d, u, du);
+        dot2(n, d, r2, dr);
         for (int q = 0; q < 2; ++q) {
             if (!two[q]) {
                 gam[q] = 0;
@@ -1619,90 +1440,58 @@ static void kcycle2(sk__multilevel *mg, size_t j, const float *r, float *x, work
     }
     for (size_t i = 0; i < n; ++i)
         for (int q = 0; q < 2; ++q)
-            x[2 * i + q] =
-                (float)(t1[q] * c[2 * i + q] + (t2[q] != 0 ? t2[q] * d[2 * i + q] : 0));
+            x[2 * i + q] = t1[q] * c[2 * i + q] + (t2[q] != 0 ? t2[q] * d[2 * i + q] : 0);
 }
 
 /* vcycle for two columns. */
-static void vcycle2(sk__multilevel *mg, size_t k, const float *r, float *z, workspace *w)
-{
-    if (k == 0) {
-        fcoarse_solve2(mg, r, z, w);
-        return;
-    }
-    const sk__csr *a = &mg->A[k];
-    size_t n = a->rows;
-    float *t = w->t[k];
-    const float *fv = mg->fval[k];
-    const uint32_t *map = SK_MG_SWEEPS == 1 ? mg->pmap[k - 1] : NULL; /* t restricted at once */
-    gs_forward_zero_residual2(a, fv, mg->dinv[k], mg->upper[k], r, z, t, map, w->r[k - 1],
-                              mg->A[k - 1].rows);
-    for (int s = 1; s < SK_MG_SWEEPS; ++s)
-        gs_forward2(a, fv, mg->dinv[k], r, z);
-    unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
-    bool coarse_res = mg->galerkin && cycles > 1; /* as vcycle */
-    float *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
-    size_t nc = mg->A[k - 1].rows;
-    for (unsigned c = 0; c < cycles; ++c) {
-        if (coarse_res && c > 0) {
-            residual_update2(&mg->A[k - 1], mg->fval[k - 1], mg->scale,
-                             c == 1 ? zc : e, rc);
-        } else {
-            if (c > 0 || SK_MG_SWEEPS > 1) {
-                cycle_multiply2(a, fv, z, t);
-                for (size_t i = 0; i < 2 * n; ++i)
-                    t[i] = r[i] - t[i];
-            }
-            if (c > 0 || !map)
-                frestrict_to2(mg, k - 1, t, rc);
-        }
-        float *out = coarse_res && c > 0 ? e : zc;
-        if (mg->kcycle && k - 1 > 0)
-            kcycle2(mg, k - 1, rc, out, w);
-        else
-            vcycle2(mg, k - 1, rc, out, w);
-        if (!coarse_res)
-            fprolong_add2(mg, k - 1, mg->scale, zc, z);
-        else if (c > 0)
-            for (size_t i = 0; i < 2 * nc; ++i)
-                zc[i] += e[i];
-    }
-    if (coarse_res)
-        fprolong_add2(mg, k - 1, mg->scale, zc, z);
-    for (int s = 0; s < SK_MG_SWEEPS; ++s)
-        gs_backward2(a, fv, mg->dinv[k], r, z);
-}
-
-/* precondition for two columns */
-static void precondition2(sk__multilevel *mg, size_t k, const double *r, double *z,
-                          workspace *w)
+static void vcycle2(sk__multilevel *mg, size_t k, const double *r, double *z, workspace *w)
 {
     if (k == 0) {
         coarse_solve2(mg, r, z, w);
         return;
     }
-    size_t n = mg->A[k].rows;
-    float *fr = w->r[k], *fz = w->z[k];
-    double s[2], back[2];
-    for (int c = 0; c < 2; ++c) { /* each column's own scale, as precondition */
-        double big = 0;
-        for (size_t i = 0; i < n; ++i)
-            big = fmax(big, fabs(r[2 * i + c]));
-        int e = 0;
-        if (isfinite(big) && big > 0)
-            frexp(big, &e);
-        s[c] = ldexp(1, -e);
-        back[c] = 1 / (s[c] * mg->fscale);
+    const sk__csr *a = &mg->A[k];
+    size_t n = a->rows;
+    double *t = w->t[k];
+    const float *fv = mg->fval[k];
+    double sc = mg->fscale[k];
+    const uint32_t *map = SK_MG_SWEEPS == 1 ? mg->pmap[k - 1] : NULL; /* t restricted at once */
+    gs_forward_zero_residual2(a, fv, sc, mg->dinv[k], mg->upper[k], r, z, t, map, w->r[k - 1],
+                              mg->A[k - 1].rows);
+    for (int s = 1; s < SK_MG_SWEEPS; ++s)
+        gs_forward2(a, fv, sc, mg->dinv[k], r, z);
+    unsigned cycles = k - 1 > 0 ? mg->gamma : 1;
+    bool coarse_res = mg->galerkin && cycles > 1; /* as vcycle */
+    double *rc = w->r[k - 1], *zc = w->z[k - 1], *e = w->e[k - 1];
+    size_t nc = mg->A[k - 1].rows;
+    for (unsigned c = 0; c < cycles; ++c) {
+        if (coarse_res && c > 0) {
+            residual_update2(&mg->A[k - 1], mg->fval[k - 1], mg->fscale[k - 1], mg->scale,
+                             c == 1 ? zc : e, rc);
+        } else {
+            if (c > 0 || SK_MG_SWEEPS > 1) {
+                cycle_multiply2(a, fv, sc, z, t);
+                for (size_t i = 0; i < 2 * n; ++i)
+                    t[i] = r[i] - t[i];
+            }
+            if (c > 0 || !map)
+                restrict_to2(mg, k - 1, t, rc);
+        }
+        double *out = coarse_res && c > 0 ? e : zc;
+        if (mg->kcycle && k - 1 > 0)
+            kcycle2(mg, k - 1, rc, out, w);
+        else
+            vcycle2(mg, k - 1, rc, out, w);
+        if (!coarse_res)
+            prolong_add2(mg, k - 1, mg->scale, zc, z);
+        else if (c > 0)
+            for (size_t i = 0; i < 2 * nc; ++i)
+                zc[i] += e[i];
     }
-    for (size_t i = 0; i < n; ++i) {
-        fr[2 * i] = (float)(s[0] * r[2 * i]);
-        fr[2 * i + 1] = (float)(s[1] * r[2 * i + 1]);
-    }
-    vcycle2(mg, k, fr, fz, w);
-    for (size_t i = 0; i < n; ++i) {
-        z[2 * i] = back[0] * fz[2 * i];
-        z[2 * i + 1] = back[1] * fz[2 * i + 1];
-    }
+    if (coarse_res)
+        prolong_add2(mg, k - 1, mg->scale, zc, z);
+    for (int s = 0; s < SK_MG_SWEEPS; ++s)
+        gs_backward2(a, fv, sc, mg->dinv[k], r, z);
 }
 
 /* bicgstab for two columns: it[c] the iterations, relres[c] the true relative residual. */
@@ -1757,7 +1546,7 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
                 if (on[c])
                     p[2 * i + c] = r[2 * i + c] +
                                    beta[c] * (p[2 * i + c] - omega[c] * v[2 * i + c]);
-        precondition2(mg, k, p, ph, w);
+        vcycle2(mg, k, p, ph, w);
         multiply2_dots(a, ph, v, rh, d, NULL); /* v = A ph, (rh, v) */
         bool go[2] = {on[0], on[1]}; /* on to the second half of this iteration */
         for (int c = 0; c < 2; ++c) {
@@ -1788,7 +1577,7 @@ static void bicgstab2(sk__multilevel *mg, size_t k, const double *b, double *x, 
         }
         if (!go[0] && !go[1])
             continue; /* the loop's head sees that nothing is left */
-        precondition2(mg, k, s, sh, w);
+        vcycle2(mg, k, s, sh, w);
         multiply2_dots(a, sh, t, s, e, d); /* t = A sh, (t, t) into d, (s, t) into e */
         for (int c = 0; c < 2; ++c)
             if (go[c])
@@ -1850,7 +1639,7 @@ static void pcg2(sk__multilevel *mg, size_t k, const double *b, double *x, doubl
         on[c] = bn[c] != 0 && rn[c] > tol * bn[c] && maxit > 0;
     }
     if (on[0] || on[1]) {
-        precondition2(mg, k, r, z, w);
+        vcycle2(mg, k, r, z, w);
         memcpy(p, z, 2 * n * sizeof *p);
         dot2(n, r, z, rz);
         for (;;) {
@@ -1885,7 +1674,7 @@ static void pcg2(sk__multilevel *mg, size_t k, const double *b, double *x, doubl
                 }
             if (!on[0] && !on[1])
                 break;
-            precondition2(mg, k, r, z, w);
+            vcycle2(mg, k, r, z, w);
             dot2(n, r, z, d);
             if (mg->kcycle)
                 dot2(n, rold, z, e);

@@ -522,6 +522,37 @@ static void test_pack_cuts(void **state)
     }
 }
 
+/* The merging's default cap (4000 triangles together, 2000 before): on holes (8288 triangles, a
+ * plate with holes) the plate's charts merge past 2000 triangles to 3 charts, the seams less
+ * than half of the 2000 cap's (the reason for 4000: 3.84 -> 1.55 x sqrt(area), xatlas 1.59);
+ * every chart still a disk within the bounds, flip-free and overlap-free. */
+static void test_merge_cap(void **state)
+{
+    (void)state;
+    sk_mesh *m = skt_read_mesh(skt_shared_mesh("holes.off"));
+    sk_atlas *a = NULL, *b = NULL;
+    sk_atlas_stats def, old;
+    sk_atlas_opts o = base_opts();
+    assert_int_equal(sk_atlas_build(m, &o, &a, &def, NULL), SK_OK);
+    o.merge_faces = 2000;
+    assert_int_equal(sk_atlas_build(m, &o, &b, &old, NULL), SK_OK);
+    size_t largest = 0;
+    for (size_t c = 0; c < a->num_charts; ++c)
+        largest = a->chart_faces[c] > largest ? a->chart_faces[c] : largest;
+    print_message("holes: %zu charts (largest %zu), seams %.3f, MIPS %.6f; cap 2000: %zu charts, "
+                  "seams %.3f, MIPS %.6f\n", def.charts, largest, def.seam_length_rel,
+                  def.mips_mean, old.charts, old.seam_length_rel, old.mips_mean);
+    assert_true(def.charts <= 3 && def.charts < old.charts);
+    assert_true(largest > 2000 && largest <= 4000);
+    assert_true(def.seam_length_rel < 0.5 * old.seam_length_rel);
+    assert_int_equal(def.flipped + def.overlaps, 0);
+    check_chart_bounds("holes", m, a, 1.05, 1.15);
+    check_charts_are_disks(m, a, "holes");
+    sk_atlas_destroy(&a);
+    sk_atlas_destroy(&b);
+    sk_mesh_destroy(&m);
+}
+
 /* A pack cut beyond the seam budget (10% of the seams) only when it pays (pack_split.c:
  * SPLIT_PAY = 0.3 utilization per unit of seam_length_rel added, up to 30% of the seams). On
  * mask_cone (3 charts) the one cut that packs tighter adds 14% to the seams: it is taken, and
@@ -880,6 +911,10 @@ static void test_predictor_needs_bounds(void **state)
     o.max_distortion = 0;
     o.max_stretch = 0; /* the defaults: lion-head's neck and face need many charts */
     o.no_merge = false;
+    /* merged up to 2000 triangles together (the default before 4000): at 4000 the merging joins
+     * lion-head's charts to 9, and the count then says how far the merging went, not what the
+     * bounds need */
+    o.merge_faces = 2000;
     assert_int_equal(sk_atlas_build(m, &o, &a, &st, NULL), SK_OK);
     assert_true(st.splits_predicted > 0);
     assert_true(st.charts > 10);
@@ -1237,6 +1272,7 @@ int main(void)
         cmocka_unit_test(test_max_charts),
         cmocka_unit_test(test_creases),
         cmocka_unit_test(test_merge),
+        cmocka_unit_test(test_merge_cap),
         cmocka_unit_test(test_checker_seams),
         cmocka_unit_test(test_pack_gutter_and_scale),
         cmocka_unit_test(test_pack_cuts),

@@ -137,34 +137,40 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     double *dev = sk__calloc_array(nv + 1, sizeof *dev);
     if (!dev)
         return sk__fail(err, SK_ERR_NOMEM, "out of memory in the vertex systems");
+    long nchunks = (nvl + SK_VC1_VERTEX_CHUNK - 1) / SK_VC1_VERTEX_CHUNK;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
+#pragma omp parallel for schedule(dynamic, 16) reduction(max : max_res) \
     reduction(+ : dev_n, fallback, relaxed) reduction(max : max_it)
 #endif
-    for (long i = 0; i < nvl; ++i) {
-        uint32_t v = (uint32_t)i;
-        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
-            continue;
-        sk__vsys sys;
-        int code = sk__vc1_solve_vertex(W, v, &sys, 0.0, 1.0);
-        status[v] = (uint8_t)code;
-        relaxed += (size_t)sys.relaxed;
-        if (code == 3) {
+    for (long c = 0; c < nchunks; ++c) {
+        uint32_t vs[SK_VC1_VERTEX_CHUNK];
+        sk__vsys sys[SK_VC1_VERTEX_CHUNK];
+        int code[SK_VC1_VERTEX_CHUNK], count = 0;
+        for (long i = c * SK_VC1_VERTEX_CHUNK; i < nvl && i < (c + 1) * SK_VC1_VERTEX_CHUNK; ++i)
+            if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
+                vs[count++] = (uint32_t)i;
+        sk__vc1_solve_vertices(W, vs, count, sys, code);
+        for (int i = 0; i < count; ++i) {
+            uint32_t v = vs[i];
+            status[v] = (uint8_t)code[i];
+            relaxed += (size_t)sys[i].relaxed;
+            if (code[i] == 3) {
 #ifdef SK_HAVE_OPENMP
 #pragma omp critical(sk_vc1_too_many)
 #endif
-            too_many = (int)v;
-            continue;
-        }
-        max_res = fmax(max_res, sys.residual);
-        max_it = (size_t)sys.iterations > max_it ? (size_t)sys.iterations : max_it;
-        fallback += (size_t)sys.used_fallback;
-        for (int k = 0; k < sys.n_edges; ++k) {
-            double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
-            if (len > 0.0) {
-                dev[v] += hypot(sys.p[2 * k] - sys.pstar[2 * k],
-                                sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
-                dev_n++;
+                too_many = (int)v;
+                continue;
+            }
+            max_res = fmax(max_res, sys[i].residual);
+            max_it = (size_t)sys[i].iterations > max_it ? (size_t)sys[i].iterations : max_it;
+            fallback += (size_t)sys[i].used_fallback;
+            for (int k = 0; k < sys[i].n_edges; ++k) {
+                double len = hypot(sys[i].pstar[2 * k], sys[i].pstar[2 * k + 1]);
+                if (len > 0.0) {
+                    dev[v] += hypot(sys[i].p[2 * k] - sys[i].pstar[2 * k],
+                                    sys[i].p[2 * k + 1] - sys[i].pstar[2 * k + 1]) / len;
+                    dev_n++;
+                }
             }
         }
     }

@@ -149,6 +149,12 @@ typedef struct sk__vsys {
  * were undone (vertex_system.c). */
 int sk__vsys_solve(sk__vsys *s);
 
+/* sk__vsys_solve of count systems, ret[i] its return value for sys[i]: the same results to the
+ * bit, the closed systems of 3, 5 and 7 edges solved SK_VSYS_LANES at a time in lockstep (their
+ * steps are chains of dependent divisions; interleaved they overlap). */
+#define SK_VSYS_LANES 4
+void sk__vsys_solve_lanes(sk__vsys *const *sys, int count, int *ret);
+
 /* A memo of solves (vertex_system.c): the solver is deterministic, so inputs equal to the bit
  * (n_edges, closed, fixed_first, fixed_last, pstar, du, dd, nu) give the same p, w, residual,
  * iterations, used_fallback and return value; a repeated solve is copied from the memo. The

@@ -136,29 +136,35 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
     long nvl = (long)nv;
     int too_many = -1;
+    long nchunks = (nvl + SK_VC1_VERTEX_CHUNK - 1) / SK_VC1_VERTEX_CHUNK;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) if (nvl >= SK_SMOOTH_TEAM_MIN)
+#pragma omp parallel for schedule(dynamic, 16) if (nvl >= SK_SMOOTH_TEAM_MIN)
 #endif
-    for (long i = 0; i < nvl; ++i) {
-        uint32_t v = (uint32_t)i;
-        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || (only && !only[v]))
-            continue;
-        sk__vsys sys;
-        int code = sk__vc1_solve_vertex(W, v, &sys, 0.0, 1.0);
-        sk__vsys_fig *F = &fig[v];
-        status[v] = (uint8_t)code;
-        *F = (sk__vsys_fig){.relaxed = (uint8_t)sys.relaxed};
-        if (code == 3)
-            continue;
-        F->residual = sys.residual;
-        F->iterations = (uint32_t)sys.iterations;
-        F->fallback = (uint8_t)sys.used_fallback;
-        for (int k = 0; k < sys.n_edges; ++k) {
-            double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
-            if (len > 0.0) {
-                F->dev += hypot(sys.p[2 * k] - sys.pstar[2 * k],
-                                sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
-                F->dev_n++;
+    for (long c = 0; c < nchunks; ++c) {
+        uint32_t vs[SK_VC1_VERTEX_CHUNK];
+        sk__vsys sys[SK_VC1_VERTEX_CHUNK];
+        int code[SK_VC1_VERTEX_CHUNK], count = 0;
+        for (long i = c * SK_VC1_VERTEX_CHUNK; i < nvl && i < (c + 1) * SK_VC1_VERTEX_CHUNK; ++i)
+            if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID && (!only || only[i]))
+                vs[count++] = (uint32_t)i;
+        sk__vc1_solve_vertices(W, vs, count, sys, code);
+        for (int i = 0; i < count; ++i) {
+            uint32_t v = vs[i];
+            sk__vsys_fig *F = &fig[v];
+            status[v] = (uint8_t)code[i];
+            *F = (sk__vsys_fig){.relaxed = (uint8_t)sys[i].relaxed};
+            if (code[i] == 3)
+                continue;
+            F->residual = sys[i].residual;
+            F->iterations = (uint32_t)sys[i].iterations;
+            F->fallback = (uint8_t)sys[i].used_fallback;
+            for (int k = 0; k < sys[i].n_edges; ++k) {
+                double len = hypot(sys[i].pstar[2 * k], sys[i].pstar[2 * k + 1]);
+                if (len > 0.0) {
+                    F->dev += hypot(sys[i].p[2 * k] - sys[i].pstar[2 * k],
+                                    sys[i].p[2 * k + 1] - sys[i].pstar[2 * k + 1]) / len;
+                    F->dev_n++;
+                }
             }
         }
     }

@@ -34,7 +34,10 @@ typedef struct sk__vc1_work {
 /* Delta of eq. (1) for face f. */
 static inline double sk__face_delta(const sk_mesh *m, uint32_t f)
 {
-    return sk__delta(sk_mesh_face_size(m, f));
+    /* sk__delta(sk_mesh_face_size(m, f)) without walking the face: a triangle closes after three
+     * half-edges (the faces here have 3 or 4 sides) */
+    uint32_t h = m->f_halfedge[f];
+    return sk__delta(m->h_next[m->h_next[m->h_next[h]]] == h ? 3 : 4);
 }
 
 /* Outgoing half-edges of v counter-clockwise into E; for a boundary vertex the first and the last
@@ -48,6 +51,12 @@ int sk__vc1_ordered_edges(const sk_mesh *m, uint32_t v, uint32_t *E, int *closed
  * variations); 0 and 1 give the plain construction. Where the angle bounds fail, the targets are
  * relaxed further (blend up to 1). */
 int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale);
+
+/* sk__vc1_solve_vertex(W, v[i], &sys[i], 0, 1) for count <= SK_VC1_VERTEX_CHUNK vertices into
+ * code[i]: the same results, the systems solved in lanes (sk__vsys_solve_lanes) unless W->memo */
+#define SK_VC1_VERTEX_CHUNK 16
+void sk__vc1_solve_vertices(sk__vc1_work *W, const uint32_t *v, int count, sk__vsys *sys,
+                            int *code);
 
 /* blend_targets of vertex_targets.c (the relaxation of the targets towards an even spread). */
 void sk__vc1_blend_targets(const double *orig, double *out, int n, int closed, double alpha,

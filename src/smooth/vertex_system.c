@@ -531,6 +531,349 @@ int sk__vsys_solve(sk__vsys *s)
     return ok;
 }
 
+/* Lanes: the Gauss-Newton / SQP iterations of SK_VSYS_LANES closed systems of one size run in
+ * lockstep. One step of one system is a chain of dependent divisions and square roots (the dense
+ * Cholesky factor of S and the two substitutions), so a single solve waits on their latency;
+ * interleaved, the lanes fill those waits (and pair up in SIMD registers). Every lane performs
+ * exactly the operations of schur_kernel, in the same order, on its own data, so each system's
+ * iterates, and its result, are those of sk__vsys_solve to the bit. A lane covers the Gauss-Newton
+ * steps and the finishing projections of iterate(); a system that would go on to a Newton step
+ * (GN_FIRST iterations), or whose iterate turns non-finite, is solved again from the start by
+ * sk__vsys_solve (deterministic, so the result is the same as without lanes). */
+#define LANE_N_MAX 7
+
+/* One value per lane: GCC / Clang vector arithmetic is element-wise IEEE, the same rounding as
+ * the scalar operations (packed SSE2 instructions on x86-64) */
+typedef double lanes_t __attribute__((vector_size(SK_VSYS_LANES * sizeof(double))));
+
+/* chol_skip's zeros below a dropped pivot j, in the lanes that dropped it */
+static __attribute__((noinline)) void lanes_zero_column(lanes_t S[][2 * LANE_N_MAX], int j, int ns,
+                                                      const unsigned char *drop)
+{
+    for (int l = 0; l < SK_VSYS_LANES; ++l)
+        if (drop[l])
+            for (int i = j + 1; i < ns; ++i)
+                S[i][j][l] = 0.0;
+}
+
+/* chol_solve's zero for a dropped pivot, in the lanes that dropped it */
+static __attribute__((noinline)) void lanes_zero_entry(lanes_t *x, const unsigned char *drop)
+{
+    for (int l = 0; l < SK_VSYS_LANES; ++l)
+        if (drop[l])
+            (*x)[l] = 0.0;
+}
+
+static inline __attribute__((always_inline)) void schur_lanes(const double *const *du_in,
+                                                              const double *const *dd_in,
+                                                              const double *const *nu_in,
+                                                              const double *const *pstar,
+                                                              double *const *pp, double *const *ww,
+                                                              double *dx, const int n)
+{
+    enum { L = SK_VSYS_LANES };
+    const int ns = 2 * n;
+    lanes_t du[LANE_N_MAX], nd[LANE_N_MAX], p[2 * LANE_N_MAX], w[LANE_N_MAX];
+    lanes_t c[2 * LANE_N_MAX], r[2 * LANE_N_MAX], J[LANE_N_MAX][LANE_N_MAX];
+    lanes_t S[2 * LANE_N_MAX][2 * LANE_N_MAX], rhs[2 * LANE_N_MAX], dp[2 * LANE_N_MAX];
+    lanes_t ca[LANE_N_MAX], cm[LANE_N_MAX], cb[LANE_N_MAX], dmax, tol;
+    unsigned char drop[2 * LANE_N_MAX][L], any_drop[2 * LANE_N_MAX]; /* the pivot was dropped */
+    const lanes_t zero = {0.0};
+    for (int m = 0; m < n; ++m)
+        for (int l = 0; l < L; ++l) {
+            du[m][l] = du_in[l][m];
+            nd[m][l] = nu_in[l][m] * dd_in[l][m];
+            w[m][l] = ww[l][m];
+        }
+    for (int j = 0; j < ns; ++j)
+        for (int l = 0; l < L; ++l) {
+            p[j][l] = pp[l][j];
+            r[j][l] = pstar[l][j] - pp[l][j];
+        }
+    /* residual() and rows() of a closed system: constraint i = edge m = i */
+    for (int m = 0; m < n; ++m) {
+        int a = (m - 1 + n) % n, b = (m + 1) % n;
+        for (int k = 0; k < 2; ++k)
+            c[2 * m + k] = du[m] * p[2 * b + k] - nd[m] * p[2 * a + k] - w[m] * p[2 * m + k];
+        ca[m] = -nd[m];
+        cm[m] = -w[m];
+        cb[m] = du[m];
+        for (int j = 0; j < n; ++j)
+            J[m][j] = zero;
+        J[m][a] += ca[m];
+        J[m][m] += cm[m];
+        J[m][b] += cb[m];
+    }
+    /* S = Jp Jp^T + (1/eps) Jw Jw^T (lower triangle: all chol_skip reads), rhs = Jp r + c */
+    for (int i = 0; i < n; ++i) {
+        int a = (i - 1 + n) % n, b = (i + 1) % n;
+        for (int k = 0; k <= i; ++k) {
+            lanes_t v = zero;
+            for (int j = 0; j < n; ++j)
+                v += J[i][j] * J[k][j];
+            S[2 * i][2 * k] = v;
+            S[2 * i + 1][2 * k + 1] = v;
+            S[2 * i + 1][2 * k] = zero;
+            S[2 * i][2 * k + 1] = zero; /* k = i: the upper triangle, unused */
+        }
+        lanes_t px = p[2 * i], py = p[2 * i + 1];
+        S[2 * i][2 * i] += px * px / EPS_W;
+        S[2 * i + 1][2 * i] += py * px / EPS_W;
+        S[2 * i + 1][2 * i + 1] += py * py / EPS_W;
+        for (int k = 0; k < 2; ++k)
+            rhs[2 * i + k] = ca[i] * r[2 * a + k] + cm[i] * r[2 * i + k] + cb[i] * r[2 * b + k] +
+                             c[2 * i + k];
+    }
+    /* chol_skip */
+    dmax = zero;
+    for (int i = 0; i < ns; ++i)
+        for (int l = 0; l < L; ++l)
+            dmax[l] = dmax[l] > S[i][i][l] ? dmax[l] : S[i][i][l];
+    tol = 1e-13 * dmax;
+    for (int j = 0; j < ns; ++j) {
+        lanes_t d = S[j][j];
+        for (int k = 0; k < j; ++k)
+            d -= S[j][k] * S[j][k];
+        any_drop[j] = 0;
+        for (int l = 0; l < L; ++l) {
+            drop[j][l] = d[l] <= tol[l];
+            any_drop[j] |= drop[j][l];
+            d[l] = drop[j][l] ? 0.0 : sqrt(d[l]);
+        }
+        S[j][j] = d;
+        for (int i = j + 1; i < ns; ++i) {
+            lanes_t v = S[i][j];
+            for (int k = 0; k < j; ++k)
+                v -= S[i][k] * S[j][k];
+            S[i][j] = v / d;
+        }
+        if (any_drop[j]) /* mostly the last column, where there is nothing below */
+            lanes_zero_column(S, j, ns, drop[j]);
+    }
+    /* chol_solve */
+    for (int i = 0; i < ns; ++i) {
+        lanes_t v = rhs[i];
+        for (int k = 0; k < i; ++k)
+            v -= S[i][k] * rhs[k];
+        rhs[i] = v / S[i][i];
+        if (any_drop[i])
+            lanes_zero_entry(&rhs[i], drop[i]);
+    }
+    for (int i = ns - 1; i >= 0; --i) {
+        lanes_t v = rhs[i];
+        for (int k = i + 1; k < ns; ++k)
+            v -= S[k][i] * rhs[k];
+        rhs[i] = v / S[i][i];
+        if (any_drop[i])
+            lanes_zero_entry(&rhs[i], drop[i]);
+    }
+    /* dp = r - Jp^T lambda, dw_m = (1/eps) p_m . lambda_m */
+    double norm[L] = {0.0};
+    for (int j = 0; j < ns; ++j)
+        dp[j] = r[j];
+    for (int i = 0; i < n; ++i) {
+        int a = (i - 1 + n) % n, b = (i + 1) % n;
+        for (int k = 0; k < 2; ++k) {
+            lanes_t lam = rhs[2 * i + k];
+            dp[2 * a + k] -= ca[i] * lam;
+            dp[2 * i + k] -= cm[i] * lam;
+            dp[2 * b + k] -= cb[i] * lam;
+        }
+        lanes_t dw = (p[2 * i] * rhs[2 * i] + p[2 * i + 1] * rhs[2 * i + 1]) / EPS_W;
+        for (int l = 0; l < L; ++l) {
+            ww[l][i] += dw[l];
+            norm[l] = FMAX(norm[l], fabs(dw[l]));
+        }
+    }
+    for (int j = 0; j < ns; ++j)
+        for (int l = 0; l < L; ++l) {
+            pp[l][j] += dp[j][l];
+            norm[l] = FMAX(norm[l], fabs(dp[j][l]));
+        }
+    for (int l = 0; l < L; ++l)
+        dx[l] = norm[l];
+}
+
+static void step_lanes(const double *const *du, const double *const *dd, const double *const *nu,
+                       const double *const *pstar, double *const *p, double *const *w, double *dx,
+                       int n)
+{
+    switch (n) {
+    case 3: schur_lanes(du, dd, nu, pstar, p, w, dx, 3); break;
+    case 5: schur_lanes(du, dd, nu, pstar, p, w, dx, 5); break;
+    default: schur_lanes(du, dd, nu, pstar, p, w, dx, 7); break;
+    }
+}
+
+static int lane_size(const sk__vsys *s)
+{
+    return s->closed && (s->n_edges == 3 || s->n_edges == 5 || s->n_edges == 7);
+}
+
+/* One lane's solve: the state of sk__vsys_solve / iterate() / project_n() between steps. */
+typedef struct lane {
+    sk__vsys *s; /* NULL: the lane is empty */
+    sk__vsys t;  /* s in units of its mean target length */
+    double scale;
+    double p[2 * LANE_N_MAX], w[LANE_N_MAX], p0[2 * LANE_N_MAX], w0[LANE_N_MAX];
+    double target[2 * LANE_N_MAX]; /* the step's targets: t.pstar, or the projection's p */
+    int idx, it, finish_tries, proj_k, project, newton_next, iters;
+} lane;
+
+/* sk__vsys_solve's start: scale, first iterate, initial w */
+static void lane_start(lane *ln, sk__vsys *s)
+{
+    int n = s->n_edges;
+    double scale = 0.0;
+    for (int j = 0; j < n; ++j)
+        scale += hypot(s->pstar[2 * j], s->pstar[2 * j + 1]);
+    scale = scale > 0.0 ? scale / n : 1.0;
+    ln->s = s;
+    ln->scale = scale;
+    ln->t.n_edges = n;
+    ln->t.closed = 1;
+    ln->t.fixed_first = s->fixed_first;
+    ln->t.fixed_last = s->fixed_last;
+    memcpy(ln->t.du, s->du, sizeof(double) * (size_t)n);
+    memcpy(ln->t.dd, s->dd, sizeof(double) * (size_t)n);
+    memcpy(ln->t.nu, s->nu, sizeof(double) * (size_t)n);
+    for (int j = 0; j < 2 * n; ++j)
+        ln->t.pstar[j] = s->pstar[j] / scale;
+    memcpy(ln->p, ln->t.pstar, sizeof(double) * (size_t)(2 * n));
+    memcpy(ln->target, ln->t.pstar, sizeof(double) * (size_t)(2 * n));
+    initial_w(&ln->t, ln->p, ln->w);
+    ln->it = ln->finish_tries = ln->proj_k = ln->project = ln->newton_next = ln->iters = 0;
+}
+
+/* sk__vsys_solve's end after a converged iterate */
+static void lane_finish(lane *ln)
+{
+    sk__vsys *s = ln->s;
+    int n = s->n_edges;
+    s->iterations = ln->iters;
+    s->newton_tries = 0;
+    s->used_fallback = 0;
+    s->residual = residual(&ln->t, ln->p, ln->w, NULL);
+    for (int j = 0; j < 2 * n; ++j)
+        s->p[j] = ln->p[j] * ln->scale;
+    for (int m = 0; m < n; ++m)
+        s->w[m] = ln->w[m];
+    ln->s = NULL;
+}
+
+/* After the projection failed (project_n returns -1): iterate() goes on with its next iteration */
+static int lane_next_iteration(lane *ln)
+{
+    int n = ln->t.n_edges;
+    memcpy(ln->p, ln->p0, sizeof(double) * (size_t)(2 * n));
+    memcpy(ln->w, ln->w0, sizeof(double) * (size_t)n);
+    ln->project = 0;
+    if (ln->newton_next || ++ln->it >= MAX_ITER)
+        return -1;
+    memcpy(ln->target, ln->t.pstar, sizeof(double) * (size_t)(2 * n));
+    return 1;
+}
+
+/* iterate()'s decisions after a step of size dx: 1 = step again, 0 = converged, -1 = leave the
+ * lanes (solved again by sk__vsys_solve) */
+static int lane_after_step(lane *ln, double dx)
+{
+    int n = ln->t.n_edges;
+    ++ln->iters;
+    double r2 = residual(&ln->t, ln->p, ln->w, NULL);
+    if (ln->project) { /* project_n's loop */
+        if (!isfinite(r2))
+            return lane_next_iteration(ln);
+        if (r2 <= 1e-15)
+            return 0;
+        if (++ln->proj_k >= 4)
+            return lane_next_iteration(ln);
+        memcpy(ln->target, ln->p, sizeof(double) * (size_t)(2 * n));
+        return 1;
+    }
+    if (!isfinite(r2) || !isfinite(dx))
+        return -1;
+    if (r2 <= 1e-15 && dx < 1e-8)
+        return 0;
+    ln->newton_next = ln->it + 1 >= GN_FIRST; /* n <= NEWTON_MAX_EDGES, nc > 0, no rejects yet */
+    if (dx < FINISH_DX && ln->finish_tries < 2) {
+        ++ln->finish_tries;
+        memcpy(ln->p0, ln->p, sizeof(double) * (size_t)(2 * n));
+        memcpy(ln->w0, ln->w, sizeof(double) * (size_t)n);
+        memcpy(ln->target, ln->p, sizeof(double) * (size_t)(2 * n));
+        ln->project = 1;
+        ln->proj_k = 0;
+        return 1;
+    }
+    if (ln->newton_next || ++ln->it >= MAX_ITER)
+        return -1;
+    return 1;
+}
+
+void sk__vsys_solve_lanes(sk__vsys *const *sys, int count, int *ret)
+{
+    lane ln[SK_VSYS_LANES];
+    for (int n = 3; n <= LANE_N_MAX; n += 2) {
+        int next = 0, active = 0;
+        for (int l = 0; l < SK_VSYS_LANES; ++l)
+            ln[l].s = NULL;
+        for (;;) {
+            for (int l = 0; l < SK_VSYS_LANES; ++l) { /* fill the empty lanes */
+                while (!ln[l].s && next < count) {
+                    int i = next++;
+                    if (lane_size(sys[i]) && sys[i]->n_edges == n) {
+                        lane_start(&ln[l], sys[i]);
+                        ln[l].idx = i;
+                        ++active;
+                    }
+                }
+            }
+            if (!active)
+                break;
+            const double *du[SK_VSYS_LANES], *dd[SK_VSYS_LANES], *nu[SK_VSYS_LANES];
+            const double *tg[SK_VSYS_LANES];
+            double *p[SK_VSYS_LANES], *w[SK_VSYS_LANES], dx[SK_VSYS_LANES];
+            double spare_p[SK_VSYS_LANES][2 * LANE_N_MAX], spare_w[SK_VSYS_LANES][LANE_N_MAX];
+            int first = 0;
+            while (!ln[first].s)
+                ++first;
+            for (int l = 0; l < SK_VSYS_LANES; ++l) {
+                const lane *src = ln[l].s ? &ln[l] : &ln[first]; /* empty: a copy, discarded */
+                du[l] = src->t.du;
+                dd[l] = src->t.dd;
+                nu[l] = src->t.nu;
+                tg[l] = src->target;
+                if (ln[l].s) {
+                    p[l] = ln[l].p;
+                    w[l] = ln[l].w;
+                } else {
+                    memcpy(spare_p[l], src->p, sizeof spare_p[l]);
+                    memcpy(spare_w[l], src->w, sizeof spare_w[l]);
+                    p[l] = spare_p[l];
+                    w[l] = spare_w[l];
+                }
+            }
+            step_lanes(du, dd, nu, tg, p, w, dx, n);
+            for (int l = 0; l < SK_VSYS_LANES; ++l) {
+                if (!ln[l].s)
+                    continue;
+                int k = lane_after_step(&ln[l], dx[l]);
+                if (k == 1)
+                    continue;
+                sk__vsys *s = ln[l].s;
+                if (k == 0)
+                    lane_finish(&ln[l]);
+                ln[l].s = NULL;
+                --active;
+                ret[ln[l].idx] = k == 0 ? 0 : sk__vsys_solve(s);
+            }
+        }
+    }
+    for (int i = 0; i < count; ++i)
+        if (!lane_size(sys[i]))
+            ret[i] = sk__vsys_solve(sys[i]);
+}
+
 void sk__vsys_angles(const sk__vsys *s, double *min_angle, double *max_angle)
 {
     int n = s->n_edges, pairs = s->closed ? n : n - 1;

@@ -57,18 +57,26 @@ static void blend_targets(const double *orig, double *out, int n, int closed, do
     }
 }
 
-int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale)
+/* A vertex's star between the set-up of its system and the solve's use */
+typedef struct vertex_frame {
+    uint32_t E[SK_VSYS_MAX];
+    double e1[3], e2[3];
+    double orig[2 * SK_VSYS_MAX]; /* the targets before blending */
+    double blend;
+} vertex_frame;
+
+/* v's system (8) from its star (not at a crease vertex); 0 when v has more than SK_VSYS_MAX edges */
+static int vertex_setup(const sk__vc1_work *W, uint32_t v, sk__vsys *sys, vertex_frame *F,
+                        double blend, double lscale)
 {
     const sk_mesh *m = W->m;
-    if (W->crease_v && W->crease_v[v]) /* cut into sectors at its crease edges (crease.c) */
-        return sk__vc1_solve_crease_vertex(W, v, sys, blend, lscale);
-    uint32_t E[SK_VSYS_MAX];
+    uint32_t *E = F->E;
     int closed, n = sk__vc1_ordered_edges(m, v, E, &closed);
     if (n <= 0 || n > SK_VSYS_MAX)
-        return 3;
+        return 0;
     sys->fixed_first = sys->fixed_last = 0;
     const double *V = m->positions + 3 * (size_t)v, *nv = W->normals + 3 * (size_t)v;
-    double e1[3], e2[3];
+    double *e1 = F->e1, *e2 = F->e2;
     sk__tangent_basis(nv, e1, e2);
     sys->n_edges = n;
     sys->closed = closed;
@@ -88,14 +96,44 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
             sys->nu[k] = -1.0;
         }
     }
-    double orig[2 * SK_VSYS_MAX];
-    memcpy(orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
+    memcpy(F->orig, sys->pstar, sizeof(double) * (size_t)(2 * n));
     if (blend > 0.0)
-        blend_targets(orig, sys->pstar, n, closed, W->alpha, blend, 0.0);
-    int ok = sk__vsys_solve_memo(sys, W->memo);
+        blend_targets(F->orig, sys->pstar, n, closed, W->alpha, blend, 0.0);
+    F->blend = blend;
+    return n;
+}
+
+/* The angle bounds alpha pi < angle < pi (1 - alpha) at every corner of the solution, as
+ * sk__vsys_angles decides them; a corner whose cross product is positive and whose cosine is
+ * inside (-cos(alpha pi), cos(alpha pi)) by a relative margin of 1e-9 (far above the rounding of
+ * the atan2 there) is within them for certain, so the atan2s are taken only when one is not. */
+static int angle_bounds_met(const sk__vsys *s, double alpha)
+{
+    int n = s->n_edges, pairs = s->closed ? n : n - 1, sure = 1;
+    double c = cos(alpha * M_PI) * (1.0 - 1e-9);
+    for (int k = 0; k < pairs && sure; ++k) {
+        const double *a = s->p + 2 * k, *b = s->p + 2 * ((k + 1) % n);
+        double cr = a[0] * b[1] - a[1] * b[0], dt = a[0] * b[0] + a[1] * b[1];
+        double ll = sqrt((a[0] * a[0] + a[1] * a[1]) * (b[0] * b[0] + b[1] * b[1]));
+        sure = cr > 0.0 && fabs(dt) < c * ll;
+    }
+    if (sure)
+        return 1;
     double lo, hi;
-    sk__vsys_angles(sys, &lo, &hi);
-    int bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+    sk__vsys_angles(s, &lo, &hi);
+    return !(lo <= alpha * M_PI || hi >= M_PI * (1.0 - alpha));
+}
+
+/* After the solve (ok: its return value): the angle bounds, met by relaxed targets where needed;
+ * W->P and W->w1 of v's edges written; sk__vc1_solve_vertex's code */
+static int vertex_finish(sk__vc1_work *W, uint32_t v, sk__vsys *sys, const vertex_frame *F, int ok)
+{
+    const sk_mesh *m = W->m;
+    const uint32_t *E = F->E;
+    const double *orig = F->orig, *e1 = F->e1, *e2 = F->e2, blend = F->blend;
+    const double *V = m->positions + 3 * (size_t)v;
+    int n = sys->n_edges, closed = sys->closed;
+    int bad = ok != 0 || !angle_bounds_met(sys, W->alpha);
     /* relax the targets locally: blend their directions towards an even spread (lengths kept)
      * until the solution meets the angle bounds */
     for (int t = 1; t <= 8 && bad; ++t) {
@@ -108,8 +146,7 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
             continue;
         blend_targets(orig, sys->pstar, n, closed, W->alpha, b, lb);
         ok = sk__vsys_solve_memo(sys, W->memo);
-        sk__vsys_angles(sys, &lo, &hi);
-        bad = ok != 0 || lo <= W->alpha * M_PI || hi >= M_PI * (1.0 - W->alpha);
+        bad = ok != 0 || !angle_bounds_met(sys, W->alpha);
         sys->relaxed = 1;
     }
     memcpy(sys->pstar, orig, sizeof(double) * (size_t)(2 * n));
@@ -125,6 +162,38 @@ int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blen
     if (bad)
         return 1;
     return 0;
+}
+
+int sk__vc1_solve_vertex(sk__vc1_work *W, uint32_t v, sk__vsys *sys, double blend, double lscale)
+{
+    if (W->crease_v && W->crease_v[v]) /* cut into sectors at its crease edges (crease.c) */
+        return sk__vc1_solve_crease_vertex(W, v, sys, blend, lscale);
+    vertex_frame F;
+    if (!vertex_setup(W, v, sys, &F, blend, lscale))
+        return 3;
+    return vertex_finish(W, v, sys, &F, sk__vsys_solve_memo(sys, W->memo));
+}
+
+void sk__vc1_solve_vertices(sk__vc1_work *W, const uint32_t *v, int count, sk__vsys *sys,
+                            int *code)
+{
+    vertex_frame F[SK_VC1_VERTEX_CHUNK];
+    sk__vsys *batch[SK_VC1_VERTEX_CHUNK] = {NULL};
+    int at[SK_VC1_VERTEX_CHUNK], ret[SK_VC1_VERTEX_CHUNK], nb = 0;
+    for (int i = 0; i < count; ++i) {
+        code[i] = -1;
+        if (W->memo || (W->crease_v && W->crease_v[v[i]]))
+            code[i] = sk__vc1_solve_vertex(W, v[i], &sys[i], 0.0, 1.0);
+        else if (!vertex_setup(W, v[i], &sys[i], &F[i], 0.0, 1.0))
+            code[i] = 3;
+        else {
+            at[nb] = i;
+            batch[nb++] = &sys[i];
+        }
+    }
+    sk__vsys_solve_lanes(batch, nb, ret);
+    for (int b = 0; b < nb; ++b)
+        code[at[b]] = vertex_finish(W, v[at[b]], &sys[at[b]], &F[at[b]], ret[b]);
 }
 
 void sk__vc1_blend_targets(const double *orig, double *out, int n, int closed, double alpha,

@@ -1114,6 +1114,43 @@ static void test_vsys_memo(void **state)
     sk__vsys_memo_destroy(memo);
 }
 
+/* The vertex systems solved in lanes (sk__vsys_solve_lanes: closed systems of 3, 5 and 7 edges,
+ * 4 at a time in lockstep) give what sk__vsys_solve gives, to the bit: a batch of 90 systems of
+ * 3..7 edges, closed and open, with ratios nu that satisfy the product condition (5) (converged
+ * in the lanes) and that do not (Newton steps, so solved again alone), lanes refilled as they
+ * finish. */
+static void test_vsys_lanes(void **state)
+{
+    (void)state;
+    enum { N = 90 };
+    static sk__vsys plain[N], lanes[N];
+    sk__vsys *batch[N];
+    int rp[N], rl[N], in_lanes = 0, newton = 0, converged = 0;
+    for (int k = 0; k < N; ++k) {
+        vsys_case(&plain[k], k);
+        if (k % 3 != 2) /* a star of equal faces: nu = -1, equal Deltas; feasible near the targets */
+            for (int m = 0; m < plain[k].n_edges; ++m) {
+                plain[k].nu[m] = -1.0;
+                plain[k].du[m] = plain[k].dd[m] = k % 2 ? 1.0 : 0.75;
+            }
+        lanes[k] = plain[k];
+        batch[k] = &lanes[k];
+        rp[k] = sk__vsys_solve(&plain[k]);
+    }
+    sk__vsys_solve_lanes(batch, N, rl);
+    for (int k = 0; k < N; ++k) {
+        assert_same_solution(&plain[k], rp[k], &lanes[k], rl[k]);
+        int lane = plain[k].closed && plain[k].n_edges % 2 == 1;
+        in_lanes += lane && plain[k].newton_tries == 0 && rp[k] == 0;
+        newton += lane && plain[k].newton_tries > 0;
+        converged += rp[k] == 0;
+    }
+    print_message("vsys lanes: %d of %d converged, %d finished in the lanes, %d with Newton steps\n",
+                  converged, N, in_lanes, newton);
+    assert_true(in_lanes >= 20); /* the lanes' own path is exercised ... */
+    assert_true(newton >= 3);    /* ... and so is the hand-over to sk__vsys_solve */
+}
+
 /* the largest residual of (8) at p, w (constraint m uses p_{m-1}, p_m, p_{m+1}) */
 static double vsys_residual(const sk__vsys *s, const double *p, const double *w)
 {
@@ -1318,6 +1355,7 @@ int main(void)
         cmocka_unit_test(test_singular_any_start),
         cmocka_unit_test(test_reroute_orders),
         cmocka_unit_test(test_vsys_memo),
+        cmocka_unit_test(test_vsys_lanes),
         cmocka_unit_test(test_vsys_scale),
     };
     /* SK_SHAPE_ONLY=name runs that test alone (the diagnostics while working) */

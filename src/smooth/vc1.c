@@ -711,8 +711,9 @@ static sk_status deletion_flips(sk_smooth *s, const sk__build_ctx *c, const uint
         sk_edge_deletion_stats old = s->stats.deletion;
         if (!((double)old.deleted_edges > VC1_DELETION_FLIP_RATIO * (double)old.lower_bound))
             return SK_OK;
-        if (!fl->saved && sk_mesh_copy(c->flippable, &fl->saved, err) != SK_OK)
-            return SK_ERR_NOMEM;
+        sk_status cst = fl->saved ? SK_OK : sk_mesh_copy(c->flippable, &fl->saved, err);
+        if (cst != SK_OK)
+            return cst;
         size_t flipped = 0, nhint = 0;
         uint32_t *flips = NULL, *hint = NULL, *deleted[2] = {NULL, NULL};
         sk_mesh *config[2] = {NULL, NULL};

@@ -318,10 +318,8 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                  "vc1: also flip edges that make even vertices odd where the shape and the\n"
                  "normal agreement are kept: fewer deleted edges (parity_flipped_edges)"),
         OPT_FLAG("--keep-deletion", a->so.keep_deletion,
-                 "vc1: no edge flips chosen for the edge deletion (default: where deleted /\n"
-                 "bound is above 1.01, flip edges beside deleted ones within the flip pass's\n"
-                 "bounds when the deletion then has fewer edges at a lower deleted / bound;\n"
-                 "deletion_flipped_edges)"),
+                 "vc1: no edge flips chosen for the edge deletion (default: flips that lower\n"
+                 "deleted / bound within the flip pass's bounds; deletion_flipped_edges)"),
         OPT_INT("--reroute-rounds", a->reroute_rounds, 0, 64, "K",
                 "vc1: where patches stay singular after the regularity repair, build again\n"
                 "up to K times (default 6, 0: never) with the edge deletion changed near them\n"

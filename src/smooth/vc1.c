@@ -809,10 +809,14 @@ sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
  * regularity repair, or with a failed vertex system, is done again without them (their flips
  * undone) before any re-routed round: they never cost a patch, and the rounds run as without
  * them. */
-static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c, const uint32_t *hint,
+static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c_in, const uint32_t *hint,
                               size_t nhint, double t0[2], sk_error *err)
 {
     sk_smooth_stats fresh = s->stats;
+    sk__deletion_flip_log dflips = {0};
+    sk__build_ctx cf = *c_in, *c = &cf;
+    if (c->flippable && !hint && !c->opts->keep_deletion)
+        cf.deletion_flips = &dflips;
     sk__deletion_flip_log *fl = c->deletion_flips;
     uint32_t *singular = NULL;
     size_t ne = sk_num_edges(c->base);
@@ -843,6 +847,7 @@ static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c, const uint32
         st = sk__vc1_reroute_singular(s, &c2, &fresh, &singular, err);
     sk__free(singular);
     s->stats.deletion_flipped_edges = fl ? fl->n : 0;
+    sk_mesh_destroy(&dflips.saved);
     return st;
 }
 
@@ -989,12 +994,7 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
                          .keep = keep,
                          .file_normals = file_normals, .alpha = alpha, .max_nu = max_nu,
                          .opts = &opts};
-    sk__deletion_flip_log dflips = {0};
-    if (ctx.flippable && !hint && !opts.keep_deletion)
-        ctx.deletion_flips = &dflips;
-    st = build_rounds(s, &ctx, hint, nhint, t0, err);
-    sk_mesh_destroy(&dflips.saved);
-    if (st != SK_OK)
+    if ((st = build_rounds(s, &ctx, hint, nhint, t0, err)) != SK_OK)
         goto fail;
     sk__free(keep);
     sk__free(hinge_end);

@@ -231,7 +231,7 @@ static int parse_table(int argc, char **argv, param_args *a, unsigned *method, u
                 "atlas: at most N charts where the bounds allow (neighbours merged)"),
         OPT_INT("--merge-faces", a->ao.merge_faces, 1, 0, "N",
                 "atlas: neighbouring charts of at most N triangles together merged\n"
-                "while the bounds hold (default 2000)"),
+                "while the bounds hold (default 4000)"),
         OPT_FLAG("--no-merge", a->ao.no_merge, "atlas: no merging of neighbouring charts"),
         OPT_FLAG("--no-pack-cuts", a->ao.no_pack_cuts,
                  "atlas: never cut one of 2..8 charts in two for a tighter packing"),

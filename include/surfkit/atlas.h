@@ -50,7 +50,7 @@ typedef struct sk_atlas_opts {
     /* Without max_charts: after the splitting, neighbouring charts of one crease region and of
      * at most merge_faces triangles together are merged, smallest pairs first, while the union is
      * a disk whose layout is flip-free, overlap-free and within both bounds (shorter seams).
-     * 0 = the default (2000). no_merge: none. */
+     * 0 = the default (4000). no_merge: none. */
     unsigned merge_faces;
     bool no_merge;
     /* With 2..8 charts (and at most 20000 triangles, no max_charts), a chart whose outline packs

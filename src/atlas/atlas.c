@@ -1213,7 +1213,7 @@ static void faces_by_chart(const uint32_t *face_chart, size_t nf, size_t nc, uin
  * (MIPS mean saved) - price * (seam_length_rel added), price = sk_atlas_opts.slit_price: the
  * slits pay as a whole, so a slit of little gain that opens the way to better ones is kept. A
  * sequence stops early when the MIPS excess left in the chart cannot pay for the next slit (no
- * later prefix could beat the best). Charts above SLIT_MAX_FACES (the merging's default cap) are
+ * later prefix could beat the best). Charts above SLIT_MAX_FACES (the merging's cap before 4000) are
  * not tried: each try is a layout, and on the large charts of bunny00 and armadillo none paid. */
 #define SLIT_MIN_FACES 32
 #define SLIT_MAX_FACES 2000

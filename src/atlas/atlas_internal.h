@@ -75,7 +75,7 @@ sk_status sk__chart_cut_slit(const sk_mesh *m, const uint32_t *faces, size_t nf,
 size_t sk__chart_components(const sk_mesh *m, uint32_t *faces, size_t nf, uint32_t stamp,
                             sk__chart_work *w, uint32_t *sizes);
 
-#define SK__ATLAS_MERGE_FACES 2000
+#define SK__ATLAS_MERGE_FACES 4000
 
 /* ---- creases.c ---- */
 
@@ -130,7 +130,12 @@ sk_status sk__chart_param(const sk_mesh *chart, uint64_t seed, double *uv, sk__c
  * 2.0021, seams 28.1 x sqrt(area)) and the merging joins neighbours while the union stays within
  * them (40 charts, MIPS 2.0045, seams 17.1, area-log 0.066; xatlas 2.0049, 19.9, 0.337; the old
  * defaults 1.25 / 1.25 / 1 without merging 2.0134, 22.4, 0.037). A theta of 0.5 instead of 1
- * lowers MIPS where the stretch bound leaves room; 2000 triangles bounds the merging's solves. */
+ * lowers MIPS where the stretch bound leaves room. merge_faces bounds the merging's solves:
+ * 4000 triangles (2000 before) lets holes' plate merge to 3 charts (seams 3.84 -> 1.55 x
+ * sqrt(area), xatlas 1.59; MIPS 2.000100 -> 2.000109, xatlas 2.000136); 3000 and 3500 leave 4
+ * (seams 1.71), 4500 takes mech-holes-shark to 3 charts at utilization 0.503 (xatlas 0.527).
+ * Larger charts on the scans too: lion, bunny00, armadillo seams down 8-12%, MIPS mean up
+ * 2-5e-4, all still below both peers (docs/param.md). */
 #define SK__ATLAS_MAX_DISTORTION 1.05
 #define SK__ATLAS_MAX_STRETCH 1.15
 #define SK__ATLAS_AREA_THETA 0.5

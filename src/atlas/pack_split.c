@@ -2,8 +2,9 @@
  * decides the utilization (a chart with a deep notch or a bend leaves a void its bounding box
  * cannot share), so each chart's layout is cut, in its own plane, by straight lines (6
  * directions, at the 1/8 .. 7/8 quantiles of its triangles along each) into two edge-connected
- * disks; the cut that saves the most smallest-box area, within a seam budget, is packed, and kept
- * when the packing's scale grows enough. Each piece keeps its triangles' layout up to a uniform
+ * disks; the cuts that save the most smallest-box area, within a seam budget, are packed, and the
+ * best kept when the packing's scale grows enough. A cut beyond the budget (up to SPLIT_SEAM_MAX)
+ * is kept only when it pays: SPLIT_PAY utilization or more per unit of seam_length_rel added. Each piece keeps its triangles' layout up to a uniform
  * scale that gives it its own 3D area (as every chart has before packing), so MIPS does not
  * change; a cut whose piece is above the atlas's bounds (sigma1/sigma2 or area-log deviation,
  * measured on the piece as on a chart) is not tried. Only the seams grow by the cut. Up to
@@ -22,8 +23,18 @@
 #define SPLIT_MAX_FACES 20000
 #define SPLIT_DIRS 6
 #define SPLIT_CUTS 8 /* cut at the k / SPLIT_CUTS quantiles, 0 < k < SPLIT_CUTS */
-/* a cut adds at most this fraction of the atlas's seam length (3D) */
+/* the cuts add at most this fraction of the atlas's seam length (3D) */
 #define SPLIT_SEAM 0.10
+/* ... or up to this fraction when each cut beyond the budget raises the utilization (the scale
+ * squared times the 3D area) by at least SPLIT_PAY per unit of seam length / sqrt(3D area) it
+ * adds. The pack cuts within the budget on the shared meshes pay 0.16 (blobby), 0.21 (holes),
+ * 0.39 (icosahedron), 0.69 (eight), 0.82 (sphere); beyond it, at up to 30% of the seams, the best
+ * cuts pay 0.35 (mask_cone: one cut of 0.20 x sqrt(area) over its budget of 0.14, utilization
+ * 0.656 -> 0.739; xatlas 0.662 at seams 2.50 against 1.58), 0.18 (icosahedron's second: 0.612 ->
+ * 0.663 at seams 4.76 -> 5.10, above xatlas's 4.76), 0.07 (blobby's second), 0.065 (holes'
+ * second), 0.14 (mech-holes-shark): 0.3 takes mask_cone's alone (bench/atlas.sh, issue 11). */
+#define SPLIT_SEAM_MAX 0.30
+#define SPLIT_PAY 0.3
 /* a cut is kept when the utilization (the scale squared) grows by this factor */
 #define SPLIT_GAIN 1.01
 #define SPLIT_ROUNDS 2
@@ -154,7 +165,8 @@ typedef struct cutter {
     double *box;             /* per chart: its smallest box's area */
     double *a3, *cr, *ls;    /* per face: 3D area, sigma1/sigma2, log(uv area / 3D area) */
     double max_conf, max_stretch; /* the pieces' bounds (<= 0: none) */
-    double seam;             /* the seam length (3D) the cuts may add in all */
+    double seam;             /* the seam length (3D) the cuts may add in all within the budget */
+    double seam_max;         /* ... and beyond it, when they pay SPLIT_PAY */
     /* the best cut so far */
     size_t ncut;             /* the best cuts so far (most box area saved first) */
     double gain[SPLIT_TRIES], added[SPLIT_TRIES]; /* box area saved, seam length added */
@@ -283,7 +295,7 @@ static void keep_cut(cutter *k, uint32_t c, const uint32_t *faces, size_t nf, do
         k->cut_side[at * stride + i] = k->side[faces[i]];
 }
 
-/* The cuts of chart c: the ones saving the most box area within the seam budget are kept. */
+/* The cuts of chart c: the ones saving the most box area within SPLIT_SEAM_MAX are kept. */
 static void cut_chart(cutter *k, uint32_t c)
 {
     const sk_mesh *m = k->m;
@@ -314,7 +326,7 @@ static void cut_chart(cutter *k, uint32_t c)
                         added += sk_mesh_edge_length(m, h >> 1);
             }
             double floor = k->ncut < SPLIT_TRIES ? 0 : k->gain[SPLIT_TRIES - 1];
-            if (added > k->seam || !piece_ok(k, faces, nf, 0, &b0) ||
+            if (added > k->seam_max || !piece_ok(k, faces, nf, 0, &b0) ||
                 !piece_ok(k, faces, nf, 1, &b1) || !(k->box[c] - b0 - b1 > floor) ||
                 !piece_within(k, faces, nf, 0) || !piece_within(k, faces, nf, 1))
                 continue;
@@ -480,7 +492,12 @@ static sk_status try_cuts(const sk_mesh *m, layout *cur, const double bound[2], 
     k.max_conf = bound[0];
     k.max_stretch = bound[1];
     measure_faces(&k, cur);
-    k.seam = SPLIT_SEAM * sk__uv_seam_length(m, cur->corner_uv, NULL); /* the budget */
+    double seams = sk__uv_seam_length(m, cur->corner_uv, NULL), area = 0, added = 0;
+    bool over = false; /* a cut beyond the budget taken */
+    k.seam = SPLIT_SEAM * seams; /* the budget */
+    k.seam_max = SPLIT_SEAM_MAX * seams;
+    for (size_t f = 0; f < m->num_faces; ++f)
+        area += k.a3[f];
     /* cur: the layout cut so far, packed coarsely (orig keeps the full packing of the uncut) */
     memset(cur, 0, sizeof *cur);
     if ((st = relabel(m, &orig, orig.face_chart, orig.nc, cur, err)) ||
@@ -493,7 +510,11 @@ static sk_status try_cuts(const sk_mesh *m, layout *cur, const double bound[2], 
         for (size_t i = 0; i < k.ncut && !st; ++i) {
             if ((st = cut_layout(m, &k, i, cur, fc, cres, cpad, &t, err)))
                 break;
-            if (t.scale > (best.off ? best.scale : 0)) {
+            /* beyond the budget: only a cut that pays */
+            bool pays = k.added[i] <= k.seam ||
+                        area * (t.scale * t.scale - cur->scale * cur->scale) >=
+                            SPLIT_PAY * k.added[i] / sqrt(area);
+            if (pays && t.scale > (best.off ? best.scale : 0)) {
                 layout_free(&best);
                 best = t;
                 won = i;
@@ -505,14 +526,19 @@ static sk_status try_cuts(const sk_mesh *m, layout *cur, const double bound[2], 
         if (st || won == SPLIT_TRIES ||
             !(best.scale * best.scale >= SPLIT_GAIN * cur->scale * cur->scale))
             break;
+        over = over || k.added[won] > k.seam;
         k.seam -= k.added[won];
+        k.seam_max -= k.added[won];
+        added += k.added[won];
         layout_free(cur);
         *cur = best;
         memset(&best, 0, sizeof best);
         ++*cuts;
     }
     if (!st && *cuts > 0 && !(st = pack_layout(m, cur, res, pad, err)) &&
-        cur->scale * cur->scale < SPLIT_GAIN * orig.scale * orig.scale)
+        (cur->scale * cur->scale < SPLIT_GAIN * orig.scale * orig.scale ||
+         (over && area * (cur->scale * cur->scale - orig.scale * orig.scale) <
+                      SPLIT_PAY * added / sqrt(area))))
         *cuts = 0; /* at full resolution the cuts did not pay */
 done:
     if (st || *cuts == 0) {

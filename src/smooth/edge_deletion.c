@@ -380,7 +380,7 @@ static void find_even_vertices(ed_state *S)
     double cos_max = cos(SK_MAX_QUAD_CORNER_DEG * (3.14159265358979323846 / 180.0));
     long ne = (long)S->ne;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (ne > 100000)
 #endif
     for (long e = 0; e < ne; ++e)
         if (!m->e_deleted[e] && !sk_is_boundary_e(m, (uint32_t)e))
@@ -1411,7 +1411,7 @@ static bool shortcut_prescreen(ed_state *S, uint8_t *pre)
     }
     S->st.shortcut_searched = searched;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel reduction(| : failed)
+#pragma omp parallel reduction(| : failed) if (nv >= SK_SMOOTH_TEAM_MIN)
 #endif
     {
         shortcut_ctx *C = shortcut_ctx_create(S);
@@ -1614,7 +1614,7 @@ static sk_status run_deletion(const sk_mesh *m, const uint8_t *crease, const uin
              * matching of adjacent even vertices on the other: neither writes what the other
              * reads (the order and graph read the mesh, even, bnd, forbid) */
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel sections num_threads(2)
+#pragma omp parallel sections num_threads(2) if (S.nv >= SK_SMOOTH_TEAM_MIN)
 #endif
             {
 #ifdef SK_HAVE_OPENMP

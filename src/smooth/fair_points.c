@@ -829,19 +829,22 @@ static double net_energy(const double *qt, const double *qq, int corners, const 
 /* The vertices to start from: the corners of the patches (assembled in s->surface) that are
  * singular or whose control net strays from their face by more than FAIR_SEED_OVERSHOOT of the
  * longest side, and the neighbours of those corners; pe gets the bending energy of every patch. */
-static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, uint8_t *active,
-                            uint8_t *bad, uint8_t *sing, const double *qt, const double *qq,
-                            double *pe)
+static size_t seed_vertices(const sk_smooth *s, const uint8_t *status, const uint8_t *limit,
+                            uint8_t *active, uint8_t *bad, uint8_t *sing, const double *qt,
+                            const double *qq, double *pe)
 {
     const sk_mesh *m = s->config;
     long np = (long)s->surface.count;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (np >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long p = 0; p < np; ++p) {
-        sing[p] = sk__patch_singular(s, (size_t)p, NULL);
-        bad[p] = sing[p] || net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT;
         const sk_patch *pa = &s->surface.patches[p];
+        bool in = !limit;
+        for (unsigned i = 0; !in && i < sk_patch_num_corners(pa); ++i)
+            in = limit[pa->corner_ids[i]];
+        sing[p] = in && sk__patch_singular(s, (size_t)p, NULL);
+        bad[p] = in && (sing[p] || net_overshoot(s, (size_t)p) > FAIR_SEED_OVERSHOOT);
         pe[p] = net_energy(qt, qq, (int)sk_patch_num_corners(pa),
                            sk_patch_cp(&s->surface, (size_t)p));
     }
@@ -991,7 +994,7 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
         goto nomem;
     double *qq = qt + 15 * 15;
     sk__fair_energy_matrices(qt, qq);
-    seed_vertices(s, status, active, bad, sing, qt, qq, pe);
+    seed_vertices(s, status, W->limit, active, bad, sing, qt, qq, pe);
     if (fit) /* the fit to the scan: every vertex */
         memset(active, 1, nv);
     memcpy(region, active, nv);
@@ -999,7 +1002,8 @@ sk_status sk__vc1_fair_points(const sk_smooth *s, sk__vc1_work *W, const uint8_t
     memset(M.slot_of, 0xff, (nf + 1) * sizeof(uint32_t));
     memset(M.var_of, 0xff, (nv + 1) * sizeof(uint32_t));
     for (uint32_t v = 0; v < nv; ++v)
-        region[v] = region[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
+        region[v] = region[v] && (!W->limit || W->limit[v]) && !m->v_deleted[v] &&
+                    m->v_halfedge[v] != SK_INVALID &&
                     status[v] < 2 && !(W->crease_v && W->crease_v[v]);
     /* (a crease vertex has one tangent plane per sector and fixed crease tangents: one linear
      * map of all its tangents would break both, so it keeps its least-squares points) */

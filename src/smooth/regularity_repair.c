@@ -487,7 +487,7 @@ sk_status sk__vc1_repair_regularity(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     size_t nsing = 0;
     uint8_t *sing = R.sing;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : nsing)
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : nsing) if (npl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long p = 0; p < npl; ++p) {
         sing[p] = known && known[p] != SK_SING_UNKNOWN ? known[p]

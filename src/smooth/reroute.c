@@ -7,7 +7,17 @@
  * stack, the deletion's matching and searches), so a renumbered input can leave singular patches
  * where the input order left none (the cow: 0 to 10). Here the build is done again with the
  * deletion changed only near those patches (reroute_hint) and the slivers among them flipped
- * (flip_slivers), kept when it leaves fewer singular patches. */
+ * (flip_slivers), kept when it leaves fewer singular patches.
+ *
+ * The deletion and the targets are done again in full; the rest reuses the build the round starts
+ * from (sk__vc1_reuse_plan, vc1.c): a vertex whose star, targets, nu and creases are the same and
+ * that lies more than SK_REUSE_RINGS rings from a change and from a corner of a singular patch
+ * keeps its tangents and weights as they stand (after that build's fair points and repair: a
+ * solution of (8) for the same star, targets and nu is one still), its interior points and patches
+ * are copied, and the fair points and the repair work only near the changes. So the far vertices
+ * are not faired and repaired again, and the surface is not byte for byte the one of a whole
+ * build (cow: the same singular counts and rounds over 9 orders, max overshoot and mean fairness
+ * within 1%; docs/edge-deletion.md). */
 #include "smooth/vc1_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -138,6 +148,96 @@ static sk_status reroute_hint(const sk_smooth *s, const sk_mesh *base, const uin
     return SK_OK;
 }
 
+/* v's star in m is the one in o (prev->config), half-edge by half-edge from the same first one,
+ * with the same faces (same_face), targets, nu and creases */
+static bool same_star(const sk__vc1_work *W, const sk__vc1_state *prev, const uint32_t *hmap,
+                      const uint32_t *same_face, uint32_t v)
+{
+    const sk_mesh *m = W->m, *o = prev->config;
+    uint32_t h0 = m->v_halfedge[v], h = h0, g0 = o->v_halfedge[v], g = g0;
+    if (h0 == SK_INVALID || g0 == SK_INVALID || hmap[h0] != g0)
+        return false;
+    do {
+        uint32_t f = m->h_face[h], e = sk_edge(h);
+        if (hmap[h] != g || (f == SK_INVALID) != (o->h_face[g] == SK_INVALID) ||
+            (f != SK_INVALID && same_face[f] != o->h_face[g]) ||
+            memcmp(W->target + 3 * (size_t)h, prev->target + 3 * (size_t)g, 3 * sizeof(double)) ||
+            memcmp(W->nu + h, prev->nu + g, sizeof(double)) ||
+            (W->crease_e ? W->crease_e[e] : 0) !=
+                (prev->crease_edge ? prev->crease_edge[sk_edge(g)] : 0) ||
+            (W->cn && prev->corner_normals &&
+             memcmp(W->cn + 3 * (size_t)h, prev->corner_normals + 3 * (size_t)g,
+                    3 * sizeof(double))) ||
+            (!W->cn) != (!prev->corner_normals))
+            return false;
+        h = sk_cw_out(m, h);
+        g = sk_cw_out(o, g);
+    } while (h != h0 && g != g0);
+    return h == h0 && g == g0;
+}
+
+size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, uint32_t *hmap,
+                          uint8_t *near, uint8_t *near2, uint32_t *same_face)
+{
+    const sk_mesh *m = W->m, *o = prev->config;
+    size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices, n = 0;
+    long nhl = (long)nh, nfl = (long)nf, nvl = (long)nv;
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nhl > 100000)
+#endif
+    for (long h = 0; h < nhl; ++h) {
+        uint32_t a = sk_from(m, (uint32_t)h), b = sk_to(m, (uint32_t)h);
+        hmap[h] = a < o->num_vertices && b < o->num_vertices ? sk__find_halfedge(o, a, b)
+                                                             : SK_INVALID;
+    }
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nfl > 100000)
+#endif
+    for (long f = 0; f < nfl; ++f) { /* the same corners from the same start */
+        uint32_t h0 = m->f_halfedge[f], h = h0, g0 = hmap[h0], g = g0;
+        uint32_t of = g0 != SK_INVALID ? o->h_face[g0] : SK_INVALID;
+        bool same = of != SK_INVALID && o->f_halfedge[of] == g0;
+        if (same) {
+            do {
+                h = m->h_next[h];
+                g = o->h_next[g];
+            } while (h != h0 && g != g0 && hmap[h] == g);
+            same = h == h0 && g == g0;
+        }
+        same_face[f] = same ? of : SK_INVALID;
+    }
+#ifdef SK_HAVE_OPENMP
+#pragma omp parallel for schedule(static) if (nvl > 100000)
+#endif
+    for (long v = 0; v < nvl; ++v)
+        near[v] = !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID &&
+                  (v >= (long)o->num_vertices || !same_star(W, prev, hmap, same_face, (uint32_t)v));
+    for (size_t i = 0; i < prev->num_corners; ++i)
+        if (prev->corners[i] < nv)
+            near[prev->corners[i]] = 1;
+    for (int r = 0; r < SK_REUSE_RINGS; ++r)
+        grow_ring(m, near, near2);
+    memcpy(near2, near, nv);
+    uint8_t *tmp = sk__malloc_array(nv + 1, 1);
+    if (tmp) {
+        grow_ring(m, near2, tmp);
+        sk__free(tmp);
+    } else { /* no scratch: every vertex around a near one, one by one */
+        for (uint32_t v = 0; v < nv; ++v) {
+            uint32_t h0 = m->v_halfedge[v], h = h0;
+            if (near2[v] || h0 == SK_INVALID)
+                continue;
+            do {
+                near2[v] = near2[v] || near[sk_to(m, h)];
+                h = sk_cw_out(m, h);
+            } while (h != h0);
+        }
+    }
+    for (size_t v = 0; v < nv; ++v)
+        n += near[v];
+    return n;
+}
+
 static void free_built(built *b)
 {
     sk_smooth t = {0}; /* the one place that frees a build: sk__vc1_forget_build */
@@ -190,9 +290,10 @@ static void flip_slivers(const sk_smooth *s, const sk__build_ctx *c, const uint3
  * (*kept); else the build before it and the flipped edges are put back (*kept_flips counts the
  * kept). */
 static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_smooth_stats *fresh,
-                               uint32_t **singular, int round, size_t *kept_flips, bool *kept,
-                               sk_error *err)
+                               uint32_t **singular, sk__vc1_state **state, int round,
+                               size_t *kept_flips, bool *kept, sk_error *err)
 {
+    sk__vc1_state *next = NULL;
     uint32_t *hint = NULL, *again = NULL;
     uint8_t *avoid = NULL;
     size_t nhint = 0, nflip = 0, before = s->stats.singular_after_repair;
@@ -212,13 +313,17 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
         built prev;
         double t0[2] = {sk_seconds(), sk_cpu_seconds()};
         move_build_out(s, &prev, fresh);
-        st = sk__vc1_build_creases(s, c, keep, hint, nhint, avoid, &again, t0, err);
+        st = sk__vc1_build_reusing(s, c, keep, hint, nhint, avoid, *state, &next, &again, t0,
+                                   err);
         bool gain = st == SK_OK && s->stats.singular_after_repair < before &&
                     s->num_problems <= prev.num_problems;
         if (st == SK_ERR_NUMERIC)
             st = SK_OK; /* a vertex system of the re-routed build failed: the one before stands */
         *kept = gain;
         if (gain) {
+            sk__vc1_state_free(state); /* it points into prev */
+            *state = next;
+            next = NULL;
             free_built(&prev);
             sk__free(*singular);
             *singular = again;
@@ -227,6 +332,7 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
                 memcpy(c->keep, keep, ne);
             nflip = 0;
         } else {
+            sk__vc1_state_free(&next); /* before its build goes */
             move_build_in(s, &prev);
             sk__free(again);
         }
@@ -242,8 +348,8 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
 
 /* Rounds of the re-routed deletion (reroute_round; at most opts->reroute_rounds, default
  * SK_REROUTE_ROUNDS) while patches stay singular after the regularity repair, whose variants of
- * the vertex systems cannot change the configuration. Each round is a whole build again; their
- * time is counted as the repair's. Measured on the cow in 8 random orders (singular patches in
+ * the vertex systems cannot change the configuration. Each round is a deletion and the build
+ * again near its changes (see the top of this file); their time is counted as the repair's. Measured on the cow in 8 random orders (singular patches in
  * all): 34 without rounds; with the singular triangles' sides avoided instead of hinted, 16; as
  * here without the sliver flips, 6 with 4 rounds and 4 with 6; with them, 3 (bench/smooth_orders.sh
  * has the table over 9 orders and 8 meshes).
@@ -258,7 +364,7 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
 
 sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
                                    const sk_smooth_stats *fresh, uint32_t **singular,
-                                   sk_error *err)
+                                   sk__vc1_state **state, sk_error *err)
 {
     double wall = sk_seconds(), cpu = sk_cpu_seconds();
     double repair_wall = s->stats.seconds_repair, repair_cpu = s->stats.cpu_repair;
@@ -267,7 +373,7 @@ sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
     int most = c->opts->reroute_rounds ? c->opts->reroute_rounds : SK_REROUTE_ROUNDS, since = 0;
     for (; st == SK_OK && *singular && (int)rounds < most; ++rounds) {
         bool kept = false;
-        st = reroute_round(s, c, fresh, singular, since, &flips, &kept, err);
+        st = reroute_round(s, c, fresh, singular, state, since, &flips, &kept, err);
         since = kept ? 0 : since + 1;
     }
     s->stats.rerouted_rounds = rounds;

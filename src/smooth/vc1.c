@@ -124,9 +124,11 @@ static sk_status vc1_targets_and_ratios(sk__vc1_work *W, double *target, double 
 }
 
 /* Step 2: the vertex systems (8), least squares to the targets; status[v] gets the code of
- * sk__vc1_solve_vertex; the solver figures go to s->stats (the mean target deviation summed in
- * vertex order from dev, per vertex: the same for any number of threads). */
-static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *status, sk_error *err)
+ * sk__vc1_solve_vertex, fig[v] its figures; only (NULL: every vertex) the vertices to solve (the
+ * others' solutions, codes and figures are set already: a re-routed round's reuse). The solver
+ * figures go to s->stats, summed in vertex order from fig (the same for any number of threads). */
+static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *status,
+                                    sk__vsys_fig *fig, const uint8_t *only, sk_error *err)
 {
     const sk_mesh *m = W->m;
     size_t nv = m->num_vertices;
@@ -134,43 +136,47 @@ static sk_status vc1_vertex_systems(sk_smooth *s, sk__vc1_work *W, uint8_t *stat
     size_t max_it = 0, fallback = 0, dev_n = 0, relaxed = 0;
     long nvl = (long)nv;
     int too_many = -1;
-    double *dev = sk__calloc_array(nv + 1, sizeof *dev);
-    if (!dev)
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the vertex systems");
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : max_res) \
-    reduction(+ : dev_n, fallback, relaxed) reduction(max : max_it)
+#pragma omp parallel for schedule(dynamic, 256) if (nvl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long i = 0; i < nvl; ++i) {
         uint32_t v = (uint32_t)i;
-        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || (only && !only[v]))
             continue;
         sk__vsys sys;
         int code = sk__vc1_solve_vertex(W, v, &sys, 0.0, 1.0);
+        sk__vsys_fig *F = &fig[v];
         status[v] = (uint8_t)code;
-        relaxed += (size_t)sys.relaxed;
-        if (code == 3) {
-#ifdef SK_HAVE_OPENMP
-#pragma omp critical(sk_vc1_too_many)
-#endif
-            too_many = (int)v;
+        *F = (sk__vsys_fig){.relaxed = (uint8_t)sys.relaxed};
+        if (code == 3)
             continue;
-        }
-        max_res = fmax(max_res, sys.residual);
-        max_it = (size_t)sys.iterations > max_it ? (size_t)sys.iterations : max_it;
-        fallback += (size_t)sys.used_fallback;
+        F->residual = sys.residual;
+        F->iterations = (uint32_t)sys.iterations;
+        F->fallback = (uint8_t)sys.used_fallback;
         for (int k = 0; k < sys.n_edges; ++k) {
             double len = hypot(sys.pstar[2 * k], sys.pstar[2 * k + 1]);
             if (len > 0.0) {
-                dev[v] += hypot(sys.p[2 * k] - sys.pstar[2 * k],
+                F->dev += hypot(sys.p[2 * k] - sys.pstar[2 * k],
                                 sys.p[2 * k + 1] - sys.pstar[2 * k + 1]) / len;
-                dev_n++;
+                F->dev_n++;
             }
         }
     }
-    for (size_t v = 0; v < nv; ++v)
-        dev_sum += dev[v];
-    sk__free(dev);
+    for (size_t v = 0; v < nv; ++v) {
+        const sk__vsys_fig *F = &fig[v];
+        if (m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID)
+            continue;
+        relaxed += F->relaxed;
+        if (status[v] == 3) {
+            too_many = too_many < 0 ? (int)v : too_many;
+            continue;
+        }
+        max_res = fmax(max_res, F->residual);
+        max_it = F->iterations > max_it ? F->iterations : max_it;
+        fallback += F->fallback;
+        dev_sum += F->dev;
+        dev_n += F->dev_n;
+    }
     if (too_many >= 0)
         return sk__fail(err, SK_ERR_TOPOLOGY, "vertex %d has more than %d edges", too_many,
                         SK_VSYS_MAX);
@@ -189,7 +195,7 @@ static void vc1_interior_points(sk__vc1_work *W)
     const sk_mesh *m = W->m;
     long nvl = (long)m->num_vertices;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nvl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long i = 0; i < nvl; ++i)
         if (!m->v_deleted[i] && m->v_halfedge[i] != SK_INVALID)
@@ -202,7 +208,7 @@ static void vc1_assemble(sk_smooth *s, const sk__vc1_work *W)
 {
     long nfl = (long)W->m->num_faces;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nfl >= SK_SMOOTH_TEAM_MIN)
 #endif
     for (long f = 0; f < nfl; ++f)
         sk__vc1_assemble_patch(W, (uint32_t)f, sk_patch_cp(&s->surface, (size_t)f));
@@ -290,7 +296,8 @@ static sk_status fit_guard(sk_smooth *s, sk__vc1_work *W, const double *P0, cons
         long nfl = (long)nf;
         size_t nnew = 0, nold = 0;
 #ifdef SK_HAVE_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : nnew, nold)
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : nnew, nold) \
+    if (nfl >= SK_SMOOTH_TEAM_MIN)
 #endif
         for (long f = 0; f < nfl; ++f) { /* 1: made singular by the fit, 2: singular before */
             bad[f] = sing[f] == SK_SING_UNKNOWN && sk__patch_singular(s, (size_t)f, NULL)
@@ -364,12 +371,137 @@ static void drop_regular(sk_smooth *s, uint32_t **singular)
     }
 }
 
+/* A re-routed round's reuse of the build before it (sk__vc1_reuse_plan): per half-edge, vertex
+ * and face of the new configuration. */
+typedef struct reuse_plan {
+    uint32_t *hmap, *same_face;
+    uint8_t *near, *near2;
+} reuse_plan;
+
+static void reuse_free(reuse_plan *R)
+{
+    sk__free(R->hmap);
+    sk__free(R->same_face);
+    sk__free(R->near);
+    sk__free(R->near2);
+    *R = (reuse_plan){0};
+}
+
+static bool reuse_alloc(reuse_plan *R, const sk_mesh *m)
+{
+    R->hmap = sk__malloc_array(m->num_halfedges + 1, sizeof(uint32_t));
+    R->same_face = sk__malloc_array(m->num_faces + 1, sizeof(uint32_t));
+    R->near = sk__malloc_array(m->num_vertices + 1, 1);
+    R->near2 = sk__malloc_array(m->num_vertices + 1, 1);
+    if (R->hmap && R->same_face && R->near && R->near2)
+        return true;
+    reuse_free(R);
+    return false;
+}
+
+/* the solutions of (8) (tangents, weights, codes, figures) of the vertices outside R->near, as
+ * they stand in prev (after its fair points and repair: a solution of (8) stays one, the star,
+ * targets and nu being the same) */
+static void reuse_solutions(sk__vc1_work *W, const sk__vc1_state *prev, const reuse_plan *R,
+                            uint8_t *status, sk__vsys_fig *fig)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
+        uint32_t v = sk_from(m, h), g = R->hmap[h];
+        if (R->near[v] || g == SK_INVALID)
+            continue;
+        memcpy(W->P + 3 * (size_t)h, prev->P + 3 * (size_t)g, 3 * sizeof(double));
+        W->w1[h] = prev->w1[g];
+    }
+    for (uint32_t v = 0; v < m->num_vertices; ++v)
+        if (!R->near[v] && v < prev->config->num_vertices) {
+            status[v] = prev->status[v];
+            fig[v] = prev->fig[v];
+        }
+}
+
+/* system (4) at the vertices of R->near2 (a tangent moved at them or a neighbour); elsewhere the
+ * interior points of prev */
+static void reuse_interior_points(sk__vc1_work *W, const sk__vc1_state *prev, const reuse_plan *R)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
+        uint32_t g = R->hmap[h];
+        if (!R->near2[sk_from(m, h)] && g != SK_INVALID)
+            memcpy(W->C + 3 * (size_t)h, prev->C + 3 * (size_t)g, 3 * sizeof(double));
+    }
+    for (uint32_t v = 0; v < m->num_vertices; ++v)
+        if (R->near2[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID)
+            sk__vc1_interior_points(W, v);
+}
+
+/* face f has a corner in mark */
+static bool face_touches(const sk_mesh *m, uint32_t f, const uint8_t *mark)
+{
+    uint32_t h0 = m->f_halfedge[f], h = h0;
+    do {
+        if (mark[sk_from(m, h)])
+            return true;
+        h = m->h_next[h];
+    } while (h != h0);
+    return false;
+}
+
+/* the patches with a corner in R->near2 (or no face of prev's) assembled, the others copied */
+static void reuse_patches(sk_smooth *s, const sk__vc1_work *W, const sk__vc1_state *prev,
+                          const reuse_plan *R)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        uint32_t g = R->same_face[f];
+        double *cp = sk_patch_cp(&s->surface, f);
+        if (g == SK_INVALID || face_touches(m, f, R->near2))
+            sk__vc1_assemble_patch(W, f, cp);
+        else
+            memcpy(cp, prev->points + 3 * prev->patches[g].first,
+                   3 * sk_patch_num_points(&s->surface.patches[f]) * sizeof(double));
+    }
+}
+
+/* The regularity flags for the repair: the patches assembled again (a corner in R->near2) and
+ * not tested by the fair points (fair: those with a corner in R->near) to be tested, the others
+ * regular (as in the build before: its singular patches are near) */
+static void reuse_untested(const sk__vc1_work *W, const reuse_plan *R, bool fair, uint8_t *sing)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        if (fair && face_touches(m, f, R->near))
+            continue;
+        sing[f] = face_touches(m, f, R->near2) || R->same_face[f] == SK_INVALID
+                      ? SK_SING_UNKNOWN
+                      : 0;
+    }
+}
+
+void sk__vc1_state_free(sk__vc1_state **state)
+{
+    if (!state || !*state)
+        return;
+    sk__vc1_state *k = *state;
+    sk__free(k->target);
+    sk__free(k->nu);
+    sk__free(k->P);
+    sk__free(k->w1);
+    sk__free(k->C);
+    sk__free(k->status);
+    sk__free(k->fig);
+    sk__free(k->corners);
+    sk__free(k);
+    *state = NULL;
+}
+
 /* The construction on s->config: targets and ratios, vertex systems, interior points, fair free
  * points (unless LSQ), patches, regularity repair, exactness check (failed_v: the vertex named
  * when a vertex system fails, SK_ERR_NUMERIC). G0 at the creases of s->crease_edge. */
 static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_points free_points,
-                           const sk_mesh *fit_mesh, double fit_weight, uint32_t *failed_v,
-                           uint32_t **singular, sk_error *err)
+                           const sk_mesh *fit_mesh, double fit_weight, const sk__vc1_state *prev,
+                           sk__vc1_state **state, uint32_t *failed_v, uint32_t **singular,
+                           sk_error *err)
 {
     sk__fit_data fit = {0};
     sk_mesh *m = s->config;
@@ -383,9 +515,15 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
     uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL, *before = NULL;
+    sk__vsys_fig *fig = sk__calloc_array(nv ? nv : 1, sizeof *fig);
     double *P0 = NULL;
     uint8_t *crease_v = s->crease_edge ? sk__calloc_array(nv ? nv : 1, 1) : NULL;
-    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status ||
+    reuse_plan plan = {0};
+    if (prev && fit_weight <= 0.0 && !reuse_alloc(&plan, m)) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+        goto done;
+    }
+    if (!target || !r || !W.P || !W.w1 || !W.nu || !W.C || !status || !fig ||
         (s->crease_edge && !crease_v)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
@@ -405,19 +543,35 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     }
     double t0[2], t1[2], t2[2], t3[2];
     clock_now(t0);
-    if ((st = vc1_targets_and_ratios(&W, target, r, max_nu, err)) != SK_OK ||
-        (st = vc1_vertex_systems(s, &W, status, err)) != SK_OK)
+    if ((st = vc1_targets_and_ratios(&W, target, r, max_nu, err)) != SK_OK)
         goto done;
-    vc1_interior_points(&W);
+    if (plan.hmap) { /* a re-routed round: what did not change is taken from the build before */
+        sk__vc1_reuse_plan(&W, prev, plan.hmap, plan.near, plan.near2, plan.same_face);
+        reuse_solutions(&W, prev, &plan, status, fig);
+        W.limit = plan.near;
+    }
+    if ((st = vc1_vertex_systems(s, &W, status, fig, plan.near, err)) != SK_OK)
+        goto done;
+    if (plan.hmap)
+        reuse_interior_points(&W, prev, &plan);
+    else
+        vc1_interior_points(&W);
     clock_since(t0, &s->stats.seconds_systems, &s->stats.cpu_systems);
     clock_now(t1);
     if ((st = add_patches(s, err)) != SK_OK)
         goto done;
-    vc1_assemble(s, &W);
+    if (plan.hmap)
+        reuse_patches(s, &W, prev, &plan);
+    else
+        vc1_assemble(s, &W);
     clock_since(t1, &s->stats.seconds_patches, &s->stats.cpu_patches);
     clock_now(t2);
+    if (plan.hmap && !(sing = sk__malloc_array(nf + 1, 1))) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+        goto done;
+    }
     if (free_points == SK_FREE_POINTS_FAIR) {
-        if (!(sing = sk__malloc_array(nf + 1, 1))) {
+        if (!sing && !(sing = sk__malloc_array(nf + 1, 1))) {
             st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
             goto done;
         }
@@ -431,11 +585,25 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
             if (sing[f] == SK_SING_UNKNOWN)
                 sk__vc1_assemble_patch(&W, f, sk_patch_cp(&s->surface, f));
     }
+    if (plan.hmap) /* untested: the patches the round assembled again, outside the fair's test */
+        reuse_untested(&W, &plan, free_points == SK_FREE_POINTS_FAIR, sing);
     clock_since(t2, &s->stats.seconds_fair, &s->stats.cpu_fair);
     clock_now(t3);
     if ((st = sk__vc1_repair_regularity(s, &W, status, sing, singular, err)) != SK_OK)
         goto done;
     clock_since(t3, &s->stats.seconds_repair, &s->stats.cpu_repair);
+    if (plan.hmap) {
+        /* the round's steps and gains added to the build's it started from; its time is the
+         * repair stage's (sk__vc1_reroute_singular), the other stages keep the first build's */
+        const sk_smooth_stats *f = &prev->stats;
+        s->stats.seconds_deletion = f->seconds_deletion, s->stats.cpu_deletion = f->cpu_deletion;
+        s->stats.seconds_systems = f->seconds_systems, s->stats.cpu_systems = f->cpu_systems;
+        s->stats.seconds_patches = f->seconds_patches, s->stats.cpu_patches = f->cpu_patches;
+        s->stats.seconds_fair = f->seconds_fair, s->stats.cpu_fair = f->cpu_fair;
+        s->stats.singular_before_repair = prev->stats.singular_before_repair;
+        s->stats.repaired_vertices += prev->stats.repaired_vertices;
+        s->stats.fair_steps += prev->stats.fair_steps;
+    }
     if (fit_weight > 0.0) { /* the fit to the scan, from the surface as it stands */
         double t4[2];
         clock_now(t4);
@@ -468,7 +636,35 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
         clock_since(t4, &s->stats.seconds_fit, &s->stats.cpu_fit);
     }
     st = vc1_problems(s, &W, status, failed_v, err);
+    if (st == SK_OK && state && singular && *singular && fit_weight <= 0.0) {
+        /* kept for the re-routed rounds (reroute.c) */
+        sk__vc1_state *k = sk__calloc_array(1, sizeof *k);
+        size_t nc = 0;
+        for (size_t i = 0; k && i < s->stats.singular_after_repair; ++i)
+            nc += sk_patch_num_corners(&s->surface.patches[(*singular)[i]]);
+        if (k && (k->corners = sk__malloc_array(nc + 1, sizeof(uint32_t)))) {
+            for (size_t i = 0; i < s->stats.singular_after_repair; ++i) {
+                const sk_patch *p = &s->surface.patches[(*singular)[i]];
+                for (unsigned c = 0; c < sk_patch_num_corners(p); ++c)
+                    k->corners[k->num_corners++] = p->corner_ids[c];
+            }
+            k->config = m;
+            k->crease_edge = s->crease_edge;
+            k->corner_normals = s->corner_normals;
+            k->patches = s->surface.patches;
+            k->points = s->surface.points;
+            k->target = target, k->nu = W.nu, k->P = W.P, k->w1 = W.w1, k->C = W.C;
+            k->status = status, k->fig = fig;
+            k->stats = s->stats;
+            target = NULL, W.nu = W.P = W.w1 = W.C = NULL;
+            status = NULL, fig = NULL;
+            *state = k;
+        } else
+            sk__free(k); /* no state: the rounds build from nothing */
+    }
 done:
+    reuse_free(&plan);
+    sk__free(fig);
     sk__fit_data_free(&fit);
     sk__free(before);
     sk__free(P0);
@@ -757,6 +953,14 @@ sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
                                 const uint32_t *hint, size_t nhint, const uint8_t *avoid,
                                 uint32_t **singular, double t0[2], sk_error *err)
 {
+    return sk__vc1_build_reusing(s, c, keep, hint, nhint, avoid, NULL, NULL, singular, t0, err);
+}
+
+sk_status sk__vc1_build_reusing(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
+                                const uint32_t *hint, size_t nhint, const uint8_t *avoid,
+                                const sk__vc1_state *prev, sk__vc1_state **state,
+                                uint32_t **singular, double t0[2], sk_error *err)
+{
     sk_status st = SK_OK;
     sk_smooth_stats saved = s->stats;
     for (int round = 0;; ++round) {
@@ -782,7 +986,7 @@ sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
         uint32_t failed_v = SK_INVALID;
         st = vc1_build(s, c->alpha, c->max_nu, c->opts->free_points,
                        c->opts->fit_mesh ? c->opts->fit_mesh : c->mesh, c->opts->fit_weight,
-                       &failed_v, singular, err);
+                       round == 0 ? prev : NULL, state, &failed_v, singular, err);
         if (st != SK_OK && st != SK_ERR_NUMERIC)
             return st;
         /* creases whose sectors cannot be built (a vertex system that fails or misses its angle
@@ -799,6 +1003,8 @@ sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
             return st;
         sk__free(*singular);
         *singular = NULL;
+        if (state)
+            sk__vc1_state_free(state);
         sk__vc1_forget_build(s, &saved);
         clock_now(t0);
     }
@@ -819,6 +1025,8 @@ static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c_in, const uin
         cf.deletion_flips = &dflips;
     sk__deletion_flip_log *fl = c->deletion_flips;
     uint32_t *singular = NULL;
+    sk__vc1_state *state = NULL;
+    bool rounds = c->opts->reroute_rounds >= 0;
     size_t ne = sk_num_edges(c->base);
     /* the crease flags as they were: the build drops crease lines it cannot build */
     uint8_t *keep0 = fl && c->keep ? sk__malloc_array(ne + 1, 1) : NULL;
@@ -826,7 +1034,8 @@ static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c_in, const uin
         return sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
     if (keep0)
         memcpy(keep0, c->keep, ne);
-    sk_status st = sk__vc1_build_creases(s, c, c->keep, hint, nhint, NULL, &singular, t0, err);
+    sk_status st = sk__vc1_build_reusing(s, c, c->keep, hint, nhint, NULL, NULL,
+                                         rounds ? &state : NULL, &singular, t0, err);
     sk__build_ctx c2 = *c;
     if (fl && fl->n && ((st == SK_OK && singular) || st == SK_ERR_NUMERIC)) {
         /* the base as it was (flipping back would change half-edge and face order, and so
@@ -835,16 +1044,19 @@ static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c_in, const uin
             memcpy(c->keep, keep0, ne);
         sk__free(singular);
         singular = NULL;
+        sk__vc1_state_free(&state);
         fl->n = 0;
         fl->off = true;
         c2.base = c2.flippable = fl->saved;
         sk__vc1_forget_build(s, &fresh);
         clock_now(t0);
-        st = sk__vc1_build_creases(s, &c2, c->keep, hint, nhint, NULL, &singular, t0, err);
+        st = sk__vc1_build_reusing(s, &c2, c->keep, hint, nhint, NULL, NULL,
+                                   rounds ? &state : NULL, &singular, t0, err);
     }
     sk__free(keep0);
     if (st == SK_OK)
-        st = sk__vc1_reroute_singular(s, &c2, &fresh, &singular, err);
+        st = sk__vc1_reroute_singular(s, &c2, &fresh, &singular, &state, err);
+    sk__vc1_state_free(&state);
     sk__free(singular);
     s->stats.deletion_flipped_edges = fl ? fl->n : 0;
     sk_mesh_destroy(&dflips.saved);

@@ -25,6 +25,10 @@ typedef struct sk__vc1_work {
     const uint8_t *crease_v;
     const double *cn;
     sk__vsys_memo *memo; /* the solves of sk__vc1_solve_vertex go through it (NULL: none) */
+    /* a re-routed round that reuses the build before it (sk__vc1_reuse_plan): per vertex 1 where
+     * it works (NULL: everywhere); the fair points seed only at patches with a corner there and
+     * sweep only there, the other patches are regular (they were, in the build before) */
+    const uint8_t *limit;
 } sk__vc1_work;
 
 /* Delta of eq. (1) for face f. */
@@ -153,12 +157,59 @@ typedef struct sk__build_ctx {
     const sk_smooth_opts *opts;
 } sk__build_ctx;
 
+/* A vertex's figures of its least-squares solve of (8) (vc1.c: the solver stats are summed from
+ * them, so that a re-routed round can reuse them where it reuses the solve). */
+typedef struct sk__vsys_fig {
+    double dev, residual; /* target deviation summed over its edges, the solver's residual */
+    uint32_t dev_n, iterations;
+    uint8_t relaxed, fallback;
+} sk__vsys_fig;
+
+/* A finished build's work state, kept while re-routed rounds may start from it (vc1.c): its
+ * configuration and crease data (owned by the build: the state must not outlive it), per
+ * half-edge of config the targets, nu, tangents P, weights w1 and interior points C as they stand
+ * after the fair points and the repair, per vertex its status and solver figures, the corners of
+ * the patches still singular, and the build's stats. */
+typedef struct sk__vc1_state {
+    const sk_mesh *config;
+    const uint8_t *crease_edge;
+    const double *corner_normals;
+    const sk_patch *patches; /* its surface's patches and points */
+    const double *points;
+    double *target, *nu, *P, *w1, *C;
+    uint8_t *status;
+    sk__vsys_fig *fig;
+    uint32_t *corners;
+    size_t num_corners;
+    sk_smooth_stats stats;
+} sk__vc1_state;
+
+void sk__vc1_state_free(sk__vc1_state **state);
+
+/* The reuse of a re-routed round (reroute.c) on the new configuration W->m (targets and nu set)
+ * from the build prev: hmap per half-edge of W->m the one of prev->config with the same ends
+ * (SK_INVALID: none); near per vertex 1 where the round solves (8) again: the vertices whose star,
+ * targets, nu or creases differ from prev's, and prev's corners of singular patches, grown by
+ * SK_REUSE_RINGS rings; near2 near and one ring more (their interior points are solved again);
+ * same_face per face of W->m: its patch is prev's face's (same corners from the same start).
+ * Returns the count of near vertices. */
+#define SK_REUSE_RINGS 2
+size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, uint32_t *hmap,
+                          uint8_t *near, uint8_t *near2, uint32_t *same_face);
+
 /* Edge deletion (sk__edge_deletion_hinted with hint and avoid) and the VC1 construction over
  * c->base, with the creases keep (may be NULL); crease lines whose sectors cannot be built are
  * dropped from keep and the round is done again (at most SK_CREASE_ROUNDS times). singular: the
  * patches still singular after the regularity repair (see sk__vc1_repair_regularity). */
 sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
                                 const uint32_t *hint, size_t nhint, const uint8_t *avoid,
+                                uint32_t **singular, double t0[2], sk_error *err);
+/* The same, starting from the build prev (NULL: from nothing) where the configuration did not
+ * change (sk__vc1_reuse_plan), and leaving its own work state in *state when patches stay
+ * singular (state NULL: not wanted; *state NULL: none kept). */
+sk_status sk__vc1_build_reusing(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
+                                const uint32_t *hint, size_t nhint, const uint8_t *avoid,
+                                const sk__vc1_state *prev, sk__vc1_state **state,
                                 uint32_t **singular, double t0[2], sk_error *err);
 /* Back to the state before a build: no configuration, surface or creases; stats = *saved. */
 void sk__vc1_forget_build(sk_smooth *s, const sk_smooth_stats *saved);
@@ -167,6 +218,6 @@ void sk__vc1_forget_build(sk_smooth *s, const sk_smooth_stats *saved);
  * build. */
 sk_status sk__vc1_reroute_singular(sk_smooth *s, const sk__build_ctx *c,
                                    const sk_smooth_stats *fresh, uint32_t **singular,
-                                   sk_error *err);
+                                   sk__vc1_state **state, sk_error *err);
 
 #endif

@@ -85,6 +85,7 @@ static void write_report(FILE *fp, const report_ctx *c)
     json_kuint(&j, "split_edges", s->stats.split_edges);
     json_kuint(&j, "flipped_edges", s->stats.flipped_edges);
     json_kuint(&j, "parity_flipped_edges", s->stats.parity_flipped_edges);
+    json_kuint(&j, "deletion_flipped_edges", s->stats.deletion_flipped_edges);
     json_kuint(&j, "folded_normals", s->stats.folded_normals);
     json_knum(&j, "max_gap", r->max_gap);
     json_knum(&j, "mean_gap", r->mean_gap);
@@ -316,6 +317,9 @@ static int parse_args(int argc, char **argv, smooth_args *a)
         OPT_FLAG("--parity-flips", a->so.parity_flips,
                  "vc1: also flip edges that make even vertices odd where the shape and the\n"
                  "normal agreement are kept: fewer deleted edges (parity_flipped_edges)"),
+        OPT_FLAG("--deletion-flips", a->so.deletion_flips,
+                 "vc1: edge flips chosen for the edge deletion: fewer deleted edges on rough\n"
+                 "scans (deletion_flipped_edges), about twice the build CPU there"),
         OPT_INT("--reroute-rounds", a->reroute_rounds, 0, 64, "K",
                 "vc1: where patches stay singular after the regularity repair, build again\n"
                 "up to K times (default 6, 0: never) with the edge deletion changed near them\n"

@@ -114,6 +114,13 @@ typedef struct sk_smooth_opts {
     bool parity_flips;         /* VC1: after those flips, flip edges that make even vertices odd
                                   where that keeps the shape and the normal agreement (fewer
                                   deleted edges; off by default, no effect with keep_triangulation) */
+    bool deletion_flips;       /* VC1: edge flips chosen for the edge deletion (off by default:
+                                  while deleted / bound is above 1.01, edges next to deleted ones
+                                  are flipped where the flip pass's quality bounds hold, and a pass
+                                  is kept when the deletion then has fewer edges and a lower
+                                  deleted / bound; a build left with singular patches is done again
+                                  without them; about twice the build CPU on rough scans; no effect
+                                  with keep_triangulation) */
     sk_free_points free_points; /* VC1: how the free tangent control points are chosen */
     int reroute_rounds;        /* VC1: builds again with the edge deletion re-routed (and slivers
                                   flipped) near the patches still singular after the repair, at
@@ -147,6 +154,8 @@ typedef struct sk_smooth_stats {
     sk_edge_deletion_stats deletion;
     size_t flipped_edges;      /* edges flipped by the triangulation pass before the deletion */
     size_t parity_flipped_edges; /* of those, flipped by the parity pass (opts.parity_flips) */
+    size_t deletion_flipped_edges; /* flipped for the edge deletion after it (not in
+                                      flipped_edges; opts.deletion_flips) */
     size_t folded_normals;     /* estimated normals refitted at folded stars (fold_normals.c) */
     size_t split_edges;        /* 1 when --allow-split split an edge */
     size_t vertex_systems;     /* vertices whose system (8) was solved */

@@ -366,6 +366,35 @@ sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *kee
     return SK_OK;
 }
 
+/* The quality test of a flip chosen for the edge deletion (deletion_flips.c): the bounds of the
+ * parity pass without its parity condition. Its four vertices have a parity and are no neighbour
+ * of a crease vertex (noparity), the new edge bends at most SK_FLIP_MAX_DIHEDRAL_DEG, each new
+ * face agrees with its corner normals at least as well as the worse old face did (the quality
+ * pass's rule), the smallest angle stays above SK_FLIP_PARITY_ANGLE of what it was, and no
+ * vertex gets more than SK_FLIP_PARITY_MAX_VALENCE faces. */
+bool sk__deletion_flip_ok(const sk_mesh *m, const double *N, const uint8_t *noparity, uint32_t h)
+{
+    flip_quad q;
+    flip_quad_of(m, h, &q);
+    if (q.c == q.d || noparity[q.a] || noparity[q.b] || noparity[q.c] || noparity[q.d] ||
+        !enough_faces(m, q.a) || !enough_faces(m, q.b) ||
+        sk_mesh_valence(m, q.c) >= SK_FLIP_PARITY_MAX_VALENCE ||
+        sk_mesh_valence(m, q.d) >= SK_FLIP_PARITY_MAX_VALENCE)
+        return false;
+    if (!(q.s1 > 0.0 && q.s2 > 0.0 && q.s3 > 0.0 && q.s4 > 0.0) ||
+        sk__dot3(q.n3, q.n4) < cos(SK_FLIP_MAX_DIHEDRAL_DEG * M_PI / 180.0))
+        return false;
+    double old_agree = fmin(normal_agreement(N, q.a, q.b, q.c, q.n1),
+                            normal_agreement(N, q.b, q.a, q.d, q.n2));
+    double new_agree = fmin(normal_agreement(N, q.a, q.d, q.c, q.n3),
+                            normal_agreement(N, q.b, q.c, q.d, q.n4));
+    if (!(new_agree > 0.0 && new_agree >= old_agree))
+        return false;
+    double before = fmin(min_angle(q.A, q.B, q.C), min_angle(q.B, q.A, q.D));
+    double after = fmin(min_angle(q.A, q.D, q.C), min_angle(q.B, q.C, q.D));
+    return after >= SK_FLIP_PARITY_ANGLE * before && !has_edge(m, q.c, q.d);
+}
+
 void sk__flip_edge(sk_mesh *m, uint32_t h)
 {
     flip(m, h);

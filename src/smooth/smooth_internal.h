@@ -250,6 +250,23 @@ void sk__flip_edge(sk_mesh *m, uint32_t h);
  * three faces; returns whether it flipped. */
 bool sk__flip_edge_if_valid(sk_mesh *m, uint32_t h, const uint8_t *keep);
 
+/* The quality test of a flip chosen for the edge deletion (edge_flips.c): the parity pass's
+ * bounds without its parity condition (no sliver, no crease, no worse normal agreement, valence at
+ * most 12, no vertex with noparity set). */
+bool sk__deletion_flip_ok(const sk_mesh *m, const double *N, const uint8_t *noparity, uint32_t h);
+/* Flips chosen for the edge deletion (deletion_flips.c): deleted (ndel vertex pairs of m) is an
+ * edge deletion of m with even even vertices and keep the crease flags (NULL = none). Flips, in
+ * edge order, where the flip keeps the quality (sk__deletion_flip_ok): the kept edges whose quad
+ * has two opposite sides deleted, when that lowers deleted / bound, and the kept edges with one
+ * side of their quad deleted whose flip does not lower the even count (one per quad). *flips
+ * (*flipped half-edges, to be freed) lists them in order: sk__flip_edge on each in reverse order
+ * restores m. hint (may be NULL): when there are flips, *hint (*nhint vertex pairs, to be freed)
+ * is deleted without the edges the flips un-deleted (the gains' two sides, the moves' quad
+ * sides), a warm start for sk__edge_deletion_hinted on the flipped m. */
+sk_status sk__deletion_flips(sk_mesh *m, const double *normals, const uint8_t *keep,
+                             const uint32_t *deleted, size_t ndel, size_t even, uint32_t **flips,
+                             size_t *flipped, uint32_t **hint, size_t *nhint, sk_error *err);
+
 /* A vertex with exactly two crease edges has both crease tangents on one line, so a sector of
  * one face between them would be a patch with a 180-degree corner: the edge opposite the vertex
  * in such a triangle is flipped (crease_g0.c). Returns the number of flips; drops per-corner

@@ -887,6 +887,74 @@ static void prefault_surface(sk_smooth *s, const sk_mesh *base, sk__prefault *pf
     sk__prefault_begin(pf, s->surface.points, npts * 3 * sizeof(double));
 }
 
+/* passes of the flips chosen for the edge deletion, each followed by the deletion again */
+#define VC1_DELETION_FLIP_PASSES 4
+/* the flips are tried only while deleted / bound is above this: below, at most 1% is to gain and
+ * the deletion again would cost the clean meshes (whose deletion meets the bound) time */
+#define VC1_DELETION_FLIP_RATIO 1.01
+
+/* sk__deletion_flips on c->flippable, s->deleted, each pass followed by the edge deletion of the
+ * flipped base from nothing; a pass is kept when the deletion has fewer edges and a lower
+ * deleted / bound, else its flips are undone and the passes end. s->config, s->deleted and
+ * s->stats.deletion are those of the last kept pass; fl->n counts the kept flips, fl->saved
+ * is the base before the first. */
+static bool deletion_better(const sk_edge_deletion_stats *x, const sk_edge_deletion_stats *y)
+{
+    /* x has fewer deleted edges and a lower deleted / bound than y (x.d / x.b < y.d / y.b) */
+    return x->deleted_edges < y->deleted_edges &&
+           (double)x->deleted_edges * (double)y->lower_bound <
+               (double)y->deleted_edges * (double)x->lower_bound;
+}
+
+static sk_status deletion_flips(sk_smooth *s, const sk__build_ctx *c, const uint8_t *keep,
+                                sk__deletion_flip_log *fl, sk_error *err)
+{
+    for (int pass = 0; pass < VC1_DELETION_FLIP_PASSES; ++pass) {
+        sk_edge_deletion_stats old = s->stats.deletion;
+        if (!((double)old.deleted_edges > VC1_DELETION_FLIP_RATIO * (double)old.lower_bound))
+            return SK_OK;
+        sk_status cst = fl->saved ? SK_OK : sk_mesh_copy(c->flippable, &fl->saved, err);
+        if (cst != SK_OK)
+            return cst;
+        size_t flipped = 0, nhint = 0;
+        uint32_t *flips = NULL, *hint = NULL, *deleted[2] = {NULL, NULL};
+        sk_mesh *config[2] = {NULL, NULL};
+        sk_edge_deletion_stats st2[2] = {{0}, {0}};
+        sk_status st = sk__deletion_flips(c->flippable, s->normals, keep, s->deleted,
+                                          old.deleted_edges, old.even_vertices, &flips,
+                                          &flipped, &hint, &nhint, err);
+        /* the deletion of the flipped base from nothing (0) and warm-started from the deleted
+         * edges the flips left (1): neither is better on all of the shared meshes */
+        for (int k = 0; k < 2 && st == SK_OK && flipped; ++k)
+            st = sk__edge_deletion_hinted(c->base, keep, k ? hint : NULL, k ? nhint : 0, NULL,
+                                          &config[k], &deleted[k], &st2[k], err);
+        sk__free(hint);
+        int best = deletion_better(&st2[1], &st2[0]) ? 1 : 0;
+        bool gain = st == SK_OK && flipped && deletion_better(&st2[best], &old);
+        if (st == SK_OK && gain) {
+            fl->n += flipped;
+            sk_mesh_destroy(&s->config);
+            sk__free(s->deleted);
+            s->config = config[best];
+            s->deleted = deleted[best];
+            s->stats.deletion = st2[best];
+            config[best] = NULL;
+            deleted[best] = NULL;
+        } else {
+            while (flipped > 0)
+                sk__flip_edge(c->flippable, flips[--flipped]);
+        }
+        for (int k = 0; k < 2; ++k) {
+            sk_mesh_destroy(&config[k]);
+            sk__free(deleted[k]);
+        }
+        sk__free(flips);
+        if (st != SK_OK || !gain)
+            return st;
+    }
+    return SK_OK;
+}
+
 sk_status sk__vc1_build_creases(sk_smooth *s, const sk__build_ctx *c, uint8_t *keep,
                                 const uint32_t *hint, size_t nhint, const uint8_t *avoid,
                                 uint32_t **singular, double t0[2], sk_error *err)
@@ -906,6 +974,9 @@ sk_status sk__vc1_build_reusing(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
         prefault_surface(s, c->base, &pf);
         st = sk__edge_deletion_hinted(c->base, keep, hint, nhint, avoid, &s->config, &s->deleted,
                                       &s->stats.deletion, err);
+        if (st == SK_OK && !hint && !avoid && c->flippable && c->deletion_flips &&
+            !c->deletion_flips->off)
+            st = deletion_flips(s, c, keep, c->deletion_flips, err);
         sk__prefault_end(&pf);
         if (st != SK_OK)
             return st;
@@ -945,20 +1016,56 @@ sk_status sk__vc1_build_reusing(sk_smooth *s, const sk__build_ctx *c, uint8_t *k
     }
 }
 
-/* The build (sk__vc1_build_creases), then the re-routed rounds where patches stay singular. */
-static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c, const uint32_t *hint,
+/* The build (sk__vc1_build_creases), then the re-routed rounds where patches stay singular. With
+ * flips chosen for the deletion (c->deletion_flips), a build left with singular patches after the
+ * regularity repair, or with a failed vertex system, is done again without them (their flips
+ * undone) before any re-routed round: they never cost a patch, and the rounds run as without
+ * them. */
+static sk_status build_rounds(sk_smooth *s, const sk__build_ctx *c_in, const uint32_t *hint,
                               size_t nhint, double t0[2], sk_error *err)
 {
     sk_smooth_stats fresh = s->stats;
+    sk__deletion_flip_log dflips = {0};
+    sk__build_ctx cf = *c_in, *c = &cf;
+    if (c->flippable && !hint && c->opts->deletion_flips)
+        cf.deletion_flips = &dflips;
+    sk__deletion_flip_log *fl = c->deletion_flips;
     uint32_t *singular = NULL;
     sk__vc1_state *state = NULL;
     bool rounds = c->opts->reroute_rounds >= 0;
+    size_t ne = sk_num_edges(c->base);
+    /* the crease flags as they were: the build drops crease lines it cannot build */
+    uint8_t *keep0 = fl && c->keep ? sk__malloc_array(ne + 1, 1) : NULL;
+    if (fl && c->keep && !keep0)
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+    if (keep0)
+        memcpy(keep0, c->keep, ne);
     sk_status st = sk__vc1_build_reusing(s, c, c->keep, hint, nhint, NULL, NULL,
                                          rounds ? &state : NULL, &singular, t0, err);
+    sk__build_ctx c2 = *c;
+    if (fl && fl->n && ((st == SK_OK && singular) || st == SK_ERR_NUMERIC)) {
+        /* the base as it was (flipping back would change half-edge and face order, and so
+         * the deletion's tie-breaks) */
+        if (keep0)
+            memcpy(c->keep, keep0, ne);
+        sk__free(singular);
+        singular = NULL;
+        sk__vc1_state_free(&state);
+        fl->n = 0;
+        fl->off = true;
+        c2.base = c2.flippable = fl->saved;
+        sk__vc1_forget_build(s, &fresh);
+        clock_now(t0);
+        st = sk__vc1_build_reusing(s, &c2, c->keep, hint, nhint, NULL, NULL,
+                                   rounds ? &state : NULL, &singular, t0, err);
+    }
+    sk__free(keep0);
     if (st == SK_OK)
-        st = sk__vc1_reroute_singular(s, c, &fresh, &singular, &state, err);
+        st = sk__vc1_reroute_singular(s, &c2, &fresh, &singular, &state, err);
     sk__vc1_state_free(&state);
     sk__free(singular);
+    s->stats.deletion_flipped_edges = fl ? fl->n : 0;
+    sk_mesh_destroy(&dflips.saved);
     return st;
 }
 

@@ -146,11 +146,21 @@ double sk__fair_patch_energy(const double *qt, const double *qq, int corners, co
 
 /* The build of a VC1 surface over a triangulation (vc1.c), and what the re-routed rounds of
  * reroute.c need to run it again. */
+/* The flips chosen for the edge deletion (vc1.c, deletion_flips): how many are kept, the base as
+ * it was before the first (a copy, made when they are first tried; NULL before), and whether a
+ * build with them was dropped (then no more are tried) */
+typedef struct sk__deletion_flip_log {
+    size_t n;
+    sk_mesh *saved;
+    bool off;
+} sk__deletion_flip_log;
+
 typedef struct sk__build_ctx {
     const sk_mesh *mesh;  /* the input */
     const sk_mesh *base;  /* the triangulation the edge deletion runs on */
     sk_mesh *flippable;   /* base when its edges may be flipped (not with keep_triangulation) */
     uint8_t *keep;        /* crease flags per edge of base (NULL: no creases) */
+    sk__deletion_flip_log *deletion_flips; /* flips for the deletion are tried (NULL: none) */
     bool file_normals;
     double alpha, max_nu;
     const sk_smooth_opts *opts;

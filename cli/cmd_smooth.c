@@ -2,6 +2,7 @@
  * report. */
 #include "cli.h"
 
+#include <limits.h>
 #include <stdio.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -262,7 +263,7 @@ static int parse_args(int argc, char **argv, smooth_args *a)
 {
     unsigned units = 0, triangles = 0;
     a->tess = 4;
-    a->reroute_rounds = 6;
+    a->reroute_rounds = UINT_MAX; /* not given: the library's default */
     const cli_opt opts[] = {
         OPT_FILE("-o", a->out, "OUT",
                  "by extension: .obj/.ply the tessellated surface with exact patch normals;\n"
@@ -322,14 +323,16 @@ static int parse_args(int argc, char **argv, smooth_args *a)
                  "scans (deletion_flipped_edges), about twice the build CPU there"),
         OPT_INT("--reroute-rounds", a->reroute_rounds, 0, 64, "K",
                 "vc1: where patches stay singular after the regularity repair, build again\n"
-                "up to K times (default 6, 0: never) with the edge deletion changed near them\n"
-                "and their slivers flipped, keeping a build with fewer (rerouted_rounds;\n"
-                "not in the --tolerance search, which refines at singular patches itself)"),
+                "up to K times (default 6, 12 with --refine-base; 0: never) with the edge\n"
+                "deletion changed near them and their slivers flipped, keeping a build with\n"
+                "fewer (rerouted_rounds; not in the --tolerance search, which refines at\n"
+                "singular patches itself)"),
         OPT_INT("--refine-base", a->so.base_refinements, 0, 4, "N",
                 "vc1: refine the input N times before the edge deletion (after the normals\n"
                 "and the crease detection on it; no edge flips): every edge but the near-folds\n"
                 "(facets over 120 degrees apart) split at its midpoint, on the input's facets\n"
-                "with the facets' normal, the input's creases kept (default 0; not with\n"
+                "with the facets' normal, the input's creases kept; the re-routed rounds may\n"
+                "flip slivers of the refined base near singular patches (default 0; not with\n"
                 "--tolerance)"),
         OPT_CHOICE("--free-points", a->so.free_points, "fair|lsq",
                    "vc1: free tangent control points by least squares to the wire frame\n"
@@ -469,7 +472,9 @@ int cmd_smooth(int argc, char **argv)
         return rc == CLI_HELP ? EXIT_OK : rc;
     if (a.no_creases)
         a.so.crease_angle_deg = -1.0; /* no detection, no G0 construction */
-    a.so.reroute_rounds = a.reroute_rounds ? (int)a.reroute_rounds : -1;
+    a.so.reroute_rounds = a.reroute_rounds == UINT_MAX ? 0
+                          : a.reroute_rounds          ? (int)a.reroute_rounds
+                                                      : -1;
     if (a.tolerance)
         return smooth_tolerance(&a);
     double t0 = sk_seconds();

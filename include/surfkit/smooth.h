@@ -124,7 +124,8 @@ typedef struct sk_smooth_opts {
     sk_free_points free_points; /* VC1: how the free tangent control points are chosen */
     int reroute_rounds;        /* VC1: builds again with the edge deletion re-routed (and slivers
                                   flipped) near the patches still singular after the repair, at
-                                  most this many times: 0 = 6, negative = none */
+                                  most this many times: 0 = 6 (12 with base_refinements),
+                                  negative = none */
     sk_progress_fn progress;
     void *progress_user;
     double crease_angle_deg;   /* crease detection (sk_mesh_crease_edges): 0 = 40 degrees,
@@ -147,7 +148,10 @@ typedef struct sk_smooth_opts {
                                   normals over 120 degrees apart) split at its midpoint, the new
                                   vertex on the input's facets with the facets' normal, crease
                                   halves kept as creases (src/smooth/refine_base.c); 0 = none; not
-                                  with sk_smooth_tolerance */
+                                  with sk_smooth_tolerance. The re-routed rounds (reroute_rounds,
+                                  12 by default here) may flip slivers of the refined base near
+                                  singular patches (a round whose flips do not pay is tried again
+                                  without them) */
 } sk_smooth_opts;
 
 typedef struct sk_smooth_stats {

@@ -1206,9 +1206,9 @@ sk_status sk__smooth_build_hinted(const sk_mesh *mesh, const sk_smooth_opts *opt
         sk__crease_validate(base, keep);
     s->normals = normals;
     normals = NULL;
+    /* the re-routed rounds may flip slivers of the refined base too (reroute.c) */
     sk__build_ctx ctx = {.mesh = mesh, .base = base,
-                         .flippable =
-                             opts.keep_triangulation || opts.base_refinements ? NULL : work,
+                         .flippable = opts.keep_triangulation ? NULL : work,
                          .keep = keep,
                          .file_normals = file_normals, .alpha = alpha, .max_nu = max_nu,
                          .opts = &opts};

@@ -56,14 +56,7 @@ sk_status sk__deletion_flips(sk_mesh *m, const double *normals, const uint8_t *k
     }
     /* as the parity pass (edge_flips.c): boundary and crease vertices, and the crease vertices'
      * neighbours, are left alone */
-    for (uint32_t v = 0; v < nv; ++v)
-        noparity[v] = m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || sk_is_boundary_v(m, v);
-    for (uint32_t e = 0; keep && e < ne; ++e)
-        if (keep[e] && !m->e_deleted[e])
-            crease_v[sk_from(m, 2 * e)] = crease_v[sk_to(m, 2 * e)] = 1;
-    for (uint32_t e = 0; keep && e < ne; ++e)
-        if (!m->e_deleted[e] && (crease_v[sk_from(m, 2 * e)] || crease_v[sk_to(m, 2 * e)]))
-            noparity[sk_from(m, 2 * e)] = noparity[sk_to(m, 2 * e)] = 1;
+    sk__flip_noparity(m, keep, noparity, crease_v);
     size_t nd = ndel, nt = even;
     for (uint32_t e = 0; e < ne; ++e) {
         if (m->e_deleted[e] || dflag[e] || sk_is_boundary_e(m, e) || (keep && keep[e]))

@@ -297,47 +297,50 @@ static int parity_change(const sk_mesh *m, uint32_t h)
     return d;
 }
 
-/* Should the edge of h be flipped to lower the number of even vertices by at least -need? The
- * flip keeps what the quality pass gave: its four vertices all have a parity and are no
- * neighbour of a crease vertex (noparity), the new edge bends at most SK_FLIP_MAX_DIHEDRAL_DEG, each new
- * face agrees with its corner normals at least as well as the better of the two old faces did,
- * the smallest angle stays above SK_FLIP_PARITY_ANGLE of what it was, and no vertex gets more
- * than SK_FLIP_PARITY_MAX_VALENCE faces. */
+/* The bounds shared by the parity flips and the flips chosen for the deletion: the quad's four
+ * vertices all have a parity and are no neighbour of a crease vertex (noparity), the new edge
+ * bends at most SK_FLIP_MAX_DIHEDRAL_DEG, each new face agrees with its corner normals at least
+ * as well as the better (than_better; else the worse) of the two old faces did, the smallest
+ * angle stays above SK_FLIP_PARITY_ANGLE of what it was, and no vertex gets more than
+ * SK_FLIP_PARITY_MAX_VALENCE faces. */
+static bool flip_within_bounds(const sk_mesh *m, const double *N, const uint8_t *noparity,
+                               const flip_quad *q, bool than_better)
+{
+    if (q->c == q->d || noparity[q->a] || noparity[q->b] || noparity[q->c] || noparity[q->d] ||
+        !enough_faces(m, q->a) || !enough_faces(m, q->b) ||
+        sk_mesh_valence(m, q->c) >= SK_FLIP_PARITY_MAX_VALENCE ||
+        sk_mesh_valence(m, q->d) >= SK_FLIP_PARITY_MAX_VALENCE)
+        return false;
+    if (!(q->s1 > 0.0 && q->s2 > 0.0 && q->s3 > 0.0 && q->s4 > 0.0) ||
+        sk__dot3(q->n3, q->n4) < cos(SK_FLIP_MAX_DIHEDRAL_DEG * M_PI / 180.0))
+        return false;
+    double old1 = normal_agreement(N, q->a, q->b, q->c, q->n1);
+    double old2 = normal_agreement(N, q->b, q->a, q->d, q->n2);
+    double old_agree = than_better ? fmax(old1, old2) : fmin(old1, old2);
+    double new_agree = fmin(normal_agreement(N, q->a, q->d, q->c, q->n3),
+                            normal_agreement(N, q->b, q->c, q->d, q->n4));
+    if (!(new_agree > 0.0 && new_agree >= old_agree))
+        return false;
+    double before = fmin(min_angle(q->A, q->B, q->C), min_angle(q->B, q->A, q->D));
+    double after = fmin(min_angle(q->A, q->D, q->C), min_angle(q->B, q->C, q->D));
+    return after >= SK_FLIP_PARITY_ANGLE * before && !has_edge(m, q->c, q->d);
+}
+
+/* Should the edge of h be flipped to lower the number of even vertices by at least -need,
+ * within flip_within_bounds (agreement with the normals no worse than the better old face's)? */
 static bool want_parity_flip(const sk_mesh *m, const double *N, const uint8_t *noparity,
                              uint32_t h, int need)
 {
     flip_quad q;
     flip_quad_of(m, h, &q);
-    if (q.c == q.d || noparity[q.a] || noparity[q.b] || noparity[q.c] || noparity[q.d] ||
-        !enough_faces(m, q.a) || !enough_faces(m, q.b) || parity_change(m, h) > need ||
-        sk_mesh_valence(m, q.c) >= SK_FLIP_PARITY_MAX_VALENCE ||
-        sk_mesh_valence(m, q.d) >= SK_FLIP_PARITY_MAX_VALENCE)
-        return false;
-    if (!(q.s1 > 0.0 && q.s2 > 0.0 && q.s3 > 0.0 && q.s4 > 0.0) ||
-        sk__dot3(q.n3, q.n4) < cos(SK_FLIP_MAX_DIHEDRAL_DEG * M_PI / 180.0))
-        return false;
-    double old_best = fmax(normal_agreement(N, q.a, q.b, q.c, q.n1),
-                           normal_agreement(N, q.b, q.a, q.d, q.n2));
-    double new_agree = fmin(normal_agreement(N, q.a, q.d, q.c, q.n3),
-                            normal_agreement(N, q.b, q.c, q.d, q.n4));
-    if (!(new_agree > 0.0 && new_agree >= old_best))
-        return false;
-    double before = fmin(min_angle(q.A, q.B, q.C), min_angle(q.B, q.A, q.D));
-    double after = fmin(min_angle(q.A, q.D, q.C), min_angle(q.B, q.C, q.D));
-    return after >= SK_FLIP_PARITY_ANGLE * before && !has_edge(m, q.c, q.d);
+    return parity_change(m, h) <= need && flip_within_bounds(m, N, noparity, &q, true);
 }
 
-sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *keep,
-                           size_t *flipped, sk_error *err)
+void sk__flip_noparity(const sk_mesh *m, const uint8_t *keep, uint8_t *noparity,
+                       uint8_t *crease_v)
 {
-    size_t ne = sk_num_edges(m), nv = m->num_vertices, count = 0;
-    *flipped = 0;
-    uint8_t *noparity = sk__malloc_array(nv + 1, 1), *crease_v = sk__calloc_array(nv + 1, 1);
-    if (!noparity || !crease_v) {
-        sk__free(noparity);
-        sk__free(crease_v);
-        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the parity flips");
-    }
+    size_t ne = sk_num_edges(m), nv = m->num_vertices;
+    memset(crease_v, 0, nv);
     for (uint32_t v = 0; v < nv; ++v)
         noparity[v] = m->v_deleted[v] || m->v_halfedge[v] == SK_INVALID || sk_is_boundary_v(m, v);
     /* crease vertices and their neighbours (as the fold refit, vc1.c: a crease vertex's sectors
@@ -349,6 +352,20 @@ sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *kee
     for (uint32_t e = 0; keep && e < ne; ++e)
         if (!m->e_deleted[e] && (crease_v[sk_from(m, 2 * e)] || crease_v[sk_to(m, 2 * e)]))
             noparity[sk_from(m, 2 * e)] = noparity[sk_to(m, 2 * e)] = 1;
+}
+
+sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *keep,
+                           size_t *flipped, sk_error *err)
+{
+    size_t ne = sk_num_edges(m), nv = m->num_vertices, count = 0;
+    *flipped = 0;
+    uint8_t *noparity = sk__malloc_array(nv + 1, 1), *crease_v = sk__malloc_array(nv + 1, 1);
+    if (!noparity || !crease_v) {
+        sk__free(noparity);
+        sk__free(crease_v);
+        return sk__fail(err, SK_ERR_NOMEM, "out of memory in the parity flips");
+    }
+    sk__flip_noparity(m, keep, noparity, crease_v);
     /* one sweep for the flips that make four even vertices odd, one for three of four (each
      * flip lowers the count by 4 or 2) */
     for (int need = -4; need <= -2; need += 2)
@@ -367,32 +384,13 @@ sk_status sk__parity_flips(sk_mesh *m, const double *normals, const uint8_t *kee
 }
 
 /* The quality test of a flip chosen for the edge deletion (deletion_flips.c): the bounds of the
- * parity pass without its parity condition. Its four vertices have a parity and are no neighbour
- * of a crease vertex (noparity), the new edge bends at most SK_FLIP_MAX_DIHEDRAL_DEG, each new
- * face agrees with its corner normals at least as well as the worse old face did (the quality
- * pass's rule), the smallest angle stays above SK_FLIP_PARITY_ANGLE of what it was, and no
- * vertex gets more than SK_FLIP_PARITY_MAX_VALENCE faces. */
+ * parity pass without its parity condition, each new face agreeing with its corner normals at
+ * least as well as the worse old face did (the quality pass's rule). */
 bool sk__deletion_flip_ok(const sk_mesh *m, const double *N, const uint8_t *noparity, uint32_t h)
 {
     flip_quad q;
     flip_quad_of(m, h, &q);
-    if (q.c == q.d || noparity[q.a] || noparity[q.b] || noparity[q.c] || noparity[q.d] ||
-        !enough_faces(m, q.a) || !enough_faces(m, q.b) ||
-        sk_mesh_valence(m, q.c) >= SK_FLIP_PARITY_MAX_VALENCE ||
-        sk_mesh_valence(m, q.d) >= SK_FLIP_PARITY_MAX_VALENCE)
-        return false;
-    if (!(q.s1 > 0.0 && q.s2 > 0.0 && q.s3 > 0.0 && q.s4 > 0.0) ||
-        sk__dot3(q.n3, q.n4) < cos(SK_FLIP_MAX_DIHEDRAL_DEG * M_PI / 180.0))
-        return false;
-    double old_agree = fmin(normal_agreement(N, q.a, q.b, q.c, q.n1),
-                            normal_agreement(N, q.b, q.a, q.d, q.n2));
-    double new_agree = fmin(normal_agreement(N, q.a, q.d, q.c, q.n3),
-                            normal_agreement(N, q.b, q.c, q.d, q.n4));
-    if (!(new_agree > 0.0 && new_agree >= old_agree))
-        return false;
-    double before = fmin(min_angle(q.A, q.B, q.C), min_angle(q.B, q.A, q.D));
-    double after = fmin(min_angle(q.A, q.D, q.C), min_angle(q.B, q.C, q.D));
-    return after >= SK_FLIP_PARITY_ANGLE * before && !has_edge(m, q.c, q.d);
+    return flip_within_bounds(m, N, noparity, &q, false);
 }
 
 void sk__flip_edge(sk_mesh *m, uint32_t h)

@@ -254,6 +254,11 @@ bool sk__flip_edge_if_valid(sk_mesh *m, uint32_t h, const uint8_t *keep);
  * bounds without its parity condition (no sliver, no crease, no worse normal agreement, valence at
  * most 12, no vertex with noparity set). */
 bool sk__deletion_flip_ok(const sk_mesh *m, const double *N, const uint8_t *noparity, uint32_t h);
+/* The vertices the parity and deletion flips leave alone (noparity[v] = 1, one per vertex of m):
+ * deleted, isolated and boundary vertices, crease vertices (keep: crease flags per edge, may be
+ * NULL) and their neighbours; crease_v (one per vertex) is scratch. */
+void sk__flip_noparity(const sk_mesh *m, const uint8_t *keep, uint8_t *noparity,
+                       uint8_t *crease_v);
 /* Flips chosen for the edge deletion (deletion_flips.c): deleted (ndel vertex pairs of m) is an
  * edge deletion of m with even even vertices and keep the crease flags (NULL = none). Flips, in
  * edge order, where the flip keeps the quality (sk__deletion_flip_ok): the kept edges whose quad

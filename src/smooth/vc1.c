@@ -501,6 +501,82 @@ void sk__vc1_state_free(sk__vc1_state **state)
     *state = NULL;
 }
 
+/* The fit of the free points to fit_mesh (fit_weight > 0), VC1_FIT_ROUNDS rounds from the surface
+ * as it stands, each guarded against new singular patches (fit_guard); *sing allocated here when
+ * the build has none yet. */
+static sk_status vc1_fit(sk_smooth *s, sk__vc1_work *W, uint8_t *status, const sk_mesh *fit_mesh,
+                         double fit_weight, uint8_t **sing, uint32_t **singular, sk_error *err)
+{
+    size_t nh = W->m->num_halfedges, nf = W->m->num_faces;
+    sk__fit_data fit = {0};
+    sk_status st = SK_OK;
+    double t4[2];
+    clock_now(t4);
+    uint8_t *before = sk__malloc_array(nf + 1, 1);
+    double *P0 = sk__malloc_array(nh + 1, 3 * sizeof(double));
+    if ((!*sing && !(*sing = sk__malloc_array(nf + 1, 1))) || !before || !P0) {
+        st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
+        goto done;
+    }
+    s->stats.fit_steps = 0;
+    s->stats.fit_undone = 0;
+    for (int round = 0; round < VC1_FIT_ROUNDS; ++round) {
+        sk__fit_data_free(&fit);
+        if ((st = sk__vc1_fit_data(s, fit_mesh, fit_weight, &fit, err)) != SK_OK)
+            goto done;
+        s->stats.fit_points = fit.count;
+        memcpy(P0, W->P, nh * 3 * sizeof(double));
+        size_t steps = 0;
+        if ((st = sk__vc1_fair_points(s, W, status, VC1_FAIR_SWEEPS, &fit, *sing, before, &steps,
+                                      NULL, err)) != SK_OK)
+            goto done;
+        s->stats.fit_steps += steps;
+        for (uint32_t f = 0; f < nf; ++f) /* the patches the fit may have moved */
+            if ((*sing)[f] == SK_SING_UNKNOWN)
+                sk__vc1_assemble_patch(W, f, sk_patch_cp(&s->surface, f));
+        if ((st = fit_guard(s, W, P0, before, *sing, err)) != SK_OK)
+            goto done;
+    }
+    drop_regular(s, singular);
+    clock_since(t4, &s->stats.seconds_fit, &s->stats.cpu_fit);
+done:
+    sk__fit_data_free(&fit);
+    sk__free(before);
+    sk__free(P0);
+    return st;
+}
+
+/* The state a re-routed round builds on (reroute.c): the corners of the singular patches, and
+ * the build's configuration, patches, targets, vertex solutions and figures, which the state
+ * takes over from W, target, status and fig (the caller drops its pointers). NULL when out of
+ * memory: the rounds then build from nothing. */
+static sk__vc1_state *vc1_keep_state(sk_smooth *s, const sk__vc1_work *W, const uint32_t *singular,
+                                     double *target, uint8_t *status, sk__vsys_fig *fig)
+{
+    sk__vc1_state *k = sk__calloc_array(1, sizeof *k);
+    size_t nc = 0;
+    for (size_t i = 0; k && i < s->stats.singular_after_repair; ++i)
+        nc += sk_patch_num_corners(&s->surface.patches[singular[i]]);
+    if (!k || !(k->corners = sk__malloc_array(nc + 1, sizeof(uint32_t)))) {
+        sk__free(k);
+        return NULL;
+    }
+    for (size_t i = 0; i < s->stats.singular_after_repair; ++i) {
+        const sk_patch *p = &s->surface.patches[singular[i]];
+        for (unsigned c = 0; c < sk_patch_num_corners(p); ++c)
+            k->corners[k->num_corners++] = p->corner_ids[c];
+    }
+    k->config = s->config;
+    k->crease_edge = s->crease_edge;
+    k->corner_normals = s->corner_normals;
+    k->patches = s->surface.patches;
+    k->points = s->surface.points;
+    k->target = target, k->nu = W->nu, k->P = W->P, k->w1 = W->w1, k->C = W->C;
+    k->status = status, k->fig = fig;
+    k->stats = s->stats;
+    return k;
+}
+
 /* The construction on s->config: targets and ratios, vertex systems, interior points, fair free
  * points (unless LSQ), patches, regularity repair, exactness check (failed_v: the vertex named
  * when a vertex system fails, SK_ERR_NUMERIC). G0 at the creases of s->crease_edge. */
@@ -509,7 +585,6 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
                            sk__vc1_state **state, uint32_t *failed_v, uint32_t **singular,
                            sk_error *err)
 {
-    sk__fit_data fit = {0};
     sk_mesh *m = s->config;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices;
     sk_status st = SK_OK;
@@ -520,9 +595,8 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     W.w1 = sk__malloc_array(nh, sizeof(double));
     W.nu = sk__malloc_array(nh, sizeof(double));
     W.C = sk__calloc_array(nh, 3 * sizeof(double));
-    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL, *before = NULL;
+    uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL;
     sk__vsys_fig *fig = sk__calloc_array(nv ? nv : 1, sizeof *fig);
-    double *P0 = NULL;
     uint8_t *crease_v = s->crease_edge ? sk__calloc_array(nv ? nv : 1, 1) : NULL;
     reuse_plan plan = {0};
     if (prev && fit_weight <= 0.0 && !reuse_alloc(&plan, m)) {
@@ -610,70 +684,18 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
         s->stats.repaired_vertices += prev->stats.repaired_vertices;
         s->stats.fair_steps += prev->stats.fair_steps;
     }
-    if (fit_weight > 0.0) { /* the fit to the scan, from the surface as it stands */
-        double t4[2];
-        clock_now(t4);
-        if ((!sing && !(sing = sk__malloc_array(nf + 1, 1))) ||
-            !(before = sk__malloc_array(nf + 1, 1)) ||
-            !(P0 = sk__malloc_array(nh + 1, 3 * sizeof(double)))) {
-            st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
-            goto done;
-        }
-        s->stats.fit_steps = 0;
-        s->stats.fit_undone = 0;
-        for (int round = 0; round < VC1_FIT_ROUNDS; ++round) {
-            sk__fit_data_free(&fit);
-            if ((st = sk__vc1_fit_data(s, fit_mesh, fit_weight, &fit, err)) != SK_OK)
-                goto done;
-            s->stats.fit_points = fit.count;
-            memcpy(P0, W.P, nh * 3 * sizeof(double));
-            size_t steps = 0;
-            if ((st = sk__vc1_fair_points(s, &W, status, VC1_FAIR_SWEEPS, &fit, sing, before,
-                                          &steps, NULL, err)) != SK_OK)
-                goto done;
-            s->stats.fit_steps += steps;
-            for (uint32_t f = 0; f < nf; ++f) /* the patches the fit may have moved */
-                if (sing[f] == SK_SING_UNKNOWN)
-                    sk__vc1_assemble_patch(&W, f, sk_patch_cp(&s->surface, f));
-            if ((st = fit_guard(s, &W, P0, before, sing, err)) != SK_OK)
-                goto done;
-        }
-        drop_regular(s, singular);
-        clock_since(t4, &s->stats.seconds_fit, &s->stats.cpu_fit);
-    }
+    if (fit_weight > 0.0 && /* the fit to the scan, from the surface as it stands */
+        (st = vc1_fit(s, &W, status, fit_mesh, fit_weight, &sing, singular, err)) != SK_OK)
+        goto done;
     st = vc1_problems(s, &W, status, failed_v, err);
-    if (st == SK_OK && state && singular && *singular && fit_weight <= 0.0) {
-        /* kept for the re-routed rounds (reroute.c) */
-        sk__vc1_state *k = sk__calloc_array(1, sizeof *k);
-        size_t nc = 0;
-        for (size_t i = 0; k && i < s->stats.singular_after_repair; ++i)
-            nc += sk_patch_num_corners(&s->surface.patches[(*singular)[i]]);
-        if (k && (k->corners = sk__malloc_array(nc + 1, sizeof(uint32_t)))) {
-            for (size_t i = 0; i < s->stats.singular_after_repair; ++i) {
-                const sk_patch *p = &s->surface.patches[(*singular)[i]];
-                for (unsigned c = 0; c < sk_patch_num_corners(p); ++c)
-                    k->corners[k->num_corners++] = p->corner_ids[c];
-            }
-            k->config = m;
-            k->crease_edge = s->crease_edge;
-            k->corner_normals = s->corner_normals;
-            k->patches = s->surface.patches;
-            k->points = s->surface.points;
-            k->target = target, k->nu = W.nu, k->P = W.P, k->w1 = W.w1, k->C = W.C;
-            k->status = status, k->fig = fig;
-            k->stats = s->stats;
-            target = NULL, W.nu = W.P = W.w1 = W.C = NULL;
-            status = NULL, fig = NULL;
-            *state = k;
-        } else
-            sk__free(k); /* no state: the rounds build from nothing */
+    if (st == SK_OK && state && singular && *singular && fit_weight <= 0.0 &&
+        (*state = vc1_keep_state(s, &W, *singular, target, status, fig))) {
+        target = NULL, W.nu = W.P = W.w1 = W.C = NULL; /* now the state's */
+        status = NULL, fig = NULL;
     }
 done:
     reuse_free(&plan);
     sk__free(fig);
-    sk__fit_data_free(&fit);
-    sk__free(before);
-    sk__free(P0);
     sk__free(target);
     sk__free(r);
     sk__free(W.P);

@@ -10,14 +10,14 @@
  * (flip_slivers), kept when it leaves fewer singular patches.
  *
  * The deletion and the targets are done again in full; the rest reuses the build the round starts
- * from (sk__vc1_reuse_plan, vc1.c): a vertex whose star, targets, nu and creases are the same and
- * that lies more than SK_REUSE_RINGS rings from a change and from a corner of a singular patch
- * keeps its tangents and weights as they stand (after that build's fair points and repair: a
- * solution of (8) for the same star, targets and nu is one still), its interior points and patches
- * are copied, and the fair points and the repair work only near the changes. So the far vertices
- * are not faired and repaired again, and the surface is not byte for byte the one of a whole
- * build (cow: the same singular counts and rounds over 9 orders, max overshoot and mean fairness
- * within 1%; docs/edge-deletion.md). */
+ * from (sk__vc1_reuse_plan and the sk__vc1_reuse_* steps below, which vc1.c calls): a vertex whose
+ * star, targets, nu and creases are the same and that lies more than SK_REUSE_RINGS rings from a
+ * change and from a corner of a singular patch keeps its tangents and weights as they stand (after
+ * that build's fair points and repair: a solution of (8) for the same star, targets and nu is one
+ * still), its interior points and patches are copied, and the fair points and the repair work only
+ * near the changes. So the far vertices are not faired and repaired again, and the surface is not
+ * byte for byte the one of a whole build (cow: the same singular counts and rounds over 9 orders,
+ * max overshoot and mean fairness within 1%; docs/edge-deletion.md). */
 #include "smooth/vc1_internal.h"
 #include "core/internal.h"
 #include "core/vec.h"
@@ -176,10 +176,11 @@ static bool same_star(const sk__vc1_work *W, const sk__vc1_state *prev, const ui
     return h == h0 && g == g0;
 }
 
-size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, uint32_t *hmap,
-                          uint8_t *near, uint8_t *near2, uint32_t *same_face)
+size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, sk__vc1_reuse *R)
 {
     const sk_mesh *m = W->m, *o = prev->config;
+    uint32_t *hmap = R->hmap, *same_face = R->same_face;
+    uint8_t *near = R->near, *near2 = R->near2;
     size_t nh = m->num_halfedges, nf = m->num_faces, nv = m->num_vertices, n = 0;
     long nhl = (long)nh, nfl = (long)nf, nvl = (long)nv;
 #ifdef SK_HAVE_OPENMP
@@ -236,6 +237,108 @@ size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, uint
     for (size_t v = 0; v < nv; ++v)
         n += near[v];
     return n;
+}
+
+void sk__vc1_reuse_free(sk__vc1_reuse *R)
+{
+    sk__free(R->hmap);
+    sk__free(R->same_face);
+    sk__free(R->near);
+    sk__free(R->near2);
+    *R = (sk__vc1_reuse){0};
+}
+
+bool sk__vc1_reuse_alloc(sk__vc1_reuse *R, const sk_mesh *m)
+{
+    R->hmap = sk__malloc_array(m->num_halfedges + 1, sizeof(uint32_t));
+    R->same_face = sk__malloc_array(m->num_faces + 1, sizeof(uint32_t));
+    R->near = sk__malloc_array(m->num_vertices + 1, 1);
+    R->near2 = sk__malloc_array(m->num_vertices + 1, 1);
+    if (R->hmap && R->same_face && R->near && R->near2)
+        return true;
+    sk__vc1_reuse_free(R);
+    return false;
+}
+
+/* the solutions of (8) (tangents, weights, codes, figures) of the vertices outside R->near, as
+ * they stand in prev (after its fair points and repair: a solution of (8) stays one, the star,
+ * targets and nu being the same) */
+void sk__vc1_reuse_solutions(sk__vc1_work *W, const sk__vc1_state *prev, const sk__vc1_reuse *R,
+                             uint8_t *status, sk__vsys_fig *fig)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
+        uint32_t v = sk_from(m, h), g = R->hmap[h];
+        if (R->near[v] || g == SK_INVALID)
+            continue;
+        memcpy(W->P + 3 * (size_t)h, prev->P + 3 * (size_t)g, 3 * sizeof(double));
+        W->w1[h] = prev->w1[g];
+    }
+    for (uint32_t v = 0; v < m->num_vertices; ++v)
+        if (!R->near[v] && v < prev->config->num_vertices) {
+            status[v] = prev->status[v];
+            fig[v] = prev->fig[v];
+        }
+}
+
+/* system (4) at the vertices of R->near2 (a tangent moved at them or a neighbour); elsewhere the
+ * interior points of prev */
+void sk__vc1_reuse_interior_points(sk__vc1_work *W, const sk__vc1_state *prev,
+                                   const sk__vc1_reuse *R)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
+        uint32_t g = R->hmap[h];
+        if (!R->near2[sk_from(m, h)] && g != SK_INVALID)
+            memcpy(W->C + 3 * (size_t)h, prev->C + 3 * (size_t)g, 3 * sizeof(double));
+    }
+    for (uint32_t v = 0; v < m->num_vertices; ++v)
+        if (R->near2[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID)
+            sk__vc1_interior_points(W, v);
+}
+
+/* face f has a corner in mark */
+static bool face_touches(const sk_mesh *m, uint32_t f, const uint8_t *mark)
+{
+    uint32_t h0 = m->f_halfedge[f], h = h0;
+    do {
+        if (mark[sk_from(m, h)])
+            return true;
+        h = m->h_next[h];
+    } while (h != h0);
+    return false;
+}
+
+/* the patches with a corner in R->near2 (or no face of prev's) assembled, the others copied */
+void sk__vc1_reuse_patches(sk_smooth *s, const sk__vc1_work *W, const sk__vc1_state *prev,
+                           const sk__vc1_reuse *R)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        uint32_t g = R->same_face[f];
+        double *cp = sk_patch_cp(&s->surface, f);
+        if (g == SK_INVALID || face_touches(m, f, R->near2))
+            sk__vc1_assemble_patch(W, f, cp);
+        else
+            memcpy(cp, prev->points + 3 * prev->patches[g].first,
+                   3 * sk_patch_num_points(&s->surface.patches[f]) * sizeof(double));
+    }
+}
+
+/* The regularity flags for the repair: the patches assembled again (a corner in R->near2) and
+ * not tested by the fair points (fair: those with a corner in R->near) to be tested, the others
+ * regular (as in the build before: its singular patches are near) */
+void sk__vc1_reuse_untested(const sk__vc1_work *W, const sk__vc1_reuse *R, bool fair,
+                             uint8_t *sing)
+{
+    const sk_mesh *m = W->m;
+    for (uint32_t f = 0; f < m->num_faces; ++f) {
+        if (fair && face_touches(m, f, R->near))
+            continue;
+        sing[f] = face_touches(m, f, R->near2) || R->same_face[f] == SK_INVALID
+                      ? SK_SING_UNKNOWN
+                      : 0;
+    }
 }
 
 static void free_built(built *b)
@@ -350,11 +453,12 @@ static sk_status reroute_round(sk_smooth *s, const sk__build_ctx *c, const sk_sm
 
 /* Rounds of the re-routed deletion (reroute_round; at most opts->reroute_rounds, default
  * SK_REROUTE_ROUNDS) while patches stay singular after the regularity repair, whose variants of
- * the vertex systems cannot change the configuration. Each round is a deletion and the build
- * again near its changes (see the top of this file); their time is counted as the repair's. Measured on the cow in 8 random orders (singular patches in
- * all): 34 without rounds; with the singular triangles' sides avoided instead of hinted, 16; as
- * here without the sliver flips, 6 with 4 rounds and 4 with 6; with them, 3 (bench/smooth_orders.sh
- * has the table over 9 orders and 8 meshes).
+ * the vertex systems cannot change the configuration. Each round is a deletion and the build again
+ * near its changes (see the top of this file); their time is counted as the repair's. Measured on
+ * the cow in 8 random orders (singular patches in all): 34 without rounds; with the singular
+ * triangles' sides avoided instead of hinted, 16; as here without the sliver flips, 6 with 4
+ * rounds and 4 with 6; with them, 3 (bench/smooth_orders.sh has the table over 9 orders and 8
+ * meshes).
  *
  * The rings (and the side of a singular triangle) start again after a kept round: a kept round
  * can move the singular patches away from the first ones. On test_reroute_orders' cow order 1

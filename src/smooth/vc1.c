@@ -377,113 +377,6 @@ static void drop_regular(sk_smooth *s, uint32_t **singular)
     }
 }
 
-/* A re-routed round's reuse of the build before it (sk__vc1_reuse_plan): per half-edge, vertex
- * and face of the new configuration. */
-typedef struct reuse_plan {
-    uint32_t *hmap, *same_face;
-    uint8_t *near, *near2;
-} reuse_plan;
-
-static void reuse_free(reuse_plan *R)
-{
-    sk__free(R->hmap);
-    sk__free(R->same_face);
-    sk__free(R->near);
-    sk__free(R->near2);
-    *R = (reuse_plan){0};
-}
-
-static bool reuse_alloc(reuse_plan *R, const sk_mesh *m)
-{
-    R->hmap = sk__malloc_array(m->num_halfedges + 1, sizeof(uint32_t));
-    R->same_face = sk__malloc_array(m->num_faces + 1, sizeof(uint32_t));
-    R->near = sk__malloc_array(m->num_vertices + 1, 1);
-    R->near2 = sk__malloc_array(m->num_vertices + 1, 1);
-    if (R->hmap && R->same_face && R->near && R->near2)
-        return true;
-    reuse_free(R);
-    return false;
-}
-
-/* the solutions of (8) (tangents, weights, codes, figures) of the vertices outside R->near, as
- * they stand in prev (after its fair points and repair: a solution of (8) stays one, the star,
- * targets and nu being the same) */
-static void reuse_solutions(sk__vc1_work *W, const sk__vc1_state *prev, const reuse_plan *R,
-                            uint8_t *status, sk__vsys_fig *fig)
-{
-    const sk_mesh *m = W->m;
-    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
-        uint32_t v = sk_from(m, h), g = R->hmap[h];
-        if (R->near[v] || g == SK_INVALID)
-            continue;
-        memcpy(W->P + 3 * (size_t)h, prev->P + 3 * (size_t)g, 3 * sizeof(double));
-        W->w1[h] = prev->w1[g];
-    }
-    for (uint32_t v = 0; v < m->num_vertices; ++v)
-        if (!R->near[v] && v < prev->config->num_vertices) {
-            status[v] = prev->status[v];
-            fig[v] = prev->fig[v];
-        }
-}
-
-/* system (4) at the vertices of R->near2 (a tangent moved at them or a neighbour); elsewhere the
- * interior points of prev */
-static void reuse_interior_points(sk__vc1_work *W, const sk__vc1_state *prev, const reuse_plan *R)
-{
-    const sk_mesh *m = W->m;
-    for (uint32_t h = 0; h < m->num_halfedges; ++h) {
-        uint32_t g = R->hmap[h];
-        if (!R->near2[sk_from(m, h)] && g != SK_INVALID)
-            memcpy(W->C + 3 * (size_t)h, prev->C + 3 * (size_t)g, 3 * sizeof(double));
-    }
-    for (uint32_t v = 0; v < m->num_vertices; ++v)
-        if (R->near2[v] && !m->v_deleted[v] && m->v_halfedge[v] != SK_INVALID)
-            sk__vc1_interior_points(W, v);
-}
-
-/* face f has a corner in mark */
-static bool face_touches(const sk_mesh *m, uint32_t f, const uint8_t *mark)
-{
-    uint32_t h0 = m->f_halfedge[f], h = h0;
-    do {
-        if (mark[sk_from(m, h)])
-            return true;
-        h = m->h_next[h];
-    } while (h != h0);
-    return false;
-}
-
-/* the patches with a corner in R->near2 (or no face of prev's) assembled, the others copied */
-static void reuse_patches(sk_smooth *s, const sk__vc1_work *W, const sk__vc1_state *prev,
-                          const reuse_plan *R)
-{
-    const sk_mesh *m = W->m;
-    for (uint32_t f = 0; f < m->num_faces; ++f) {
-        uint32_t g = R->same_face[f];
-        double *cp = sk_patch_cp(&s->surface, f);
-        if (g == SK_INVALID || face_touches(m, f, R->near2))
-            sk__vc1_assemble_patch(W, f, cp);
-        else
-            memcpy(cp, prev->points + 3 * prev->patches[g].first,
-                   3 * sk_patch_num_points(&s->surface.patches[f]) * sizeof(double));
-    }
-}
-
-/* The regularity flags for the repair: the patches assembled again (a corner in R->near2) and
- * not tested by the fair points (fair: those with a corner in R->near) to be tested, the others
- * regular (as in the build before: its singular patches are near) */
-static void reuse_untested(const sk__vc1_work *W, const reuse_plan *R, bool fair, uint8_t *sing)
-{
-    const sk_mesh *m = W->m;
-    for (uint32_t f = 0; f < m->num_faces; ++f) {
-        if (fair && face_touches(m, f, R->near))
-            continue;
-        sing[f] = face_touches(m, f, R->near2) || R->same_face[f] == SK_INVALID
-                      ? SK_SING_UNKNOWN
-                      : 0;
-    }
-}
-
 void sk__vc1_state_free(sk__vc1_state **state)
 {
     if (!state || !*state)
@@ -598,8 +491,8 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     uint8_t *status = sk__calloc_array(nv ? nv : 1, 1), *sing = NULL;
     sk__vsys_fig *fig = sk__calloc_array(nv ? nv : 1, sizeof *fig);
     uint8_t *crease_v = s->crease_edge ? sk__calloc_array(nv ? nv : 1, 1) : NULL;
-    reuse_plan plan = {0};
-    if (prev && fit_weight <= 0.0 && !reuse_alloc(&plan, m)) {
+    sk__vc1_reuse plan = {0};
+    if (prev && fit_weight <= 0.0 && !sk__vc1_reuse_alloc(&plan, m)) {
         st = sk__fail(err, SK_ERR_NOMEM, "out of memory building the VC1 surface");
         goto done;
     }
@@ -626,14 +519,14 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     if ((st = vc1_targets_and_ratios(&W, target, r, max_nu, err)) != SK_OK)
         goto done;
     if (plan.hmap) { /* a re-routed round: what did not change is taken from the build before */
-        sk__vc1_reuse_plan(&W, prev, plan.hmap, plan.near, plan.near2, plan.same_face);
-        reuse_solutions(&W, prev, &plan, status, fig);
+        sk__vc1_reuse_plan(&W, prev, &plan);
+        sk__vc1_reuse_solutions(&W, prev, &plan, status, fig);
         W.limit = plan.near;
     }
     if ((st = vc1_vertex_systems(s, &W, status, fig, plan.near, err)) != SK_OK)
         goto done;
     if (plan.hmap)
-        reuse_interior_points(&W, prev, &plan);
+        sk__vc1_reuse_interior_points(&W, prev, &plan);
     else
         vc1_interior_points(&W);
     clock_since(t0, &s->stats.seconds_systems, &s->stats.cpu_systems);
@@ -641,7 +534,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
     if ((st = add_patches(s, err)) != SK_OK)
         goto done;
     if (plan.hmap)
-        reuse_patches(s, &W, prev, &plan);
+        sk__vc1_reuse_patches(s, &W, prev, &plan);
     else
         vc1_assemble(s, &W);
     clock_since(t1, &s->stats.seconds_patches, &s->stats.cpu_patches);
@@ -666,7 +559,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
                 sk__vc1_assemble_patch(&W, f, sk_patch_cp(&s->surface, f));
     }
     if (plan.hmap) /* untested: the patches the round assembled again, outside the fair's test */
-        reuse_untested(&W, &plan, free_points == SK_FREE_POINTS_FAIR, sing);
+        sk__vc1_reuse_untested(&W, &plan, free_points == SK_FREE_POINTS_FAIR, sing);
     clock_since(t2, &s->stats.seconds_fair, &s->stats.cpu_fair);
     clock_now(t3);
     if ((st = sk__vc1_repair_regularity(s, &W, status, sing, singular, err)) != SK_OK)
@@ -694,7 +587,7 @@ static sk_status vc1_build(sk_smooth *s, double alpha, double max_nu, sk_free_po
         status = NULL, fig = NULL;
     }
 done:
-    reuse_free(&plan);
+    sk__vc1_reuse_free(&plan);
     sk__free(fig);
     sk__free(target);
     sk__free(r);

@@ -200,11 +200,29 @@ void sk__vc1_state_free(sk__vc1_state **state);
  * (SK_INVALID: none); near per vertex 1 where the round solves (8) again: the vertices whose star,
  * targets, nu or creases differ from prev's, and prev's corners of singular patches, grown by
  * SK_REUSE_RINGS rings; near2 near and one ring more (their interior points are solved again);
- * same_face per face of W->m: its patch is prev's face's (same corners from the same start).
- * Returns the count of near vertices. */
+ * same_face per face of W->m: its patch is prev's face's (same corners from the same start). */
+typedef struct sk__vc1_reuse {
+    uint32_t *hmap, *same_face;
+    uint8_t *near, *near2;
+} sk__vc1_reuse;
 #define SK_REUSE_RINGS 2
-size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, uint32_t *hmap,
-                          uint8_t *near, uint8_t *near2, uint32_t *same_face);
+/* R's arrays for the configuration m; false (nothing held) when out of memory */
+bool sk__vc1_reuse_alloc(sk__vc1_reuse *R, const sk_mesh *m);
+void sk__vc1_reuse_free(sk__vc1_reuse *R);
+/* R filled (sk__vc1_reuse_alloc'd for W->m); returns the count of near vertices. */
+size_t sk__vc1_reuse_plan(const sk__vc1_work *W, const sk__vc1_state *prev, sk__vc1_reuse *R);
+/* The steps of the build (vc1.c) on a plan: the solutions of (8) outside near taken from prev;
+ * the interior points solved at near2, taken elsewhere; the patches with a corner in near2 (or
+ * no face of prev's) assembled, the others copied; the regularity flags for the repair (unknown
+ * for the patches assembled again and not tested by the fair points). */
+void sk__vc1_reuse_solutions(sk__vc1_work *W, const sk__vc1_state *prev, const sk__vc1_reuse *R,
+                             uint8_t *status, sk__vsys_fig *fig);
+void sk__vc1_reuse_interior_points(sk__vc1_work *W, const sk__vc1_state *prev,
+                                   const sk__vc1_reuse *R);
+void sk__vc1_reuse_patches(sk_smooth *s, const sk__vc1_work *W, const sk__vc1_state *prev,
+                           const sk__vc1_reuse *R);
+void sk__vc1_reuse_untested(const sk__vc1_work *W, const sk__vc1_reuse *R, bool fair,
+                            uint8_t *sing);
 
 /* Edge deletion (sk__edge_deletion_hinted with hint and avoid) and the VC1 construction over
  * c->base, with the creases keep (may be NULL); crease lines whose sectors cannot be built are

@@ -808,19 +808,19 @@ static void prefault_surface(sk_smooth *s, const sk_mesh *base, sk__prefault *pf
  * the deletion again would cost the clean meshes (whose deletion meets the bound) time */
 #define VC1_DELETION_FLIP_RATIO 1.01
 
-/* sk__deletion_flips on c->flippable, s->deleted, each pass followed by the edge deletion of the
- * flipped base from nothing; a pass is kept when the deletion has fewer edges and a lower
- * deleted / bound, else its flips are undone and the passes end. s->config, s->deleted and
- * s->stats.deletion are those of the last kept pass; fl->n counts the kept flips, fl->saved
- * is the base before the first. */
+/* x has fewer deleted edges and a lower deleted / bound than y (x.d / x.b < y.d / y.b) */
 static bool deletion_better(const sk_edge_deletion_stats *x, const sk_edge_deletion_stats *y)
 {
-    /* x has fewer deleted edges and a lower deleted / bound than y (x.d / x.b < y.d / y.b) */
     return x->deleted_edges < y->deleted_edges &&
            (double)x->deleted_edges * (double)y->lower_bound <
                (double)y->deleted_edges * (double)x->lower_bound;
 }
 
+/* sk__deletion_flips on c->flippable, s->deleted, each pass followed by the edge deletion of the
+ * flipped base, from nothing and warm-started from the deleted edges the flips left; a pass is
+ * kept when the better of the two has fewer edges and a lower deleted / bound, else its flips are
+ * undone and the passes end. s->config, s->deleted and s->stats.deletion are those of the last
+ * kept pass; fl->n counts the kept flips, fl->saved is the base before the first. */
 static sk_status deletion_flips(sk_smooth *s, const sk__build_ctx *c, const uint8_t *keep,
                                 sk__deletion_flip_log *fl, sk_error *err)
 {
